@@ -1,0 +1,24 @@
+"""imagespace: algebraic kinematics of planar parallel manipulators in the kinematic image space.
+
+The public API; see README.md for the feature table and DESIGN.md for the conventions.
+"""
+
+from . import examples
+from .constraints import Quadric, image_symbols, pp_quadric, pr_quadric, rp_quadric, rr_quadric
+from .exceptions import DegenerateDesignError, EliminationError, ImageSpaceError, InputError
+from .kinematic_map import compose, image_point, inverse, normalize, pose_of, transform_matrix, transform_points
+from .legs import PPR, PRP, PRR, RPP, RPR, RRP, RRR, Leg
+from .manipulator import AssemblyMode, DKBatchResult, PlanarParallel
+from .tolerances import TOLERANCES, Tolerances
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "examples",
+    "image_point", "pose_of", "normalize", "transform_matrix", "transform_points", "compose", "inverse",
+    "Quadric", "image_symbols", "rr_quadric", "pr_quadric", "rp_quadric", "pp_quadric",
+    "Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR",
+    "PlanarParallel", "AssemblyMode", "DKBatchResult",
+    "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError",
+    "Tolerances", "TOLERANCES",
+]

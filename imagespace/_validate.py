@@ -1,0 +1,125 @@
+"""The one place where user input becomes checked float arrays or sympy objects."""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+import sympy as sp
+
+from .exceptions import InputError
+
+__all__ = [
+    "is_symbolic",
+    "as_float_array",
+    "as_exact",
+    "as_point",
+    "check_positive",
+]
+
+
+def is_symbolic(value) -> bool:
+    """True if ``value`` (or any element of it) is a sympy object."""
+    if isinstance(value, sp.Basic):
+        return True
+    if isinstance(value, sp.MatrixBase):
+        return True
+    if isinstance(value, (list, tuple)):
+        return any(is_symbolic(v) for v in value)
+    if isinstance(value, np.ndarray) and value.dtype == object:
+        return any(is_symbolic(v) for v in value.ravel())
+    return False
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def as_float_array(value, name: str, last: int | None = None, allow_batch: bool = True,
+                   finite: bool = True) -> np.ndarray:
+    """Convert ``value`` to a float64 array and check its shape and finiteness.
+
+    Parameters
+    ----------
+    value : array_like
+        The user's input.
+    name : str
+        The parameter name used in error messages.
+    last : int, optional
+        Required length of the last axis (``None``: a scalar or any 1-d length).
+    allow_batch : bool
+        Allow a leading batch axis, i.e. shape ``(n, last)`` as well as ``(last,)``.
+    finite : bool
+        Reject NaN and infinity.
+    """
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be numeric array_like, got {type(value).__name__} {_short(value)}")
+    if is_symbolic(value):
+        try:
+            value = np.array([float(v) for v in np.ravel(np.array(value, dtype=object))],
+                             dtype=float).reshape(np.shape(np.array(value, dtype=object)))
+        except (TypeError, ValueError):
+            raise TypeError(f"{name} must be numeric, got the symbolic value {_short(value)}; "
+                            "substitute numbers first or use the symbolic method") from None
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be numeric array_like, got {_short(value)}") from None
+    if last is not None:
+        ok = arr.ndim >= 1 and arr.shape[-1] == last and (arr.ndim == 1 or (allow_batch and arr.ndim == 2))
+        if not ok:
+            expected = f"({last},)" + (f" or (n, {last})" if allow_batch else "")
+            raise InputError(f"{name} must have shape {expected}, got shape {arr.shape}")
+    if finite and not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} must be finite, got {_short(value)}")
+    return arr
+
+
+def as_exact(value, name: str):
+    """Convert a number to an exact sympy number (floats become exact binary rationals).
+
+    Sympy expressions (including symbols) pass through unchanged.
+    """
+    if isinstance(value, sp.Basic):
+        if isinstance(value, sp.Float):
+            return sp.Rational(value)
+        if value.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+            raise InputError(f"{name} must be finite, got {value}")
+        return value
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a number, got the boolean {value}")
+    if isinstance(value, numbers.Integral):
+        return sp.Integer(int(value))
+    if isinstance(value, numbers.Rational):
+        return sp.Rational(value.numerator, value.denominator)
+    if isinstance(value, numbers.Real):
+        v = float(value)
+        if not np.isfinite(v):
+            raise InputError(f"{name} must be finite, got {v}")
+        return sp.Rational(v)
+    raise TypeError(f"{name} must be a real number or sympy expression, got {type(value).__name__} {_short(value)}")
+
+
+def as_point(value, name: str):
+    """A planar point ``(2,)`` as a tuple of two exact sympy numbers or expressions."""
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be a 2-vector, got {_short(value)}")
+    try:
+        items = list(value)
+    except TypeError:
+        raise TypeError(f"{name} must be a 2-vector (x, y), got {_short(value)}") from None
+    if len(items) != 2:
+        raise InputError(f"{name} must have shape (2,), got {len(items)} entries: {_short(value)}")
+    return tuple(as_exact(v, f"{name}[{i}]") for i, v in enumerate(items))
+
+
+def check_positive(value, name: str, allow_zero: bool = False):
+    """Reject a non-positive (or negative) exact or float number; symbols pass."""
+    if isinstance(value, sp.Basic) and value.free_symbols:
+        return value
+    v = float(value)
+    if v < 0 or (v == 0 and not allow_zero):
+        expected = "a non-negative number" if allow_zero else "a positive number"
+        raise InputError(f"{name} must be {expected}, got {value}")
+    return value

@@ -1,0 +1,297 @@
+r"""Elimination: three dyad quadrics -> a binary form in ``(x0 : x1)`` and back-substitution.
+
+The quadrics are ``Q_i = c_i S + x2 A_i + x3 B_i + K_i`` with ``S = x2**2 + x3**2``, ``A_i, B_i``
+linear and ``K_i`` quadratic binary forms in ``(x0, x1)`` (:mod:`imagespace.constraints`).
+Combinations with ``sum(w_i c_i) = 0`` are linear in ``(x2, x3)``; two of them, ``E1, E2``, are
+solved by Cramer's rule
+
+.. math::
+
+    D = A_1 B_2 - A_2 B_1,\quad X_2 = -(K_1 B_2 - K_2 B_1),\quad X_3 = -(A_1 K_2 - A_2 K_1),
+    \quad x_2 = X_2 / D,\quad x_3 = X_3 / D,
+
+and substituted into a third equation ``E3`` (a circle, ``c_3 != 0``) with the denominator
+cleared:
+
+.. math::
+
+    F = c_3 (X_2^2 + X_3^2) + D (A_3 X_2 + B_3 X_3) + K_3 D^2 \quad (\text{degree } 6).
+
+When all three quadrics are linear in ``(x2, x3)`` (no RR dyad) the determinant
+``A_3 X_2 + B_3 X_3 + K_3 D`` (degree 4) takes its place. ``F`` is homogeneous in ``(x0, x1)``, so
+roots with ``x0 = 0`` (half-turns) are ordinary roots.
+
+Two cases lose nothing but need their own treatment (DESIGN.md):
+
+(a) ``D`` vanishes identically (e.g. collinear base and platform anchors of a 3-RPR, seed 003,
+    or a PP dyad among ``E1, E2``): a combination of ``E1, E2`` is free of ``(x2, x3)``, a binary
+    quadratic ``G`` that fixes the orientations directly; each orientation is solved on its own.
+(b) ``D`` vanishes at a root of ``F``: that orientation is solved on its own.
+
+The arithmetic below is written once on coefficient lists and serves both faces: sympy
+expressions (exact or symbolic) and numpy arrays (a batch of designs or joint values, one per
+row).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, List
+
+import numpy as np
+import sympy as sp
+
+from .constraints import Quadric, image_symbols
+from .exceptions import DegenerateDesignError
+
+__all__ = [
+    "bf_mul",
+    "bf_add",
+    "bf_scale",
+    "bf_eval",
+    "LinearRow",
+    "EliminationPlan",
+    "plan_elimination",
+    "eliminate",
+    "binary_form_poly",
+]
+
+
+# --------------------------------------------------------------------------- binary forms
+# A binary form of degree d is a list [f_0, ..., f_d]: f_k is the coefficient of x0^(d-k) x1^k.
+
+def bf_mul(f, g):
+    """Product of two binary forms (coefficient lists).
+
+    Examples
+    --------
+    >>> from imagespace.elimination import bf_mul
+    >>> bf_mul([1, 1], [1, -1])       # (x0 + x1)(x0 - x1)
+    [1, 0, -1]
+    """
+    h = [0] * (len(f) + len(g) - 1)
+    for i, fi in enumerate(f):
+        for j, gj in enumerate(g):
+            h[i + j] = h[i + j] + fi * gj
+    return h
+
+
+def bf_add(f, g):
+    """Sum of two binary forms of the same degree.
+
+    Examples
+    --------
+    >>> from imagespace.elimination import bf_add
+    >>> bf_add([1, 2, 3], [1, 0, -3])
+    [2, 2, 0]
+    """
+    if len(f) != len(g):
+        raise ValueError(f"binary forms of different degree cannot be added: {len(f) - 1} and {len(g) - 1}")
+    return [a + b for a, b in zip(f, g)]
+
+
+def bf_scale(f, s):
+    """A binary form times a scalar (or an array of scalars).
+
+    Examples
+    --------
+    >>> from imagespace.elimination import bf_scale
+    >>> bf_scale([1, 2], 3)
+    [3, 6]
+    """
+    return [s * a for a in f]
+
+
+def bf_eval(f, x0, x1):
+    """Value of a binary form at ``(x0, x1)`` (broadcasting over arrays).
+
+    Examples
+    --------
+    >>> from imagespace.elimination import bf_eval
+    >>> bf_eval([1, 0, -1], 2.0, 1.0)
+    3.0
+    """
+    d = len(f) - 1
+    return sum(fk * x0 ** (d - k) * x1**k for k, fk in enumerate(f))
+
+
+def binary_form_poly(f, x=None):
+    """A coefficient list as a ``sympy.Poly`` in ``(x0, x1)``.
+
+    Examples
+    --------
+    >>> from imagespace.elimination import binary_form_poly
+    >>> binary_form_poly([1, 0, 1]).as_expr()
+    x0**2 + x1**2
+    """
+    x0, x1 = (image_symbols()[:2] if x is None else x)
+    d = len(f) - 1
+    expr = sum(sp.expand(sp.sympify(fk)) * x0 ** (d - k) * x1**k for k, fk in enumerate(f))
+    return sp.Poly(expr, x0, x1)
+
+
+# --------------------------------------------------------------------------- the plan
+
+@dataclass(frozen=True)
+class LinearRow:
+    """A combination of the quadrics: weights and its parts ``c S + x2 A + x3 B + K``."""
+
+    c: Any
+    A: List[Any]
+    B: List[Any]
+    K: List[Any]
+
+
+@dataclass(frozen=True)
+class EliminationPlan:
+    """Which combinations of the three quadrics form ``E1, E2`` (linear) and ``E3``.
+
+    Attributes
+    ----------
+    w1, w2, w3 : tuple of three numbers
+        Which quadrics form E1, E2 and E3: one entry 1 (that quadric), or entries 1 and -1 (the
+        difference ``c_j Q_i - c_i Q_j`` of two circle quadrics, free of ``x2**2 + x3**2``).
+    linear_only : bool
+        No quadric has an ``x2**2 + x3**2`` term (no RR dyad): ``F`` is the 3x3 determinant.
+    """
+
+    w1: tuple
+    w2: tuple
+    w3: tuple
+    linear_only: bool
+
+
+def plan_elimination(kinds):
+    """The elimination plan for three dyad kinds (``"RR"``, ``"PR"``, ``"RP"``, ``"PP"``).
+
+    RR quadrics have ``c = 4``, the others ``c = 0``; differences of RR quadrics and all
+    the others are linear in ``(x2, x3)``.
+
+    Examples
+    --------
+    >>> from imagespace.elimination import plan_elimination
+    >>> plan_elimination(["RR", "RR", "PR"])
+    EliminationPlan(w1=(0, 0, 1), w2=(1, -1, 0), w3=(1, 0, 0), linear_only=False)
+    """
+    circles = [i for i, k in enumerate(kinds) if k == "RR"]
+    lines = [i for i, k in enumerate(kinds) if k != "RR"]
+
+    def e(i):
+        return tuple(1 if j == i else 0 for j in range(3))
+
+    def diff(i, j):
+        return tuple(1 if k == i else (-1 if k == j else 0) for k in range(3))
+
+    if len(circles) == 3:
+        return EliminationPlan(diff(0, 1), diff(0, 2), e(0), False)
+    if len(circles) == 2:
+        i, j = circles
+        return EliminationPlan(e(lines[0]), diff(i, j), e(i), False)
+    if len(circles) == 1:
+        return EliminationPlan(e(lines[0]), e(lines[1]), e(circles[0]), False)
+    return EliminationPlan(e(0), e(1), e(2), True)
+
+
+def _combine(quadrics, w):
+    parts = [q.coefficients() for q in quadrics]
+    idx = [i for i, wi in enumerate(w) if wi]
+    if len(idx) == 2:
+        # a difference of two circle quadrics: c_j Q_i - c_i Q_j, so that S cancels whatever
+        # scaling the quadrics carry
+        i, j = idx
+        weights = {i: parts[j][0], j: -parts[i][0]}
+    else:
+        weights = {idx[0]: 1}
+    out = []
+    for k in range(8):
+        acc = 0
+        for i, wi in weights.items():
+            acc = acc + wi * parts[i][k]
+        out.append(acc)
+    c, a0, a1, b0, b1, k0, k1, k2 = out
+    return LinearRow(c, [a0, a1], [b0, b1], [k0, k1, k2])
+
+
+@dataclass
+class Elimination:
+    """The forms of the elimination (coefficient lists, sympy or numpy entries).
+
+    Attributes
+    ----------
+    plan : EliminationPlan
+    rows : (LinearRow, LinearRow, LinearRow)
+        ``E1, E2, E3``.
+    D : list, degree 2
+        The Cramer denominator ``A1 B2 - A2 B1``.
+    X2, X3 : list, degree 3
+        Cramer numerators: ``x2 = X2 / D``, ``x3 = X3 / D``.
+    F : list, degree 6 (4 when ``plan.linear_only``)
+        The binary form whose roots are the orientations of the assembly modes.
+    """
+
+    plan: EliminationPlan
+    rows: tuple
+    D: list
+    X2: list
+    X3: list
+    F: list
+
+
+def eliminate(quadrics, plan=None):
+    """Eliminate ``(x2, x3)`` from three quadrics.
+
+    Parameters
+    ----------
+    quadrics : sequence of three Quadric
+        Coefficients sympy expressions or numpy arrays (broadcast together).
+    plan : EliminationPlan, optional
+        Defaults to :func:`plan_elimination` of the quadrics' kinds.
+
+    Returns
+    -------
+    Elimination
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.elimination import eliminate
+    >>> m = isp.examples.stigger_husty()
+    >>> len(eliminate(m.quadrics(m.q_example)).F) - 1     # a sextic
+    6
+    """
+    if plan is None:
+        plan = plan_elimination([q.kind for q in quadrics])
+    E1, E2, E3 = (_combine(quadrics, w) for w in (plan.w1, plan.w2, plan.w3))
+    D = bf_add(bf_mul(E1.A, E2.B), bf_scale(bf_mul(E2.A, E1.B), -1))
+    X2 = bf_scale(bf_add(bf_mul(E1.K, E2.B), bf_scale(bf_mul(E2.K, E1.B), -1)), -1)
+    X3 = bf_scale(bf_add(bf_mul(E1.A, E2.K), bf_scale(bf_mul(E2.A, E1.K), -1)), -1)
+    lin = bf_add(bf_add(bf_mul(E3.A, X2), bf_mul(E3.B, X3)), bf_mul(E3.K, D))
+    if plan.linear_only:
+        F = lin
+    else:
+        F = bf_add(bf_scale(bf_add(bf_mul(X2, X2), bf_mul(X3, X3)), E3.c), bf_mul(D, lin))
+    return Elimination(plan, (E1, E2, E3), D, X2, X3, F)
+
+
+def orientation_form(rows):
+    """Case (a): a combination of ``E1, E2`` free of ``(x2, x3)`` (exact/symbolic rows).
+
+    Returns the binary quadratic ``G`` as a coefficient list, or raises DegenerateDesignError when
+    every such combination vanishes identically.
+    """
+    E1, E2 = rows[0], rows[1]
+    v1 = [sp.expand(v) for v in (*E1.A, *E1.B)]
+    v2 = [sp.expand(v) for v in (*E2.A, *E2.B)]
+    if all(v == 0 for v in v1):
+        G = E1.K
+    else:
+        j = next(k for k, v in enumerate(v1) if v != 0)
+        G = bf_add(bf_scale(E1.K, v2[j]), bf_scale(E2.K, -v1[j]))
+    G = [sp.expand(g) for g in G]
+    if all(g == 0 for g in G):
+        if all(v == 0 for v in v1) and any(sp.expand(k) != 0 for k in E2.K):
+            return [sp.expand(k) for k in E2.K]
+        raise DegenerateDesignError(
+            "the constraint equations leave a continuum of assembly modes (the x2, x3-free "
+            "combination of the linear constraints vanishes identically): architecture singularity")
+    return G

@@ -1,0 +1,37 @@
+"""Exceptions raised by imagespace.
+
+Every error raised at the public boundary derives from :class:`ImageSpaceError`, so a user can
+catch the whole family at once, and from the matching built-in (``ValueError`` for wrong values or
+shapes, ``RuntimeError`` for failed computations) so generic handlers keep working.
+"""
+
+__all__ = [
+    "ImageSpaceError",
+    "InputError",
+    "DegenerateDesignError",
+    "EliminationError",
+]
+
+
+class ImageSpaceError(Exception):
+    """Base class of every error imagespace raises on purpose."""
+
+
+class InputError(ImageSpaceError, ValueError):
+    """A public argument has the wrong shape, a non-finite entry or a value outside its domain.
+
+    The message names the parameter, the value received and what was expected.
+    """
+
+
+class DegenerateDesignError(ImageSpaceError, ValueError):
+    """The design (or the design at the given joint values) is degenerate.
+
+    Raised for architecture singularities (the kinematic polynomial vanishes identically, so
+    there are infinitely many assembly modes), coincident anchors that make a leg meaningless,
+    parallel prismatic axes in a PP chain, and similar cases where no finite answer exists.
+    """
+
+
+class EliminationError(ImageSpaceError, RuntimeError):
+    """The elimination or the root polishing failed for a reason that is not the user's input."""

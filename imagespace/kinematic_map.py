@@ -1,0 +1,300 @@
+r"""The planar kinematic map: poses <-> points of the kinematic image space.
+
+Convention (DESIGN.md, eq. (3) of Stigger & Husty): a pose ``(x, y, phi)`` maps to the
+homogeneous image point
+
+.. math::
+
+    x_0 = \cos\tfrac{\varphi}{2},\quad x_1 = \sin\tfrac{\varphi}{2},\quad
+    x_2 = \tfrac12(x_1 x - x_0 y),\quad x_3 = \tfrac12(x_0 x + x_1 y).
+
+With the complex numbers ``z = x0 + i x1`` and ``u = x3 - i x2`` a platform point ``p`` (as a
+complex number) lands at ``X = (z**2 p + 2 u z) / |z|**2``. Composition of displacements is the
+planar quaternion product ``z = z_a z_b``, ``u = z_a u_b + conj(z_b) u_a`` and the inverse of
+``(x0, x1, x2, x3)`` is ``(x0, -x1, -x2, -x3)``.
+
+Every function has a numeric face (numpy, shapes ``(4,)`` / ``(n, 4)`` and ``(3,)`` /
+``(n, 3)``) and a symbolic face (sympy objects in, ``sympy.Matrix`` out) under the same name.
+
+References
+----------
+M. Husty et al., *Kinematik und Robotik*, Springer 1997, doi:10.1007/978-3-642-59029-0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from ._validate import as_float_array, is_symbolic
+from .exceptions import InputError
+
+__all__ = [
+    "image_point",
+    "pose_of",
+    "normalize",
+    "transform_matrix",
+    "transform_points",
+    "compose",
+    "inverse",
+]
+
+
+def _sym_vector(value, n, name):
+    items = list(value)
+    if len(items) != n:
+        raise InputError(f"{name} must have {n} entries, got {len(items)}")
+    return [sp.sympify(v) for v in items]
+
+
+def image_point(pose):
+    """Image point of a pose, normalised (``x0**2 + x1**2 = 1``).
+
+    Parameters
+    ----------
+    pose : (3,) or (n, 3) float, or three sympy expressions
+        ``(x, y, phi)`` with ``phi`` in radians.
+
+    Returns
+    -------
+    (4,) or (n, 4) float, or sympy.Matrix (4, 1)
+        ``(x0, x1, x2, x3)``. For ``phi`` in ``(-pi, pi)`` the result has ``x0 > 0``; it is the
+        normalised representative of :func:`normalize` except at ``phi = pi`` mod ``2 pi``,
+        where ``x0 = 0`` and ``x1 = 1``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isp.image_point([2.0, 0.0, 0.0])
+    array([1., 0., 0., 1.])
+    """
+    if is_symbolic(pose):
+        x, y, phi = _sym_vector(pose, 3, "pose")
+        x0, x1 = sp.cos(phi / 2), sp.sin(phi / 2)
+        return sp.Matrix([x0, x1, (x1 * x - x0 * y) / 2, (x0 * x + x1 * y) / 2])
+    p = as_float_array(pose, "pose", last=3)
+    x, y, phi = p[..., 0], p[..., 1], p[..., 2]
+    half = np.remainder(phi + np.pi, 2 * np.pi) - np.pi  # phi mod 2 pi in [-pi, pi)
+    x0, x1 = np.cos(half / 2), np.sin(half / 2)
+    # phi = pi exactly lands at half = -pi -> (x0, x1) = (0, -1); flip to the x1 > 0 representative
+    flip = (np.abs(x0) < 1e-300) & (x1 < 0)
+    x1 = np.where(flip, -x1, x1)
+    return np.stack([x0, x1, (x1 * x - x0 * y) / 2, (x0 * x + x1 * y) / 2], axis=-1)
+
+
+def _check_not_absolute(x0, x1, name):
+    bad = (x0 == 0) & (x1 == 0)
+    if np.any(bad):
+        idx = np.flatnonzero(np.atleast_1d(bad))
+        raise InputError(
+            f"{name} must have (x0, x1) != (0, 0): points with x0 = x1 = 0 lie on the absolute line "
+            f"and are not displacements; got such a point at row(s) {idx[:5].tolist()}")
+
+
+def pose_of(image_point):
+    """Pose ``(x, y, phi)`` of an image point (any non-zero multiple).
+
+    Parameters
+    ----------
+    image_point : (4,) or (n, 4) float, or four sympy expressions
+        ``(x0, x1, x2, x3)`` with ``(x0, x1) != (0, 0)``.
+
+    Returns
+    -------
+    (3,) or (n, 3) float, or sympy.Matrix (3, 1)
+        ``phi`` in ``(-pi, pi]``.
+
+    Raises
+    ------
+    InputError
+        If ``x0 = x1 = 0`` (a point of the absolute line, not a displacement).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isp.pose_of([0.0, 1.0, 0.0, 0.0])   # the half-turn about the origin
+    array([0.        , 0.        , 3.14159265])
+    """
+    if is_symbolic(image_point):
+        x0, x1, x2, x3 = _sym_vector(image_point, 4, "image_point")
+        if x0 == 0 and x1 == 0:
+            raise InputError("image_point must have (x0, x1) != (0, 0): not a displacement")
+        n = x0**2 + x1**2
+        return sp.Matrix([2 * (x0 * x3 + x1 * x2) / n, 2 * (-x0 * x2 + x1 * x3) / n,
+                          2 * sp.atan2(x1, x0)])
+    p = as_float_array(image_point, "image_point", last=4)
+    x0, x1, x2, x3 = (p[..., i] for i in range(4))
+    _check_not_absolute(x0, x1, "image_point")
+    n = x0**2 + x1**2
+    # the angle of (x0, x1) mod pi, doubled: phi in (-pi, pi]
+    s = np.where((x0 < 0) | ((x0 == 0) & (x1 < 0)), -1.0, 1.0)
+    phi = 2 * np.arctan2(s * x1, s * x0)
+    return np.stack([2 * (x0 * x3 + x1 * x2) / n, 2 * (-x0 * x2 + x1 * x3) / n, phi], axis=-1)
+
+
+def normalize(image_point):
+    """The normalised representative: ``x0**2 + x1**2 = 1`` and ``x0 > 0`` (``x1 > 0`` if ``x0 = 0``).
+
+    Parameters
+    ----------
+    image_point : (4,) or (n, 4) float, or four sympy expressions
+
+    Returns
+    -------
+    (4,) or (n, 4) float, or sympy.Matrix (4, 1)
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isp.normalize([-2.0, 0.0, 1.0, 4.0])
+    array([ 1. , -0. , -0.5, -2. ])
+    """
+    if is_symbolic(image_point):
+        x = sp.Matrix(_sym_vector(image_point, 4, "image_point"))
+        if x[0] == 0 and x[1] == 0:
+            raise InputError("image_point must have (x0, x1) != (0, 0): not a displacement")
+        n = sp.sqrt(x[0]**2 + x[1]**2)
+        sign = 1
+        if x[0].is_number and x[1].is_number:
+            if x[0] < 0 or (x[0] == 0 and x[1] < 0):
+                sign = -1
+        return (sign * x / n).applyfunc(sp.radsimp)
+    p = as_float_array(image_point, "image_point", last=4)
+    x0, x1 = p[..., 0], p[..., 1]
+    _check_not_absolute(x0, x1, "image_point")
+    n = np.sqrt(x0**2 + x1**2)
+    s = np.where((x0 < 0) | ((x0 == 0) & (x1 < 0)), -1.0, 1.0)
+    return p * (s / n)[..., None]
+
+
+def transform_matrix(image_point):
+    """The 3x3 homogeneous matrix of eq. (3): base coordinates of ``(1, x, y)`` of the platform.
+
+    Parameters
+    ----------
+    image_point : (4,) or (n, 4) float, or four sympy expressions
+
+    Returns
+    -------
+    (3, 3) or (n, 3, 3) float, or sympy.Matrix (3, 3)
+        First row ``(1, 0, 0)``; the lower-left column is the translation, the lower-right block
+        the rotation.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isp.transform_matrix(isp.image_point([1.0, 2.0, 0.0]))
+    array([[1., 0., 0.],
+           [1., 1., 0.],
+           [2., 0., 1.]])
+    """
+    if is_symbolic(image_point):
+        x0, x1, x2, x3 = _sym_vector(image_point, 4, "image_point")
+        n = x0**2 + x1**2
+        return sp.Matrix([[1, 0, 0],
+                          [(2 * x0 * x3 + 2 * x1 * x2) / n, (x0**2 - x1**2) / n, -2 * x0 * x1 / n],
+                          [(-2 * x0 * x2 + 2 * x1 * x3) / n, 2 * x0 * x1 / n, (x0**2 - x1**2) / n]])
+    p = as_float_array(image_point, "image_point", last=4)
+    x0, x1, x2, x3 = (p[..., i] for i in range(4))
+    _check_not_absolute(x0, x1, "image_point")
+    n = x0**2 + x1**2
+    out = np.zeros(p.shape[:-1] + (3, 3))
+    out[..., 0, 0] = 1.0
+    out[..., 1, 0] = (2 * x0 * x3 + 2 * x1 * x2) / n
+    out[..., 2, 0] = (-2 * x0 * x2 + 2 * x1 * x3) / n
+    out[..., 1, 1] = out[..., 2, 2] = (x0**2 - x1**2) / n
+    out[..., 1, 2] = -2 * x0 * x1 / n
+    out[..., 2, 1] = 2 * x0 * x1 / n
+    return out
+
+
+def transform_points(image_point, points):
+    """Base coordinates of platform points under the displacement ``image_point``.
+
+    Parameters
+    ----------
+    image_point : (4,) or (n, 4) float
+    points : (2,) or (m, 2) float
+        Platform points in the moving frame.
+
+    Returns
+    -------
+    (..., 2) float
+        Shape ``image_point.shape[:-1] + points.shape``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isp.transform_points(isp.image_point([1.0, 0.0, 3.141592653589793]), [1.0, 0.0])
+    array([0., 0.])
+    """
+    m = transform_matrix(image_point)
+    pts = as_float_array(points, "points", last=2)
+    h = np.concatenate([np.ones(pts.shape[:-1] + (1,)), pts], axis=-1)
+    if m.ndim == 3:
+        out = np.einsum("nij,...j->n...i", m, h)
+    else:
+        out = np.einsum("ij,...j->...i", m, h)
+    return out[..., 1:] + 0.0
+
+
+def compose(a, b):
+    """Image point of the displacement ``b`` followed by ``a`` (planar quaternion product).
+
+    ``transform_matrix(compose(a, b)) == transform_matrix(a) @ transform_matrix(b)``.
+
+    Parameters
+    ----------
+    a, b : (4,) or (n, 4) float (broadcast), or four sympy expressions each
+
+    Returns
+    -------
+    (4,) or (n, 4) float, or sympy.Matrix (4, 1)
+        Not normalised (the product of the norms ``x0**2 + x1**2``).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> quarter = isp.image_point([0.0, 0.0, 1.5707963267948966])
+    >>> isp.pose_of(isp.compose(quarter, quarter))
+    array([0.        , 0.        , 3.14159265])
+    """
+    if is_symbolic(a) or is_symbolic(b):
+        a0, a1, a2, a3 = _sym_vector(a, 4, "a")
+        b0, b1, b2, b3 = _sym_vector(b, 4, "b")
+    else:
+        pa = as_float_array(a, "a", last=4)
+        pb = as_float_array(b, "b", last=4)
+        a0, a1, a2, a3 = (pa[..., i] for i in range(4))
+        b0, b1, b2, b3 = (pb[..., i] for i in range(4))
+    x0 = a0 * b0 - a1 * b1
+    x1 = a0 * b1 + a1 * b0
+    x2 = a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1
+    x3 = a0 * b3 + a1 * b2 + a3 * b0 - a2 * b1
+    if is_symbolic(a) or is_symbolic(b):
+        return sp.Matrix([sp.expand(x0), sp.expand(x1), sp.expand(x2), sp.expand(x3)])
+    return np.stack(np.broadcast_arrays(x0, x1, x2, x3), axis=-1)
+
+
+def inverse(image_point):
+    """Image point of the inverse displacement: ``(x0, -x1, -x2, -x3)``.
+
+    Parameters
+    ----------
+    image_point : (4,) or (n, 4) float, or four sympy expressions
+
+    Returns
+    -------
+    (4,) or (n, 4) float, or sympy.Matrix (4, 1)
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isp.pose_of(isp.inverse(isp.image_point([1.0, 0.0, 0.5])))
+    array([-0.87758256,  0.47942554, -0.5       ])
+    """
+    if is_symbolic(image_point):
+        x0, x1, x2, x3 = _sym_vector(image_point, 4, "image_point")
+        return sp.Matrix([x0, -x1, -x2, -x3])
+    p = as_float_array(image_point, "image_point", last=4)
+    return p * np.array([1.0, -1.0, -1.0, -1.0])

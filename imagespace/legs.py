@@ -1,0 +1,776 @@
+r"""The seven planar leg types and the dyad each leaves when its actuated joint is locked.
+
+A leg is a serial chain of three joints from the base (first letter) to the platform (last
+letter). Locking the actuated joint leaves a dyad of the two passive joints, i.e. one quadric of
+:mod:`imagespace.constraints`. Every leg accepts any of its three joints as the actuated one
+(``actuated=0, 1, 2``); the default is the joint the seed papers actuate.
+
+Joint values (``q`` of the leg, in joint order) and their conventions:
+
+========  ==========================================  ==============================  ========
+leg       joints (base -> platform)                    geometry                        default
+========  ==========================================  ==============================  ========
+RPR       theta (leg direction), rho (length),         base, platform                  1 (rho)
+          psi = phi - theta
+RRR       theta1 (link 1 direction), theta2 (elbow,    base, platform, lengths         0
+          relative), theta3 = phi - theta1 - theta2
+PRR       s (travel along axis), theta2 (link         base, axis, platform, length    0
+          direction relative to axis), theta3
+          = phi - axis angle - theta2
+RRP       theta1 (link direction), theta2 (platform    base, length, platform,         0
+          line direction minus theta1), s (travel      direction
+          along the platform line from ``platform``)
+RPP       theta1 (first slider direction), s1, s2      base, platform, direction,      1 (s1)
+          (travel along the platform line)             angle (between the sliders)
+PRP       s1 (travel along axis), theta2 (platform     base, axis, platform,           0
+          line direction minus axis angle), s2         direction
+PPR       s1 (travel along axis), s2 (travel along     base, axis, platform, angle     0
+          the second slider), theta3 = phi
+========  ==========================================  ==============================  ========
+
+Angles are radians measured counter-clockwise; "direction" vectors are normalised on
+construction; ``platform`` points and ``direction`` vectors of platform lines are given in the
+moving frame. Relative angles are wrapped to ``(-pi, pi]``.
+
+Branches of the leg inverse kinematics (:meth:`Leg.inverse_kinematics` returns all of them, in
+this order, NaN where a branch does not exist):
+
+* RPR: ``rho >= 0`` and its mirror ``(theta + pi, -rho)`` (the slider passed through the base
+  pivot). The mirror only matters when a revolute joint is actuated.
+* RRR: elbow ``+`` and ``-`` (the elbow on the left / right of the line from base to platform
+  anchor). RRP: the two intersections of the link circle with the platform line.
+  PRR: the two intersections of the platform anchor's circle with the axis.
+* RPP, PRP, PPR: one branch (two lines meet once).
+
+Geometry may be given as floats, exact sympy numbers (``sympy.sqrt(232)``) or sympy symbols;
+floats are turned into exact binary rationals for the symbolic paths, and angles given as
+floats enter the exact paths through the binary rationals of their cosine and sine.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from ._validate import as_exact, as_float_array, as_point, check_positive, is_symbolic
+from .constraints import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric
+from .exceptions import DegenerateDesignError, InputError
+
+__all__ = ["Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR", "LEG_TYPES"]
+
+
+# --------------------------------------------------------------------------- helpers
+
+def _wrap(a):
+    """Wrap angles to (-pi, pi]."""
+    return np.pi - np.remainder(np.pi - a, 2 * np.pi)
+
+
+def _exact_cs(angle, name):
+    """Exact (cos, sin) of an angle: sympy trig for sympy input, binary rationals for floats."""
+    if isinstance(angle, sp.Basic):
+        return sp.cos(angle), sp.sin(angle)
+    a = float(as_exact(angle, name))
+    return sp.Rational(np.cos(a)), sp.Rational(np.sin(a))
+
+
+def _unit(v, name):
+    vx, vy = v
+    n2 = sp.expand(vx**2 + vy**2)
+    if n2 == 0 or (n2.is_number and float(n2) == 0.0):
+        raise InputError(f"{name} must be a non-zero direction vector, got ({vx}, {vy})")
+    if n2 == 1:
+        return (vx, vy)
+    n = sp.sqrt(n2)
+    return (sp.radsimp(vx / n), sp.radsimp(vy / n))
+
+
+def _is_num(x):
+    return not isinstance(x, sp.Basic)
+
+
+class _Ops:
+    """cos/sin and constants for one arithmetic: sympy (exact or symbolic) or numpy (float)."""
+
+    def __init__(self, symbolic):
+        self.symbolic = symbolic
+
+    def cs(self, q):
+        if self.symbolic:
+            if isinstance(q, sp.Basic) and q.free_symbols:
+                return sp.cos(q), sp.sin(q)
+            return _exact_cs(q, "q")
+        return np.cos(q), np.sin(q)
+
+
+def _floatify(value):
+    if isinstance(value, tuple):
+        return tuple(_floatify(v) for v in value)
+    if isinstance(value, sp.Basic):
+        if value.free_symbols:
+            return None
+        return float(value)
+    return value
+
+
+class Leg:
+    """Base class of the planar legs; see the module docstring for the conventions.
+
+    Subclasses define ``joints`` (e.g. ``"RPR"``), ``default_actuated``, the geometry, the
+    inverse kinematics and the dyad for each choice of actuated joint.
+    """
+
+    joints = "???"
+    default_actuated = 0
+    joint_names = ("q0", "q1", "q2")
+    n_branches = 1
+
+    def __init__(self, actuated=None):
+        if actuated is None:
+            actuated = self.default_actuated
+        if isinstance(actuated, bool) or not isinstance(actuated, (int, np.integer)) or not 0 <= actuated <= 2:
+            raise InputError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
+                             f"{self.joints}), got {actuated!r}")
+        self.actuated = int(actuated)
+        self._float = None
+
+    # -- geometry access --------------------------------------------------------
+    def _geometry(self):
+        """Dict of the exact geometry (sympy)."""
+        raise NotImplementedError
+
+    def geometry(self, exact=True):
+        """The leg's geometry as a dict: exact sympy values, or floats with ``exact=False``.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.RPR(base=(1, 2), platform=(0, 0)).geometry(exact=False)
+        {'base': (1.0, 2.0), 'platform': (0.0, 0.0)}
+        """
+        g = self._geometry()
+        if exact:
+            return dict(g)
+        if self._float is None:
+            fl = {k: _floatify(v) for k, v in g.items()}
+            if any(v is None or (isinstance(v, tuple) and None in v) for v in fl.values()):
+                free = sorted(str(s) for s in self.free_symbols)
+                raise InputError(f"the {self.joints} leg has symbolic design parameters {free}; "
+                                 "substitute numbers before numeric computations")
+            self._float = fl
+        return dict(self._float)
+
+    @property
+    def free_symbols(self):
+        """Set of sympy symbols in the design parameters."""
+        out = set()
+        for v in self._geometry().values():
+            for s in (v if isinstance(v, tuple) else (v,)):
+                if isinstance(s, sp.Basic):
+                    out |= s.free_symbols
+        return out
+
+    @property
+    def actuated_is_angle(self):
+        """True if the actuated joint is revolute."""
+        return self.joints[self.actuated] == "R"
+
+    @property
+    def actuated_name(self):
+        """Name of the actuated joint variable."""
+        return self.joint_names[self.actuated]
+
+    def __repr__(self):
+        g = ", ".join(f"{k}={v}" for k, v in self._geometry().items())
+        return f"{type(self).__name__}({g}, actuated={self.actuated})"
+
+    # -- the dyad ---------------------------------------------------------------
+    def check_joint_value(self, q, name="q"):
+        """Validate a value of the actuated joint (overridden where a domain applies)."""
+        return q
+
+    def dyad(self, q):
+        """The quadric left when the actuated joint is locked at ``q``.
+
+        Parameters
+        ----------
+        q : float, (n,) float array, or sympy expression / symbol
+            The actuated joint value. Numeric ``q`` gives float coefficients (arrays for a
+            batch); sympy ``q`` gives exact or symbolic coefficients.
+
+        Returns
+        -------
+        Quadric
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> leg = isp.RPR(base=(0, 0), platform=(0, 0))
+        >>> leg.dyad(10).expr()
+        -100*x0**2 - 100*x1**2 + 4*x2**2 + 4*x3**2
+        """
+        symbolic = is_symbolic(q) or isinstance(q, (int, np.integer)) and not isinstance(q, bool)
+        if symbolic:
+            q = as_exact(q, "q")
+            if not q.free_symbols:
+                self.check_joint_value(float(q))
+            g = self._geometry()
+        else:
+            q = as_float_array(q, "q", finite=False)
+            self.check_joint_value(q)
+            g = self.geometry(exact=False)
+        return self._dyad(q, g, _Ops(symbolic))
+
+    def _dyad(self, q, g, ops) -> Quadric:
+        raise NotImplementedError
+
+    # -- inverse kinematics -----------------------------------------------------
+    def inverse_kinematics(self, pose):
+        """All branches of the leg's inverse kinematics.
+
+        Parameters
+        ----------
+        pose : (3,) or (n, 3) float
+            ``(x, y, phi)``.
+
+        Returns
+        -------
+        (n_branches, 3) or (n, n_branches, 3) float
+            The three joint values of every branch (see the module docstring for the order);
+            NaN where a branch does not exist (pose out of reach of this leg).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.RPR(base=(0, 0), platform=(1, 0)).inverse_kinematics([0.0, 0.0, 0.0])
+        array([[ 0.        ,  1.        ,  0.        ],
+               [ 3.14159265, -1.        ,  3.14159265]])
+        """
+        p = as_float_array(pose, "pose", last=3)
+        single = p.ndim == 1
+        p2 = np.atleast_2d(p)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out = self._ik(p2[:, 0], p2[:, 1], p2[:, 2], self.geometry(exact=False))
+        return out[0] if single else out
+
+    def actuated_values(self, pose):
+        """Actuated joint value of every branch at ``pose``: ``(n_branches,)`` or ``(n, n_branches)``.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.RPR(base=(0, 0), platform=(3, 4)).actuated_values([0.0, 0.0, 0.0])
+        array([ 5., -5.])
+        """
+        return self.inverse_kinematics(pose)[..., self.actuated]
+
+    def _ik(self, x, y, phi, g):
+        raise NotImplementedError
+
+    def joint_points(self, pose, branch=0):
+        """The leg drawn as a polyline in the base frame: ``(k, 2)`` points from base to platform.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.RPR(base=(0, 0), platform=(0, 0)).joint_points([3.0, 4.0, 0.0])
+        array([[0., 0.],
+               [3., 4.]])
+        """
+        p = as_float_array(pose, "pose", last=3, allow_batch=False)
+        q = self.inverse_kinematics(p)[branch]
+        return self._points(p, q, self.geometry(exact=False))
+
+    def _points(self, pose, q, g):
+        raise NotImplementedError
+
+
+def _world(x, y, phi, p):
+    c, s = np.cos(phi), np.sin(phi)
+    return x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]
+
+
+def _rotv(phi, v):
+    c, s = np.cos(phi), np.sin(phi)
+    return c * v[0] - s * v[1], s * v[0] + c * v[1]
+
+
+def _angle(v):
+    return np.arctan2(v[1], v[0])
+
+
+def _lines_meet(p, u, r, v):
+    """Solve p + s u = r + t v for (s, t) (arrays); NaN where parallel."""
+    det = -u[0] * v[1] + u[1] * v[0]
+    dx, dy = r[0] - p[0], r[1] - p[1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s = (-dx * v[1] + dy * v[0]) / det
+        t = (u[0] * dy - u[1] * dx) / det
+    bad = np.abs(det) < 1e-14
+    return np.where(bad, np.nan, s), np.where(bad, np.nan, t)
+
+
+def _circle_line(centre, radius, p, v):
+    """Parameters s of p + s v (v unit) on the circle; two branches, NaN if none."""
+    dx, dy = p[0] - centre[0], p[1] - centre[1]
+    b = v[0] * dx + v[1] * dy
+    disc = b * b - (dx * dx + dy * dy) + radius * radius
+    disc = np.where((disc < 0) & (disc > -1e-12 * (1 + radius * radius)), 0.0, disc)
+    r = np.sqrt(np.where(disc >= 0, disc, np.nan))
+    return -b + r, -b - r
+
+
+# --------------------------------------------------------------------------- leg types
+
+class RPR(Leg):
+    """RPR leg: passive revolute at ``base``, prismatic (length ``rho``), revolute at ``platform``.
+
+    Parameters
+    ----------
+    base : (2,) base anchor A (base frame)
+    platform : (2,) platform anchor a (moving frame)
+    actuated : int, default 1
+        1: the prismatic joint (an RR dyad: ``a`` on the circle about ``A`` of radius ``rho``);
+        0: the base revolute (PR dyad); 2: the platform revolute (RP dyad).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> leg = isp.RPR(base=(7, 0), platform=(5, 0))
+    >>> float(leg.actuated_values([2.0, 0.0, 0.0])[0])
+    0.0
+    """
+
+    joints = "RPR"
+    default_actuated = 1
+    joint_names = ("theta", "rho", "psi")
+    n_branches = 2
+
+    def __init__(self, base, platform, actuated=None):
+        super().__init__(actuated)
+        self.base = as_point(base, "base")
+        self.platform = as_point(platform, "platform")
+
+    def _geometry(self):
+        return {"base": self.base, "platform": self.platform}
+
+    def check_joint_value(self, q, name="q"):
+        if self.actuated == 1 and np.any(np.asarray(q, dtype=float) < 0):
+            raise InputError(f"{name} (the RPR leg length rho) must be >= 0, got {q}")
+        return q
+
+    def _dyad(self, q, g, ops):
+        A, a = g["base"], g["platform"]
+        if self.actuated == 1:
+            return rr_quadric(A, q * q, a)
+        c, s = ops.cs(q)
+        if self.actuated == 0:
+            return pr_quadric(a, A, (c, s))
+        return rp_quadric(a, (c, -s), A)
+
+    def _ik(self, x, y, phi, g):
+        A, a = g["base"], g["platform"]
+        ax, ay = _world(x, y, phi, a)
+        dx, dy = ax - A[0], ay - A[1]
+        th = np.arctan2(dy, dx)
+        rho = np.hypot(dx, dy)
+        b0 = np.stack([th, rho, _wrap(phi - th)], -1)
+        b1 = np.stack([_wrap(th + np.pi), -rho, _wrap(phi - th - np.pi)], -1)
+        return np.stack([b0, b1], -2)
+
+    def _points(self, pose, q, g):
+        return np.array([g["base"], _world(*pose, g["platform"])], dtype=float)
+
+
+class RRR(Leg):
+    """RRR leg: revolute at ``base``, elbow, revolute at ``platform``; links ``lengths = (l1, l2)``.
+
+    Parameters
+    ----------
+    base : (2,) base pivot A
+    platform : (2,) platform anchor a (moving frame)
+    lengths : (2,) positive link lengths (A to elbow, elbow to a)
+    actuated : int, default 0
+        0: base revolute (RR dyad about the elbow); 1: elbow (RR dyad about A with radius
+        ``|l1 + l2 e^{i q}|``); 2: platform revolute (RR dyad about A, radius l1, for the elbow
+        seen as a platform point).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> leg = isp.RRR(base=(0, 0), platform=(0, 0), lengths=(1, 1))
+    >>> leg.inverse_kinematics([1.0, 1.0, 0.0]).round(6)
+    array([[ 1.570796, -1.570796,  0.      ],
+           [ 0.      ,  1.570796, -1.570796]])
+    """
+
+    joints = "RRR"
+    default_actuated = 0
+    joint_names = ("theta1", "theta2", "theta3")
+    n_branches = 2
+
+    def __init__(self, base, platform, lengths, actuated=None):
+        super().__init__(actuated)
+        self.base = as_point(base, "base")
+        self.platform = as_point(platform, "platform")
+        l1, l2 = as_point(lengths, "lengths")
+        self.lengths = (check_positive(l1, "lengths[0]"), check_positive(l2, "lengths[1]"))
+
+    def _geometry(self):
+        return {"base": self.base, "platform": self.platform, "lengths": self.lengths}
+
+    def _dyad(self, q, g, ops):
+        A, a, (l1, l2) = g["base"], g["platform"], g["lengths"]
+        c, s = ops.cs(q)
+        if self.actuated == 0:
+            return rr_quadric((A[0] + l1 * c, A[1] + l1 * s), l2 * l2, a)
+        if self.actuated == 1:
+            return rr_quadric(A, l1 * l1 + l2 * l2 + 2 * l1 * l2 * c, a)
+        return rr_quadric(A, l1 * l1, (a[0] - l2 * c, a[1] + l2 * s))
+
+    def _ik(self, x, y, phi, g):
+        A, a, (l1, l2) = g["base"], g["platform"], g["lengths"]
+        ax, ay = _world(x, y, phi, a)
+        dx, dy = ax - A[0], ay - A[1]
+        d = np.hypot(dx, dy)
+        along = (l1 * l1 - l2 * l2 + d * d) / (2 * d)
+        h2 = l1 * l1 - along * along
+        h2 = np.where((h2 < 0) & (h2 > -1e-12 * l1 * l1), 0.0, h2)
+        h = np.sqrt(np.where(h2 >= 0, h2, np.nan))
+        ex, ey = dx / d, dy / d
+        out = []
+        for sign in (1.0, -1.0):
+            Ex = A[0] + along * ex - sign * h * ey
+            Ey = A[1] + along * ey + sign * h * ex
+            t1 = np.arctan2(Ey - A[1], Ex - A[0])
+            t12 = np.arctan2(ay - Ey, ax - Ex)
+            out.append(np.stack([t1, _wrap(t12 - t1), _wrap(phi - t12)], -1))
+        return np.stack(out, -2)
+
+    def _points(self, pose, q, g):
+        A, (l1, _) = g["base"], g["lengths"]
+        E = (A[0] + l1 * np.cos(q[0]), A[1] + l1 * np.sin(q[0]))
+        return np.array([A, E, _world(*pose, g["platform"])], dtype=float)
+
+
+class PRR(Leg):
+    """PRR leg: slider along ``axis`` from ``base``, revolute on the slider, link ``length``, revolute at ``platform``.
+
+    Parameters
+    ----------
+    base : (2,) start point of the slider
+    axis : (2,) slider direction (normalised)
+    platform : (2,) platform anchor a (moving frame)
+    length : positive link length
+    actuated : int, default 0
+        0: slider travel (RR dyad about ``base + q axis``); 1: link angle relative to the axis
+        (PR dyad); 2: platform revolute (PR dyad of the slider pivot seen on the platform).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> leg = isp.PRR(base=(0, 0), axis=(1, 0), platform=(0, 0), length=5)
+    >>> leg.actuated_values([3.0, 4.0, 0.0])
+    array([ 6., 0.])
+    """
+
+    joints = "PRR"
+    default_actuated = 0
+    joint_names = ("s", "theta2", "theta3")
+    n_branches = 2
+
+    def __init__(self, base, axis, platform, length, actuated=None):
+        super().__init__(actuated)
+        self.base = as_point(base, "base")
+        self.axis = _unit(as_point(axis, "axis"), "axis")
+        self.platform = as_point(platform, "platform")
+        self.length = check_positive(as_exact(length, "length"), "length")
+
+    def _geometry(self):
+        return {"base": self.base, "axis": self.axis, "platform": self.platform, "length": self.length}
+
+    def _dyad(self, q, g, ops):
+        A, u, a, l = g["base"], g["axis"], g["platform"], g["length"]
+        if self.actuated == 0:
+            return rr_quadric((A[0] + q * u[0], A[1] + q * u[1]), l * l, a)
+        c, s = ops.cs(q)
+        if self.actuated == 1:
+            P = (A[0] + l * (u[0] * c - u[1] * s), A[1] + l * (u[1] * c + u[0] * s))
+            return pr_quadric(a, P, u)
+        return pr_quadric((a[0] - l * c, a[1] + l * s), A, u)
+
+    def _ik(self, x, y, phi, g):
+        A, u, a, l = g["base"], g["axis"], g["platform"], g["length"]
+        ax, ay = _world(x, y, phi, a)
+        gam = _angle(u)
+        out = []
+        for s in _circle_line((ax, ay), l, A, u):
+            Sx, Sy = A[0] + s * u[0], A[1] + s * u[1]
+            t = np.arctan2(ay - Sy, ax - Sx)
+            out.append(np.stack([s, _wrap(t - gam), _wrap(phi - t)], -1))
+        return np.stack(out, -2)
+
+    def _points(self, pose, q, g):
+        A, u = g["base"], g["axis"]
+        S = (A[0] + q[0] * u[0], A[1] + q[0] * u[1])
+        return np.array([A, S, _world(*pose, g["platform"])], dtype=float)
+
+
+class RRP(Leg):
+    """RRP leg: revolute at ``base``, link ``length``, revolute at the elbow, prismatic along a platform line.
+
+    Parameters
+    ----------
+    base : (2,) base pivot A
+    length : positive link length (A to the elbow E)
+    platform : (2,) a point b of the platform line (moving frame); the travel ``s`` is measured from it
+    direction : (2,) direction v of the platform line (moving frame, normalised)
+    actuated : int, default 0
+        0: base revolute (RP dyad: the platform line through E); 1: elbow (RP dyad of a parallel
+        platform line through A); 2: the platform slider (RR dyad).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> leg = isp.RRP(base=(0, 0), length=1, platform=(0, 0), direction=(1, 0))
+    >>> leg.actuated_values([0.0, 0.5, 0.0]).round(6)
+    array([0.523599, 2.617994])
+    """
+
+    joints = "RRP"
+    default_actuated = 0
+    joint_names = ("theta1", "theta2", "s")
+    n_branches = 2
+
+    def __init__(self, base, length, platform, direction, actuated=None):
+        super().__init__(actuated)
+        self.base = as_point(base, "base")
+        self.length = check_positive(as_exact(length, "length"), "length")
+        self.platform = as_point(platform, "platform")
+        self.direction = _unit(as_point(direction, "direction"), "direction")
+
+    def _geometry(self):
+        return {"base": self.base, "length": self.length, "platform": self.platform,
+                "direction": self.direction}
+
+    def _dyad(self, q, g, ops):
+        A, l, b, v = g["base"], g["length"], g["platform"], g["direction"]
+        if self.actuated == 2:
+            return rr_quadric(A, l * l, (b[0] + q * v[0], b[1] + q * v[1]))
+        c, s = ops.cs(q)
+        if self.actuated == 0:
+            return rp_quadric(b, v, (A[0] + l * c, A[1] + l * s))
+        w = (v[0] * c + v[1] * s, v[1] * c - v[0] * s)   # e^{i(angle(v) - q)}
+        return rp_quadric((b[0] - l * w[0], b[1] - l * w[1]), v, A)
+
+    def _ik(self, x, y, phi, g):
+        A, l, b, v = g["base"], g["length"], g["platform"], g["direction"]
+        bw = _world(x, y, phi, b)
+        vw = _rotv(phi, v)
+        out = []
+        for s in _circle_line(A, l, bw, vw):
+            Ex, Ey = bw[0] + s * vw[0], bw[1] + s * vw[1]
+            t1 = np.arctan2(Ey - A[1], Ex - A[0])
+            out.append(np.stack([t1, _wrap(phi + _angle(v) - t1), s], -1))
+        return np.stack(out, -2)
+
+    def _points(self, pose, q, g):
+        A, l, b, v = g["base"], g["length"], g["platform"], g["direction"]
+        E = (A[0] + l * np.cos(q[0]), A[1] + l * np.sin(q[0]))
+        return np.array([A, E, _world(*pose, b)], dtype=float)
+
+
+class RPP(Leg):
+    """RPP leg: revolute at ``base``, a slider along the rotating arm, a second slider at a fixed ``angle`` to it along a platform line.
+
+    Parameters
+    ----------
+    base : (2,) base pivot A
+    platform : (2,) a point b of the platform line (moving frame)
+    direction : (2,) direction v of the platform line (moving frame)
+    angle : fixed angle beta from the first slider to the second (not 0 or pi)
+    actuated : int, default 1
+        0: base revolute (PP dyad: orientation fixed); 1: first slider (RP dyad of a parallel
+        platform line through A); 2: second slider (RP dyad).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> import numpy as np
+    >>> leg = isp.RPP(base=(0, 0), platform=(0, 0), direction=(1, 0), angle=np.pi / 2)
+    >>> leg.inverse_kinematics([0.0, 2.0, 0.0]).round(6)
+    array([[-1.570796, -2.      ,  0.      ]])
+    """
+
+    joints = "RPP"
+    default_actuated = 1
+    joint_names = ("theta1", "s1", "s2")
+
+    def __init__(self, base, platform, direction, angle, actuated=None):
+        super().__init__(actuated)
+        self.base = as_point(base, "base")
+        self.platform = as_point(platform, "platform")
+        self.direction = _unit(as_point(direction, "direction"), "direction")
+        self.angle = as_exact(angle, "angle")
+        self._beta_cs = _exact_cs(angle, "angle")
+        if not self._beta_cs[1].free_symbols and float(self._beta_cs[1]) == 0.0:
+            raise DegenerateDesignError(f"angle (between the two sliders of RPP) must not be 0 or pi, got {angle}")
+
+    def _geometry(self):
+        return {"base": self.base, "platform": self.platform, "direction": self.direction,
+                "angle_cs": self._beta_cs}
+
+    def _dyad(self, q, g, ops):
+        A, b, v, (cb, sb) = g["base"], g["platform"], g["direction"], g["angle_cs"]
+        # e^{i(angle(v) - beta)}: the first slider's direction seen from the platform
+        w = (v[0] * cb + v[1] * sb, v[1] * cb - v[0] * sb)
+        if self.actuated == 1:
+            return rp_quadric((b[0] - q * w[0], b[1] - q * w[1]), v, A)
+        if self.actuated == 2:
+            return rp_quadric((b[0] + q * v[0], b[1] + q * v[1]), w, A)
+        c, s = ops.cs(q)
+        # phi_c = q + beta - angle(v): cos/sin through e^{iq} * conj(w)
+        return pp_quadric(c * w[0] + s * w[1], s * w[0] - c * w[1])
+
+    def _ik(self, x, y, phi, g):
+        A, b, v, (cb, sb) = g["base"], g["platform"], g["direction"], g["angle_cs"]
+        beta = np.arctan2(sb, cb)
+        t1 = _wrap(phi + _angle(v) - beta)
+        d1 = (np.cos(t1), np.sin(t1))
+        bw = _world(x, y, phi, b)
+        vw = _rotv(phi, v)
+        s1, s2 = _lines_meet(A, d1, bw, vw)
+        return np.stack([t1, s1, s2], -1)[..., None, :]
+
+    def _points(self, pose, q, g):
+        A = g["base"]
+        S = (A[0] + q[1] * np.cos(q[0]), A[1] + q[1] * np.sin(q[0]))
+        return np.array([A, S, _world(*pose, g["platform"])], dtype=float)
+
+
+class PRP(Leg):
+    """PRP leg: slider along ``axis`` from ``base``, revolute on it, prismatic along a platform line.
+
+    Parameters
+    ----------
+    base : (2,) start of the slider
+    axis : (2,) slider direction u
+    platform : (2,) point b of the platform line (moving frame)
+    direction : (2,) direction v of the platform line (moving frame)
+    actuated : int, default 0
+        0: slider travel (RP dyad: the platform line through ``base + q u``); 1: the revolute
+        (PP dyad); 2: travel along the platform line (PR dyad).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> leg = isp.PRP(base=(0, 0), axis=(1, 0), platform=(0, 0), direction=(0, 1))
+    >>> leg.inverse_kinematics([2.0, 1.0, 0.0]).round(6)
+    array([[ 2.      ,  1.570796, -1.      ]])
+    """
+
+    joints = "PRP"
+    default_actuated = 0
+    joint_names = ("s1", "theta2", "s2")
+
+    def __init__(self, base, axis, platform, direction, actuated=None):
+        super().__init__(actuated)
+        self.base = as_point(base, "base")
+        self.axis = _unit(as_point(axis, "axis"), "axis")
+        self.platform = as_point(platform, "platform")
+        self.direction = _unit(as_point(direction, "direction"), "direction")
+
+    def _geometry(self):
+        return {"base": self.base, "axis": self.axis, "platform": self.platform,
+                "direction": self.direction}
+
+    def _dyad(self, q, g, ops):
+        A, u, b, v = g["base"], g["axis"], g["platform"], g["direction"]
+        if self.actuated == 0:
+            return rp_quadric(b, v, (A[0] + q * u[0], A[1] + q * u[1]))
+        if self.actuated == 2:
+            return pr_quadric((b[0] + q * v[0], b[1] + q * v[1]), A, u)
+        c, s = ops.cs(q)
+        # phi_c = angle(u) + q - angle(v): e^{i phi_c} = u e^{iq} conj(v)
+        ux, uy = u[0] * c - u[1] * s, u[1] * c + u[0] * s
+        return pp_quadric(ux * v[0] + uy * v[1], uy * v[0] - ux * v[1])
+
+    def _ik(self, x, y, phi, g):
+        A, u, b, v = g["base"], g["axis"], g["platform"], g["direction"]
+        bw = _world(x, y, phi, b)
+        vw = _rotv(phi, v)
+        s1, s2 = _lines_meet(A, u, bw, vw)
+        t2 = _wrap(phi + _angle(v) - _angle(u))
+        return np.stack([s1, t2, s2], -1)[..., None, :]
+
+    def _points(self, pose, q, g):
+        A, u = g["base"], g["axis"]
+        S = (A[0] + q[0] * u[0], A[1] + q[0] * u[1])
+        return np.array([A, S, _world(*pose, g["platform"])], dtype=float)
+
+
+class PPR(Leg):
+    """PPR leg: slider along ``axis`` from ``base``, a second slider at ``angle`` to it, revolute at ``platform``.
+
+    Parameters
+    ----------
+    base : (2,) start C of the first slider
+    axis : (2,) direction u of the first slider (normalised); the first joint value is the
+        travel along ``axis`` from ``base``
+    platform : (2,) platform anchor c (moving frame)
+    angle : angle beta from the first slider to the second (not 0 or pi)
+    actuated : int, default 0
+        0: first slider (PR dyad: c on the line through ``base + q u`` along the second slider);
+        1: second slider (PR dyad); 2: the revolute (PP dyad).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> import numpy as np
+    >>> leg = isp.PPR(base=(0, 0), axis=(1, 0), platform=(0, 0), angle=np.pi / 2)
+    >>> leg.inverse_kinematics([2.0, 3.0, 0.5]).round(6)
+    array([[2. , 3. , 0.5]])
+    """
+
+    joints = "PPR"
+    default_actuated = 0
+    joint_names = ("s1", "s2", "theta3")
+
+    def __init__(self, base, axis, platform, angle, actuated=None):
+        super().__init__(actuated)
+        self.base = as_point(base, "base")
+        self.axis = _unit(as_point(axis, "axis"), "axis")
+        self.platform = as_point(platform, "platform")
+        self.angle = as_exact(angle, "angle")
+        cb, sb = _exact_cs(angle, "angle")
+        if not sb.free_symbols and float(sb) == 0.0:
+            raise DegenerateDesignError(f"angle (between the two sliders of PPR) must not be 0 or pi, got {angle}")
+        u = self.axis
+        self.second_axis = (sp.radsimp(u[0] * cb - u[1] * sb), sp.radsimp(u[1] * cb + u[0] * sb))
+
+    def _geometry(self):
+        return {"base": self.base, "axis": self.axis, "platform": self.platform,
+                "second_axis": self.second_axis}
+
+    def _dyad(self, q, g, ops):
+        C, u, c, w = g["base"], g["axis"], g["platform"], g["second_axis"]
+        if self.actuated == 0:
+            return pr_quadric(c, (C[0] + q * u[0], C[1] + q * u[1]), w)
+        if self.actuated == 1:
+            return pr_quadric(c, (C[0] + q * w[0], C[1] + q * w[1]), u)
+        cq, sq = ops.cs(q)
+        return pp_quadric(cq, sq)
+
+    def _ik(self, x, y, phi, g):
+        C, u, c, w = g["base"], g["axis"], g["platform"], g["second_axis"]
+        cw = _world(x, y, phi, c)
+        s1, t = _lines_meet(C, u, cw, w)
+        return np.stack([s1, -t, _wrap(phi)], -1)[..., None, :]
+
+    def _points(self, pose, q, g):
+        C, u = g["base"], g["axis"]
+        S = (C[0] + q[0] * u[0], C[1] + q[0] * u[1])
+        return np.array([C, S, _world(*pose, g["platform"])], dtype=float)
+
+
+LEG_TYPES = {cls.joints: cls for cls in (RPR, RRR, PRR, RRP, RPP, PRP, PPR)}

@@ -1,0 +1,758 @@
+"""PlanarParallel: three legs, inverse kinematics, constraint equations and direct kinematics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import List, Optional
+
+import numpy as np
+import sympy as sp
+
+from ._validate import as_exact, as_float_array, is_symbolic
+from .constraints import Quadric, image_symbols
+from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
+from .exceptions import DegenerateDesignError, InputError
+from .kinematic_map import image_point as _image_point
+from .kinematic_map import pose_of as _pose_of
+from .legs import Leg
+from .roots import real_half_angles
+from .tolerances import TOLERANCES, Tolerances
+
+__all__ = ["PlanarParallel", "AssemblyMode", "DKBatchResult"]
+
+_MAX_MODES = 6
+
+
+@dataclass(frozen=True)
+class AssemblyMode:
+    """One solution of the direct kinematics.
+
+    Attributes
+    ----------
+    image_point : (4,) float
+        Normalised image point ``(x0, x1, x2, x3)``: ``x0**2 + x1**2 = 1``, ``x0 > 0`` (or
+        ``x1 > 0`` at the half-turn). Complex for complex modes.
+    pose : (3,) float
+        ``(x, y, phi)``, ``phi`` in ``(-pi, pi]`` (NaN for complex modes).
+    residual : float
+        Largest deviation of a leg's inverse kinematics from the given joint value (joint
+        units, relative for prismatic joints with ``|q| > 1``).
+    aspect : int
+        Sign of ``det J`` at the normalised image point, ``J`` the Jacobian of the three
+        constraint quadrics and ``x0**2 + x1**2 - 1`` with respect to ``x0..x3`` (the
+        determinant is a quartic form, even, so the sign does not depend on the representative).
+        Modes of opposite aspect cannot be joined without crossing the singularity surface.
+        ``0`` at a singular pose or for complex modes.
+    is_real : bool
+    """
+
+    image_point: np.ndarray
+    pose: np.ndarray
+    residual: float
+    aspect: int
+    is_real: bool = True
+
+    def __repr__(self):
+        if not self.is_real:
+            return f"AssemblyMode(complex, image_point={np.round(self.image_point, 6)})"
+        x, y, phi = self.pose
+        return (f"AssemblyMode(x={x:.6g}, y={y:.6g}, phi={phi:.6g}, aspect={self.aspect:+d}, "
+                f"residual={self.residual:.1e})")
+
+
+@dataclass
+class DKBatchResult:
+    """Direct kinematics of a batch of joint vectors.
+
+    Attributes
+    ----------
+    image_points : (n, 6, 4) float
+        Normalised image points of the real modes, NaN in unused slots.
+    poses : (n, 6, 3) float
+    valid : (n, 6) bool
+        Which slots hold a mode (valid slots come first, sorted by ``phi``).
+    count : (n,) int
+        Number of real assembly modes per row.
+    residual : (n, 6) float
+    aspect : (n, 6) int
+    row_ok : (n,) bool
+        False for rows that could not be solved (non-finite input, a joint value outside its
+        domain, a degenerate design at those joint values); see ``errors``.
+    errors : dict
+        Row index -> message for every row with ``row_ok`` False.
+    special : (n,) bool
+        Rows that needed the careful per-row path (Cramer denominator vanishing identically or
+        at a root, polynomial identically zero).
+    """
+
+    image_points: np.ndarray
+    poses: np.ndarray
+    valid: np.ndarray
+    count: np.ndarray
+    residual: np.ndarray
+    aspect: np.ndarray
+    row_ok: np.ndarray
+    errors: dict = field(default_factory=dict)
+    special: Optional[np.ndarray] = None
+
+    def modes(self, i):
+        """The modes of row ``i`` as a list of :class:`AssemblyMode`."""
+        return [AssemblyMode(self.image_points[i, j], self.poses[i, j], float(self.residual[i, j]),
+                             int(self.aspect[i, j])) for j in np.flatnonzero(self.valid[i])]
+
+
+# --------------------------------------------------------------------------- numeric helpers
+
+def _coef_array(quadrics, n):
+    """(n, 3, 8) float coefficient array of three numeric quadrics."""
+    C = np.empty((n, 3, 8))
+    for i, q in enumerate(quadrics):
+        for k, v in enumerate(q.coefficients()):
+            C[:, i, k] = np.broadcast_to(np.asarray(v, dtype=float), (n,))
+    return C
+
+
+def _system(C, X):
+    """Values (..., 4) and Jacobian (..., 4, 4) of [Q1, Q2, Q3, x0^2 + x1^2 - 1].
+
+    C: (n, 3, 8) coefficients; X: (n, k, 4) image points.
+    """
+    c, a0, a1, b0, b1, k0, k1, k2 = (C[:, None, :, j] for j in range(8))  # (n, 1, 3)
+    x0, x1, x2, x3 = (X[..., j][..., None] for j in range(4))             # (n, k, 1)
+    val = (c * (x2**2 + x3**2) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
+           + k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2)
+    g0 = a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1
+    g1 = a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1
+    g2 = 2 * c * x2 + a0 * x0 + a1 * x1
+    g3 = 2 * c * x3 + b0 * x0 + b1 * x1
+    J = np.empty(X.shape[:-1] + (4, 4))
+    J[..., :3, 0], J[..., :3, 1], J[..., :3, 2], J[..., :3, 3] = g0, g1, g2, g3
+    J[..., 3, 0], J[..., 3, 1] = 2 * X[..., 0], 2 * X[..., 1]
+    J[..., 3, 2] = J[..., 3, 3] = 0.0
+    Fv = np.concatenate([val, (X[..., 0]**2 + X[..., 1]**2 - 1)[..., None]], axis=-1)
+    return Fv, J
+
+
+def _newton(C, X, steps):
+    X = X.copy()
+    for _ in range(steps):
+        live = np.all(np.isfinite(X), axis=-1)
+        if not np.any(live):
+            break
+        Fv, J = _system(C, np.where(live[..., None], X, 0.0))
+        det = np.linalg.det(J)
+        scale = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+        solvable = live & (np.abs(det) > 1e-14 * scale)
+        step = np.zeros_like(X)
+        if np.any(solvable):
+            step[solvable] = np.linalg.solve(J[solvable], -Fv[solvable][..., None])[..., 0]
+        X = X + step
+        if np.max(np.abs(step), initial=0.0) < 1e-15 * max(1.0, np.nanmax(np.abs(X), initial=1.0)):
+            break
+    return X
+
+
+def _normalize_rows(X):
+    n = np.sqrt(X[..., 0]**2 + X[..., 1]**2)
+    s = np.where((X[..., 0] < 0) | ((X[..., 0] == 0) & (X[..., 1] < 0)), -1.0, 1.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return X * (s / n)[..., None]
+
+
+# --------------------------------------------------------------------------- the manipulator
+
+class PlanarParallel:
+    """A planar 3-DOF parallel manipulator: a base and a platform joined by three legs.
+
+    Parameters
+    ----------
+    legs : sequence of three Leg
+        E.g. ``[isp.RPR(...), isp.RPR(...), isp.PPR(...)]``; each leg's actuated joint is one
+        input of the manipulator.
+    name : str, optional
+    tolerances : Tolerances, optional
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> m = isp.PlanarParallel([isp.RPR(base=(0, 0), platform=(0, 0)),
+    ...                         isp.RPR(base=(4, 0), platform=(2, 0)),
+    ...                         isp.RPR(base=(0, 4), platform=(0, 2))])
+    >>> q = m.inverse_kinematics([1.0, 1.0, 0.2])
+    >>> modes = m.direct_kinematics(q)
+    >>> any(abs(mode.pose - [1.0, 1.0, 0.2]).max() < 1e-9 for mode in modes)
+    True
+    """
+
+    def __init__(self, legs, name=None, tolerances: Tolerances = TOLERANCES):
+        legs = list(legs) if not isinstance(legs, Leg) else [legs]
+        if len(legs) != 3:
+            raise InputError(f"legs must be a sequence of three legs, got {len(legs)}")
+        for i, leg in enumerate(legs):
+            if not isinstance(leg, Leg):
+                raise TypeError(f"legs[{i}] must be a Leg (RPR, RRR, PRR, RRP, RPP, PRP, PPR), "
+                                f"got {type(leg).__name__}")
+        self.legs = tuple(legs)
+        self.name = name or "-".join(leg.joints for leg in legs)
+        self.tolerances = tolerances
+        self.q_example = None
+        self._plan = plan_elimination([self._kind(i) for i in range(3)])
+        self._symbolic_cache = {}
+        self._check_design()
+
+    def __repr__(self):
+        return f"PlanarParallel({self.name!r}, legs={list(self.legs)!r})"
+
+    def _kind(self, i):
+        leg = self.legs[i]
+        return leg.dyad(sp.Symbol("_q")).kind
+
+    def _check_design(self):
+        """Coincident platform anchors of two RR dyads with coincident base anchors are degenerate."""
+        anchors = []
+        for i, leg in enumerate(self.legs):
+            g = leg._geometry()
+            if leg.joints == "RPR" and leg.actuated == 1:
+                anchors.append((i, g["base"], g["platform"]))
+        for a in range(len(anchors)):
+            for b in range(a + 1, len(anchors)):
+                i, A1, a1 = anchors[a]
+                j, A2, a2 = anchors[b]
+                if A1 == A2 and a1 == a2:
+                    raise DegenerateDesignError(
+                        f"legs[{i}] and legs[{j}] have the same base anchor {A1} and platform anchor "
+                        f"{a1}: they impose the same constraint, the design has a continuum of modes")
+
+    # -- symbols and quadrics ---------------------------------------------------
+    @property
+    def joint_symbols(self):
+        """The sympy symbols ``(q1, q2, q3)`` of the actuated joints (real).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.examples.stigger_husty().joint_symbols
+        (q1, q2, q3)
+        """
+        return sp.symbols("q1:4", real=True)
+
+    def _check_q(self, q, name="q"):
+        arr = as_float_array(q, name, last=3)
+        for i, leg in enumerate(self.legs):
+            leg.check_joint_value(arr[..., i], f"{name}[{i}]")
+        return arr
+
+    def quadrics(self, q=None):
+        """The three dyad quadrics at the joint values ``q``.
+
+        Parameters
+        ----------
+        q : None, (3,) sympy/exact numbers, (3,) float or (n, 3) float
+            ``None``: general in :attr:`joint_symbols`; exact/sympy: exact coefficients;
+            floats: float coefficients (arrays for a batch).
+
+        Returns
+        -------
+        list of three Quadric
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> [qd.kind for qd in m.quadrics()]
+        ['RR', 'RR', 'PR']
+        """
+        if q is None:
+            q = self.joint_symbols
+        if is_symbolic(q) or all(isinstance(v, (int, np.integer)) for v in np.ravel(np.array(q, dtype=object))):
+            items = list(q)
+            if len(items) != 3:
+                raise InputError(f"q must have shape (3,), got {len(items)} entries")
+            return [leg.dyad(as_exact(v, f"q[{i}]")) for i, (leg, v) in enumerate(zip(self.legs, items))]
+        arr = self._check_q(q)
+        return [leg.dyad(arr[..., i]) for i, leg in enumerate(self.legs)]
+
+    def constraint_equations(self, q=None):
+        """The three constraint quadrics as sympy expressions in ``x0..x3``.
+
+        Parameters
+        ----------
+        q : None or (3,) numbers / sympy expressions
+            ``None`` keeps the joint values as the symbols :attr:`joint_symbols`. Floats are
+            taken as exact binary rationals.
+
+        Returns
+        -------
+        list of three sympy expressions
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.constraint_equations(m.q_example)[0]
+        -100*x0**2 - 100*x1**2 + 4*x2**2 + 4*x3**2
+        """
+        if q is not None and not is_symbolic(q):
+            items = list(np.ravel(np.asarray(q, dtype=object)))
+            if len(items) != 3:
+                raise InputError(f"q must have shape (3,), got {len(items)} entries")
+            as_float_array([float(v) for v in items], "q", last=3)
+            q = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
+        return [qd.expr() for qd in self.quadrics(q)]
+
+    def kinematic_polynomial(self, q=None):
+        """The binary form in ``(x0, x1)`` whose real roots are the orientations of the assembly modes.
+
+        Eliminates ``x2, x3`` as in :mod:`imagespace.elimination`: a form of degree <= 6 (degree
+        4 before the removal of a factor ``x0**2 + x1**2`` when no leg has an RR dyad). Factors
+        ``x0**2 + x1**2`` (no real roots) are divided out exactly. In case (a) of the elimination
+        (the Cramer denominator vanishes identically, e.g. seed 003's collinear 3-RPR) the result
+        is the binary quadratic that fixes the orientations, each carrying up to two modes.
+        With a PP dyad the form also has the root ``phi_c + pi`` of the pair of planes, which
+        :meth:`direct_kinematics` discards.
+
+        Parameters
+        ----------
+        q : None or (3,) numbers / sympy expressions
+            ``None``: general in :attr:`joint_symbols` (and in the design's symbols, if any).
+
+        Returns
+        -------
+        sympy.Poly
+            In the generators ``(x0, x1)``.
+
+        Raises
+        ------
+        DegenerateDesignError
+            If the polynomial vanishes identically (infinitely many assembly modes).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.kinematic_polynomial(m.q_example).total_degree()
+        6
+        """
+        key = None if q is None else tuple(sp.sympify(v) for v in q) if is_symbolic(q) else tuple(float(v) for v in np.ravel(q))
+        if key in self._symbolic_cache:
+            return self._symbolic_cache[key]
+        eqs = self.quadrics(None if q is None else [as_exact(v, f"q[{i}]") for i, v in enumerate(q)]
+                            if not is_symbolic(q) else q)
+        x0, x1 = image_symbols()[:2]
+        el = eliminate(eqs, self._plan)
+        D = [sp.expand(v) for v in el.D]
+        if all(v == 0 for v in D):
+            form = orientation_form(el.rows)
+        else:
+            form = [sp.expand(v) for v in el.F]
+            if all(v == 0 for v in form):
+                raise DegenerateDesignError(
+                    f"the kinematic polynomial of {self.name} vanishes identically"
+                    + (" at q = " + str(list(q)) if q is not None else "")
+                    + ": infinitely many assembly modes (architecture singularity)")
+        expr = binary_form_poly(form).as_expr()
+        N = x0**2 + x1**2
+        while True:
+            quo, rem = sp.div(expr, N, x0, x1)
+            if sp.expand(rem) != 0 or sp.expand(quo) == 0:
+                break
+            expr = sp.expand(quo)
+        poly = sp.Poly(expr, x0, x1)
+        self._symbolic_cache[key] = poly
+        return poly
+
+    # -- inverse kinematics -----------------------------------------------------
+    def inverse_kinematics(self, pose, working_modes=None):
+        """Actuated joint values at a pose.
+
+        Parameters
+        ----------
+        pose : (3,) or (n, 3) float
+            ``(x, y, phi)``.
+        working_modes : sequence of three ints, optional
+            The branch of each leg's inverse kinematics (see :mod:`imagespace.legs`); default 0.
+
+        Returns
+        -------
+        (3,) or (n, 3) float
+            For a batch, NaN where a leg cannot reach the pose.
+
+        Raises
+        ------
+        InputError
+            For a single pose that a leg cannot reach.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.inverse_kinematics([-7.7528, 6.3162, -1.6549]).round(2)
+        array([10.  , 15.23, 13.25])
+        """
+        p = as_float_array(pose, "pose", last=3)
+        wm = (0, 0, 0) if working_modes is None else tuple(working_modes)
+        if len(wm) != 3:
+            raise InputError(f"working_modes must have three entries, got {working_modes!r}")
+        cols = []
+        for i, (leg, b) in enumerate(zip(self.legs, wm)):
+            if not 0 <= b < leg.n_branches:
+                raise InputError(f"working_modes[{i}] must be in 0..{leg.n_branches - 1} for "
+                                 f"{leg.joints}, got {b}")
+            cols.append(leg.actuated_values(p)[..., b])
+        q = np.stack(cols, axis=-1)
+        if p.ndim == 1 and np.any(np.isnan(q)):
+            bad = [i for i in range(3) if np.isnan(q[i])]
+            raise InputError(f"pose {p.tolist()} is out of reach of leg(s) {bad} "
+                             f"(working_modes={wm})")
+        return q
+
+    def joint_residual(self, pose, q):
+        """Largest deviation of the legs' inverse kinematics (best branch) from ``q``.
+
+        Prismatic joints with ``|q| > 1`` are compared relatively; angles modulo ``2 pi``.
+
+        Parameters
+        ----------
+        pose : (3,) or (n, 3) float
+        q : (3,) or (n, 3) float
+
+        Returns
+        -------
+        float or (n,) float
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> bool(m.joint_residual([1.8441, -9.8285, -1.3391], m.q_example_float) < 1e-3)
+        True
+        """
+        p = as_float_array(pose, "pose", last=3)
+        qa = as_float_array(q, "q", last=3)
+        errs = []
+        for i, leg in enumerate(self.legs):
+            vals = leg.actuated_values(p)                  # (..., nb)
+            qi = qa[..., i][..., None]
+            if leg.actuated_is_angle:
+                d = np.abs(np.remainder(vals - qi + np.pi, 2 * np.pi) - np.pi)
+            else:
+                d = np.abs(vals - qi) / np.maximum(1.0, np.abs(qi))
+            errs.append(np.nanmin(np.where(np.isnan(d), np.inf, d), axis=-1))
+        return np.max(np.stack(errs, axis=-1), axis=-1)
+
+    @property
+    def q_example_float(self):
+        """``q_example`` as floats (``None`` if the mechanism has no example joint values)."""
+        return None if self.q_example is None else np.array([float(v) for v in self.q_example])
+
+    # -- direct kinematics ------------------------------------------------------
+    def direct_kinematics(self, q, include_complex=False):
+        """All real assembly modes for the joint values ``q``.
+
+        Parameters
+        ----------
+        q : (3,) float or exact numbers
+        include_complex : bool
+            Also return the complex solutions (back-substituted, not polished; ``is_real`` False).
+
+        Returns
+        -------
+        list of AssemblyMode
+            Sorted by ``phi``; empty when no real mode exists.
+
+        Raises
+        ------
+        DegenerateDesignError
+            When the design at these joint values has infinitely many modes.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> len(m.direct_kinematics(m.q_example))
+        6
+        """
+        qf = self._check_q([float(v) for v in np.ravel(np.asarray(q, dtype=object))]
+                           if is_symbolic(q) else q)
+        if qf.ndim != 1:
+            raise InputError(f"q must have shape (3,), got {qf.shape}; use direct_kinematics_batch")
+        res = self._solve(qf[None, :], raise_degenerate=True)
+        modes = res.modes(0)
+        if include_complex:
+            modes += self._complex_modes(qf)
+        return modes
+
+    def direct_kinematics_batch(self, Q):
+        """Direct kinematics of many joint vectors at once (vectorised).
+
+        Parameters
+        ----------
+        Q : (n, 3) float
+            One joint vector per row. Rows with NaN or out-of-domain values are masked
+            (``row_ok`` False), not raised.
+
+        Returns
+        -------
+        DKBatchResult
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> import numpy as np
+        >>> m = isp.examples.stigger_husty()
+        >>> r = m.direct_kinematics_batch(np.array([m.q_example_float, [np.nan, 1, 1]]))
+        >>> r.count.tolist(), r.row_ok.tolist()
+        ([6, 0], [True, False])
+        """
+        Q = as_float_array(Q, "Q", last=3, finite=False)
+        if Q.ndim == 1:
+            Q = Q[None, :]
+        return self._solve(Q, raise_degenerate=False)
+
+    # .. internals ..............................................................
+    def _solve(self, Q, raise_degenerate):
+        n = Q.shape[0]
+        tol = self.tolerances
+        errors = {}
+        row_ok = np.all(np.isfinite(Q), axis=1)
+        for i in np.flatnonzero(~row_ok):
+            errors[int(i)] = f"Q[{i}] is not finite: {Q[i].tolist()}"
+        for j, leg in enumerate(self.legs):
+            for i in np.flatnonzero(row_ok):
+                try:
+                    leg.check_joint_value(Q[i, j], f"Q[{i}, {j}]")
+                except InputError as e:
+                    row_ok[i] = False
+                    errors[int(i)] = str(e)
+        Qs = np.where(row_ok[:, None], Q, 0.0)
+        quads = [leg.dyad(Qs[:, j]) for j, leg in enumerate(self.legs)]
+        C = _coef_array(quads, n)
+        C = C / np.maximum(np.max(np.abs(C), axis=2, keepdims=True), 1e-300)
+        cq = [Quadric(quads[j].kind, *(C[:, j, k] for k in range(8))) for j in range(3)]
+        el = eliminate(cq, self._plan)
+        Darr = np.stack(np.broadcast_arrays(*el.D), axis=1)
+        Farr = np.stack(np.broadcast_arrays(*el.F), axis=1)
+        X2 = np.stack(np.broadcast_arrays(*el.X2), axis=1)
+        X3 = np.stack(np.broadcast_arrays(*el.X3), axis=1)
+        dnorm = np.max(np.abs(Darr), axis=1)
+        fnorm = np.max(np.abs(Farr), axis=1)
+        special = row_ok & ((dnorm <= 1e-9) | (fnorm <= tol.degenerate))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            theta, ok = real_half_angles(Farr / np.where(fnorm > 0, fnorm, 1.0)[:, None])
+        x0, x1 = np.cos(theta), np.sin(theta)
+        Dv = bf_eval([c[:, None] for c in Darr.T], x0, x1)
+        small_d = np.isfinite(theta) & (np.abs(Dv) <= 1e-7 * dnorm[:, None])
+        special |= row_ok & np.any(small_d, axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            x2 = bf_eval([c[:, None] for c in X2.T], x0, x1) / Dv
+            x3 = bf_eval([c[:, None] for c in X3.T], x0, x1) / Dv
+        cand = np.stack([x0, x1, x2, x3], axis=-1)
+        cand[~(row_ok & ~special)] = np.nan
+        width = max(cand.shape[1], _MAX_MODES)
+        if cand.shape[1] < width:
+            pad = np.full((n, width - cand.shape[1], 4), np.nan)
+            cand = np.concatenate([cand, pad], axis=1)
+        # careful path for special rows
+        extra = {}
+        for i in np.flatnonzero(special):
+            try:
+                extra[i] = self._special_candidates(Q[i], C[i])
+            except DegenerateDesignError as e:
+                if raise_degenerate:
+                    raise
+                row_ok[i] = False
+                errors[int(i)] = str(e)
+        if extra:
+            width = max(width, max(len(v) for v in extra.values()))
+            if cand.shape[1] < width:
+                cand = np.concatenate([cand, np.full((n, width - cand.shape[1], 4), np.nan)], axis=1)
+            for i, lst in extra.items():
+                cand[i] = np.nan
+                for j, x in enumerate(lst):
+                    cand[i, j] = x
+        return self._finish(Q, C, cand, row_ok, errors, special)
+
+    def _finish(self, Q, C, cand, row_ok, errors, special):
+        tol = self.tolerances
+        n, k, _ = cand.shape
+        X = _newton(C, _normalize_rows(cand), tol.newton_steps)
+        X = _normalize_rows(X)
+        finite = np.all(np.isfinite(X), axis=-1)
+        poses = np.full((n, k, 3), np.nan)
+        if np.any(finite):
+            poses[finite] = _pose_of(X[finite])
+        resid = np.full((n, k), np.inf)
+        if np.any(finite):
+            rows = np.nonzero(finite)[0]
+            resid[finite] = self.joint_residual(poses[finite], Q[rows])
+        valid = finite & (resid <= tol.joint_residual)
+        # duplicates: a later candidate close to an earlier valid one
+        for j in range(1, k):
+            for i0 in range(j):
+                dist = np.minimum(np.max(np.abs(X[:, j] - X[:, i0]), axis=-1),
+                                  np.max(np.abs(X[:, j] + X[:, i0]), axis=-1))
+                valid[:, j] &= ~(valid[:, i0] & (dist <= tol.duplicate * (1 + np.max(np.abs(X[:, j]), axis=-1))))
+        _, J = _system(C, np.where(finite[..., None], X, 0.0))
+        aspect = np.where(finite, np.sign(np.linalg.det(J)), 0).astype(int)
+        # sort valid first, by phi
+        key = np.where(valid, poses[..., 2], np.inf)
+        order = np.argsort(key, axis=1, kind="stable")
+        take = lambda a: np.take_along_axis(a, order.reshape(order.shape + (1,) * (a.ndim - 2)), axis=1)
+        X, poses, valid, resid, aspect = take(X), take(poses), take(valid), take(resid), take(aspect)
+        count = valid.sum(axis=1)
+        if np.any(count > _MAX_MODES):
+            raise DegenerateDesignError(f"more than {_MAX_MODES} assembly modes found; the design is degenerate")
+        w = _MAX_MODES
+        X, poses, valid, resid, aspect = X[:, :w], poses[:, :w], valid[:, :w], resid[:, :w], aspect[:, :w]
+        X = np.where(valid[..., None], X, np.nan)
+        poses = np.where(valid[..., None], poses, np.nan)
+        resid = np.where(valid, resid, np.nan)
+        aspect = np.where(valid, aspect, 0)
+        return DKBatchResult(X, poses, valid, count, resid, aspect, row_ok, errors, special)
+
+    def _special_candidates(self, q, C):
+        """Candidates for one row whose Cramer denominator vanishes (identically or at a root)."""
+        quads = [Quadric(self._kind(j), *(C[j, k] for k in range(8))) for j in range(3)]
+        el = eliminate(quads, self._plan)
+        D = np.array(el.D, dtype=float)
+        F = np.array(el.F, dtype=float)
+        thetas = []
+        if np.max(np.abs(D)) <= 1e-9:
+            E1, E2 = el.rows[0], el.rows[1]
+            M = np.array([[*E1.A, *E1.B], [*E2.A, *E2.B]], dtype=float)
+            U, S, _ = np.linalg.svd(M)
+            forms = []
+            if S[0] <= 1e-9:
+                forms = [np.array(E1.K, float), np.array(E2.K, float)]
+            else:
+                lam = U[:, -1]
+                forms = [lam[0] * np.array(E1.K, float) + lam[1] * np.array(E2.K, float)]
+            forms = [g for g in forms if np.max(np.abs(g)) > 1e-10]
+            if not forms:
+                self._confirm_degenerate(q)
+            for g in forms:
+                th, ok = real_half_angles((g / np.max(np.abs(g)))[None, :])
+                thetas += [t for t in th[0] if np.isfinite(t)]
+        else:
+            if np.max(np.abs(F)) <= self.tolerances.degenerate:
+                poly = self._exact_polynomial(q)
+                F = np.array([float(c) for c in _form_coeffs(poly)], dtype=float)
+            th, ok = real_half_angles((F / np.max(np.abs(F)))[None, :])
+            thetas = [t for t in th[0] if np.isfinite(t)]
+        out = []
+        for t in thetas:
+            out += self._solve_orientation(q, quads, np.cos(t), np.sin(t))
+        return out
+
+    def _exact_polynomial(self, q):
+        return self.kinematic_polynomial([sp.Rational(float(v)) for v in q])
+
+    def _confirm_degenerate(self, q):
+        self._exact_polynomial(q)  # raises DegenerateDesignError when identically zero
+        raise DegenerateDesignError(
+            f"{self.name} at q = {np.asarray(q).tolist()}: the constraints leave a continuum of "
+            "assembly modes (architecture singularity)")
+
+    def _solve_orientation(self, q, quads, x0, x1):
+        """Positions (x2, x3) for a fixed orientation (x0, x1): returns candidate image points."""
+        rows = []
+        for qd in quads:
+            c, a0, a1, b0, b1, k0, k1, k2 = (float(v) for v in qd.coefficients())
+            rows.append((c, a0 * x0 + a1 * x1, b0 * x0 + b1 * x1, k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2))
+        circles = [r for r in rows if r[0] != 0]
+        lin = [r[1:] for r in rows if r[0] == 0]
+        if circles:
+            c0 = circles[0]
+            lin += [tuple(r[j] - c0[j] * r[0] / c0[0] for j in (1, 2, 3)) for r in circles[1:]]
+        L = np.array([[r[0], r[1]] for r in lin]) if lin else np.zeros((0, 2))
+        rhs = np.array([-r[2] for r in lin]) if lin else np.zeros(0)
+        S = np.linalg.svd(L, compute_uv=False) if len(lin) else np.zeros(0)
+        rank = int(np.sum(S > 1e-9 * max(1.0, S[0] if len(S) else 0.0)))
+        if rank == 2:
+            p = np.linalg.lstsq(L, rhs, rcond=None)[0]
+            return [np.array([x0, x1, p[0], p[1]])]
+        if rank == 1:
+            p0 = np.linalg.lstsq(L, rhs, rcond=None)[0]
+            if np.max(np.abs(L @ p0 - rhs), initial=0.0) > 1e-8 * max(1.0, np.max(np.abs(rhs), initial=0.0)):
+                return []
+            d = np.linalg.svd(L)[2][1]
+            if not circles:
+                return self._continuum(q, np.array([x0, x1, p0[0], p0[1]]))
+            c, al, be, ka = circles[0]
+            A2 = c * (d @ d)
+            A1 = 2 * c * (p0 @ d) + al * d[0] + be * d[1]
+            A0 = c * (p0 @ p0) + al * p0[0] + be * p0[1] + ka
+            disc = A1 * A1 - 4 * A2 * A0
+            if disc < -1e-9 * max(1.0, A1 * A1):
+                return []
+            r = np.sqrt(max(disc, 0.0))
+            return [np.array([x0, x1, *(p0 + s * d)]) for s in ((-A1 + r) / (2 * A2), (-A1 - r) / (2 * A2))]
+        consistent = all(abs(r) <= 1e-9 for r in rhs)
+        if not consistent:
+            return []
+        if circles:
+            c, al, be, ka = circles[0]
+            centre = np.array([-al, -be]) / (2 * c)
+            r2 = centre @ centre - ka / c
+            if r2 < 0:
+                return []
+            return self._continuum(q, np.array([x0, x1, centre[0] + np.sqrt(r2), centre[1]]))
+        return self._continuum(q, np.array([x0, x1, 0.0, 0.0]))
+
+    def _continuum(self, q, X):
+        pose = _pose_of(X)
+        if self.joint_residual(pose, q) <= self.tolerances.joint_residual:
+            raise DegenerateDesignError(
+                f"{self.name} at q = {np.asarray(q).tolist()}: a continuum of assembly modes at "
+                f"phi = {pose[2]:.6g} (architecture singularity or singular joint values)")
+        return []
+
+    def _complex_modes(self, q):
+        poly = self.kinematic_polynomial([sp.Rational(float(v)) for v in q])
+        coeffs = np.array([complex(c) for c in _form_coeffs(poly)])
+        d = len(coeffs) - 1
+        roots = np.roots(coeffs[::-1]) if d > 0 else []
+        out = []
+        quads = self.quadrics(np.asarray(q, float))
+        el = eliminate(quads, self._plan)
+        for t in roots:
+            if abs(t.imag) <= self.tolerances.real_root_imag * (1 + abs(t)):
+                continue
+            x0, x1 = 1.0 + 0j, complex(t)
+            Dv = bf_eval([complex(v) for v in el.D], x0, x1)
+            if Dv == 0:
+                continue
+            x2 = bf_eval([complex(v) for v in el.X2], x0, x1) / Dv
+            x3 = bf_eval([complex(v) for v in el.X3], x0, x1) / Dv
+            out.append(AssemblyMode(np.array([x0, x1, x2, x3]), np.full(3, np.nan), np.nan, 0, False))
+        return out
+
+    # -- drawing helpers --------------------------------------------------------
+    def leg_points(self, pose, q=None):
+        """Each leg as a polyline ``(k, 2)`` in the base frame at ``pose`` (for drawings).
+
+        When ``q`` is given, the branch of each leg whose actuated value matches it is drawn.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> [p.shape for p in m.leg_points([1.8441, -9.8285, -1.3391])]
+        [(2, 2), (2, 2), (3, 2)]
+        """
+        p = as_float_array(pose, "pose", last=3, allow_batch=False)
+        out = []
+        for i, leg in enumerate(self.legs):
+            branch = 0
+            if q is not None:
+                vals = leg.actuated_values(p)
+                d = np.abs(vals - float(np.asarray(q, float)[i]))
+                branch = int(np.nanargmin(np.where(np.isnan(d), np.inf, d)))
+            out.append(leg.joint_points(p, branch))
+        return out
+
+
+def _form_coeffs(poly):
+    """Coefficients [f_0..f_d] (x0^(d-k) x1^k) of a homogeneous Poly in (x0, x1)."""
+    d = poly.total_degree()
+    return [poly.coeff_monomial((d - k, k)) for k in range(d + 1)]
