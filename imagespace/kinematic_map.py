@@ -74,11 +74,9 @@ def image_point(pose):
         return sp.Matrix([x0, x1, (x1 * x - x0 * y) / 2, (x0 * x + x1 * y) / 2])
     p = as_float_array(pose, "pose", last=3)
     x, y, phi = p[..., 0], p[..., 1], p[..., 2]
-    half = np.remainder(phi + np.pi, 2 * np.pi) - np.pi  # phi mod 2 pi in [-pi, pi)
-    x0, x1 = np.cos(half / 2), np.sin(half / 2)
-    # phi = pi exactly lands at half = -pi -> (x0, x1) = (0, -1); flip to the x1 > 0 representative
-    flip = (np.abs(x0) < 1e-300) & (x1 < 0)
-    x1 = np.where(flip, -x1, x1)
+    half = np.pi / 2 - np.remainder(np.pi / 2 - phi / 2, np.pi)  # phi/2 mod pi in (-pi/2, pi/2]
+    x0 = np.where(half == np.pi / 2, 0.0, np.cos(half))           # the half-turn exactly at x0 = 0
+    x1 = np.sin(half)
     return np.stack([x0, x1, (x1 * x - x0 * y) / 2, (x0 * x + x1 * y) / 2], axis=-1)
 
 

@@ -208,20 +208,25 @@ class PlanarParallel:
         return leg.dyad(sp.Symbol("_q")).kind
 
     def _check_design(self):
-        """Coincident platform anchors of two RR dyads with coincident base anchors are degenerate."""
+        """Reject designs that are degenerate for every joint value (coincident anchors)."""
         anchors = []
         for i, leg in enumerate(self.legs):
             g = leg._geometry()
-            if leg.joints == "RPR" and leg.actuated == 1:
+            # legs whose locked dyad keeps one platform point on a circle
+            if (leg.joints, leg.actuated) in {("RPR", 1), ("RRR", 0), ("RRR", 1), ("PRR", 0)}:
                 anchors.append((i, g["base"], g["platform"]))
         for a in range(len(anchors)):
             for b in range(a + 1, len(anchors)):
                 i, A1, a1 = anchors[a]
                 j, A2, a2 = anchors[b]
-                if A1 == A2 and a1 == a2:
+                if A1 == A2 and a1 == a2 and self.legs[i].joints == self.legs[j].joints == "RPR":
                     raise DegenerateDesignError(
                         f"legs[{i}] and legs[{j}] have the same base anchor {A1} and platform anchor "
                         f"{a1}: they impose the same constraint, the design has a continuum of modes")
+        if len(anchors) == 3 and anchors[0][2] == anchors[1][2] == anchors[2][2]:
+            raise DegenerateDesignError(
+                f"all three legs hold the same platform anchor {anchors[0][2]}: the platform can "
+                "rotate freely about it (architecture singularity)")
 
     # -- symbols and quadrics ---------------------------------------------------
     @property

@@ -1,0 +1,72 @@
+import numpy as np
+import sympy as sp
+
+import imagespace as isp
+
+x0, x1, x2, x3 = isp.image_symbols()
+s181 = sp.sqrt(181)
+H1 = -100 * x1**2 + 4 * x2**2 + 4 * x3**2 - 100
+H2 = -88 * x1**2 - 48 * x1 * x2 + 4 * x2**2 + 4 * x3**2 - 8 * x3 - 228
+H3 = (1364 * x1**2 * s181 - 80 * x1 * x2 * s181 - 72 * x1 * x3 * s181 + 296 * x1 * s181
+      + 72 * x2 * s181 - 80 * x3 * s181 - 9593 * x1**2 + 84 * s181 - 9593) * s181 / 362
+
+
+def _proportional(expr, printed):
+    """expr (homogeneous, dehomogenised at x0 = 1) is a constant multiple of the printed one."""
+    a = sp.Poly(sp.expand(expr.subs(x0, 1)), x1, x2, x3)
+    b = sp.Poly(sp.expand(printed), x1, x2, x3)
+    if set(a.monoms()) != set(b.monoms()):
+        return False
+    ma = a.monoms()[0]
+    ra, rb = a.coeff_monomial(ma), b.coeff_monomial(ma)
+    return all(sp.expand(a.coeff_monomial(mm) * rb - b.coeff_monomial(mm) * ra) == 0 for mm in a.monoms())
+
+
+def test_seed_002_equations_5_to_7():
+    m = isp.examples.stigger_husty()
+    eqs = m.constraint_equations(m.q_example)
+    for e, printed in zip(eqs, (H1, H2, H3)):
+        assert _proportional(e, printed)
+        # homogeneous of degree 2
+        assert sp.Poly(e, x0, x1, x2, x3).is_homogeneous
+
+
+def _pose_image(rng):
+    pose = np.array([rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-np.pi, np.pi)])
+    return pose, isp.image_point(pose)
+
+
+def test_quadrics_against_euclidean_geometry(rng):
+    """Each quadric equals |z|^2 times the Euclidean condition (circle, line, line through point, angle)."""
+    for _ in range(50):
+        pose, X = _pose_image(rng)
+        R = np.array([[np.cos(pose[2]), -np.sin(pose[2])], [np.sin(pose[2]), np.cos(pose[2])]])
+        t = pose[:2]
+        p, M, d = rng.normal(size=2), rng.normal(size=2), rng.normal(size=2)
+        rho2 = rng.uniform(0.5, 4)
+        # RR: |R p + t - M|^2 - rho^2
+        rr = isp.rr_quadric(M, rho2, p).evaluate(X)
+        assert np.isclose(rr, np.sum((R @ p + t - M) ** 2) - rho2)
+        # PR: n . (R p + t) - n . M with n = d turned by +90 deg
+        n = np.array([-d[1], d[0]])
+        pr = isp.pr_quadric(p, M, d).evaluate(X)
+        assert np.isclose(pr, n @ (R @ p + t) - n @ M)
+        # RP: platform line (p, d) through base point M: m . (R^T (M - t)) - m . p
+        mvec = np.array([-d[1], d[0]])
+        rp = isp.rp_quadric(p, d, M).evaluate(X)
+        assert np.isclose(rp, mvec @ (R.T @ (M - t)) - mvec @ p)
+        # PP: sin(phi - phi_c) up to the factor |z|^2 = 1
+        phic = rng.uniform(-np.pi, np.pi)
+        pp = isp.pp_quadric(np.cos(phic), np.sin(phic)).evaluate(X)
+        assert np.isclose(pp, np.sin(pose[2] - phic))
+
+
+def test_symbolic_and_numeric_quadric_agree(rng):
+    for _ in range(10):
+        p, M = rng.normal(size=2), rng.normal(size=2)
+        qd = isp.rr_quadric(M, 2.0, p)
+        X = rng.normal(size=4)
+        e = qd.expr()
+        assert np.isclose(float(e.subs(dict(zip((x0, x1, x2, x3), X)))), qd.evaluate(X))
+        g = [float(sp.diff(e, v).subs(dict(zip((x0, x1, x2, x3), X)))) for v in (x0, x1, x2, x3)]
+        assert np.allclose(g, qd.gradient(X))

@@ -1,0 +1,313 @@
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import imagespace as isp
+from bruteforce import brute_force_dk
+
+x0s, x1s, x2s, x3s = isp.image_symbols()
+
+PAPER_X1 = [-1.0878919, -0.79150760, -0.49099818, -0.45561388, 0.49313162, 1.7635434]
+SEEDS_POSES = [(-7.7528, 6.3162, -1.6549), (1.8441, -9.8285, -1.3391), (-9.4219, -3.3509, -0.9128),
+               (-5.5018, -8.3505, -0.8550), (-9.4569, 3.2508, 0.9163), (3.1096, 9.5042, 2.1099)]
+
+
+def same_pose(a, b, tol):
+    return (np.max(np.abs(np.asarray(a[:2]) - np.asarray(b[:2]))) < tol
+            and abs(np.angle(np.exp(1j * (a[2] - b[2])))) < tol)
+
+
+def match(modes, poses, tol=1e-6):
+    """Every pose matched by exactly one mode and vice versa."""
+    if len(modes) != len(poses):
+        return False
+    used = set()
+    for p in poses:
+        hits = [i for i, mm in enumerate(modes) if i not in used and same_pose(mm.pose, p, tol)]
+        if not hits:
+            return False
+        used.add(hits[0])
+    return True
+
+
+# ----------------------------------------------------------------------------- seed 002
+
+def test_seed_002_six_modes_as_printed():
+    m = isp.examples.stigger_husty()
+    modes = m.direct_kinematics(m.q_example)
+    assert len(modes) == 6
+    x1 = sorted(mm.image_point[1] / mm.image_point[0] for mm in modes)
+    assert np.allclose(x1, PAPER_X1, atol=5e-8)
+    first = min(modes, key=lambda mm: mm.image_point[1] / mm.image_point[0])
+    X = first.image_point / first.image_point[0]
+    # printed to 10 digits; they agree with the exact roots to 8 significant digits
+    assert X[2] == pytest.approx(1.059032801, abs=5e-8)
+    assert X[3] == pytest.approx(-7.312056755, abs=5e-8)
+    assert match(modes, SEEDS_POSES, tol=1e-4)
+
+
+def test_seed_002_modes_satisfy_constraints_and_ik():
+    m = isp.examples.stigger_husty()
+    eqs = m.constraint_equations(m.q_example)
+    q = m.q_example_float
+    for mm in m.direct_kinematics(m.q_example):
+        sub = dict(zip((x0s, x1s, x2s, x3s), mm.image_point))
+        for e in eqs:
+            assert abs(float(e.subs(sub))) < 1e-9
+        assert np.allclose(m.inverse_kinematics(mm.pose), q, atol=1e-10)
+
+
+def test_seed_002_exact_polynomial_has_six_real_roots():
+    m = isp.examples.stigger_husty()
+    P = m.kinematic_polynomial(m.q_example)
+    assert P.total_degree() == 6 and P.is_homogeneous
+    u = sp.Poly(P.as_expr().subs(x0s, 1), x1s)
+    roots = sorted(float(r) for r in sp.Poly(u.as_expr().evalf(40), x1s).nroots(n=20) if abs(sp.im(r)) < 1e-20)
+    assert np.allclose(roots, PAPER_X1, atol=5e-8)
+
+
+def test_seed_002_matches_brute_force():
+    m = isp.examples.stigger_husty()
+    q = m.q_example_float
+    assert match(m.direct_kinematics(q), brute_force_dk(m, q))
+
+
+# ----------------------------------------------------------------------------- brute force
+
+def random_design(rng):
+    kinds = rng.choice(["RPR", "RRR", "PRR", "PPR"], size=3)
+    legs = []
+    for k in kinds:
+        A = rng.uniform(-6, 6, 2)
+        a = rng.uniform(-3, 3, 2)
+        if k == "RPR":
+            legs.append(isp.RPR(base=A, platform=a))
+        elif k == "RRR":
+            legs.append(isp.RRR(base=A, platform=a, lengths=rng.uniform(2, 5, 2)))
+        elif k == "PRR":
+            legs.append(isp.PRR(base=A, axis=rng.normal(size=2), platform=a, length=rng.uniform(2, 5)))
+        else:
+            legs.append(isp.PPR(base=A, axis=rng.normal(size=2), platform=a, angle=rng.uniform(0.5, 2.6)))
+    return isp.PlanarParallel(legs)
+
+
+def test_against_brute_force_on_random_mixed_designs(rng):
+    compared, total_modes = 0, 0
+    while compared < 30:
+        m = random_design(rng)
+        pose = np.array([rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-np.pi, np.pi)])
+        branches = [rng.integers(leg.n_branches) for leg in m.legs]
+        try:
+            q = m.inverse_kinematics(pose, working_modes=branches)
+        except isp.InputError:
+            continue
+        if any(leg.joints == "RPR" and q[i] < 0 for i, leg in enumerate(m.legs)):
+            continue
+        modes = m.direct_kinematics(q)
+        ref = brute_force_dk(m, q)
+        assert any(same_pose(mm.pose, pose, 1e-7) for mm in modes)
+        assert match(modes, ref), (m, q, [mm.pose for mm in modes], ref)
+        compared += 1
+        total_modes += len(modes)
+    assert total_modes > 60
+
+
+# ----------------------------------------------------------------------------- half-turns
+
+@pytest.mark.parametrize("phi", [np.pi, np.pi - 1e-9, -np.pi + 1e-9])
+def test_half_turn_modes_are_found(phi):
+    m = isp.examples.general_3rpr()
+    pose = np.array([0.4, -0.3, phi])
+    q = m.inverse_kinematics(pose)
+    modes = m.direct_kinematics(q)
+    assert any(same_pose(mm.pose, pose, 1e-8) for mm in modes)
+    hit = [mm for mm in modes if same_pose(mm.pose, pose, 1e-8)][0]
+    assert abs(hit.image_point[0]) < 1e-8
+
+
+# ----------------------------------------------------------------------------- seed 003 and 004
+
+def closed_form_003(R, r, d1, d2, d3):
+    """The course notes' closed form (seed 003), written here."""
+    c = (2 * (d2**2 + R**2 + r**2) - d1**2 - d3**2) / (4 * r * R)
+    out = []
+    if abs(c) > 1:
+        return out
+    for s in (np.sqrt(1 - c * c), -np.sqrt(1 - c * c)):
+        a = (R - r * c) / (r * s)
+        b = (d3**2 - d1**2) / (4 * r * s)
+        disc = a * a * d2**2 + d2**2 - b * b
+        if disc < 0:
+            continue
+        for sign in (1, -1):
+            x = (-a * b + sign * np.sqrt(disc)) / (1 + a * a)
+            out.append((x, a * x + b, np.arctan2(s, c)))
+    return out
+
+
+def test_seed_003_closed_form_equals_elimination():
+    for R, r in [(2, 1), (3, 1.2), (1.5, 0.8)]:
+        m = isp.examples.collinear_3rpr(R, r)
+        for pose in ([0.3 * R, 1.2 * R, 0.7], [0.1, 0.9 * R, -0.4], [-0.2, 0.5 * R, 2.0]):
+            q = m.inverse_kinematics(pose)
+            modes = m.direct_kinematics(q)
+            ref = closed_form_003(R, r, *q)
+            assert len(ref) == 4
+            assert match(modes, ref, 1e-8)
+
+
+def test_seed_003_sin_theta_zero_no_division_by_zero():
+    m = isp.examples.collinear_3rpr(2, 1)
+    # theta = 0: all legs meet... poses with sin(theta) = 0 are singular but must not crash
+    q = m.inverse_kinematics([0.5, 1.5, 0.0])
+    modes = m.direct_kinematics(q)
+    assert any(same_pose(mm.pose, [0.5, 1.5, 0.0], 1e-6) for mm in modes)
+    q = m.inverse_kinematics([0.5, 1.5, np.pi])
+    modes = m.direct_kinematics(q)
+    assert any(same_pose(mm.pose, [0.5, 1.5, np.pi], 1e-6) for mm in modes)
+
+
+def test_seed_004_two_modes_share_position():
+    for alpha in (7 * np.pi / 18, 11 * np.pi / 18, 1.0):
+        m = isp.examples.choi_3ppr(1.0, 0.5, alpha)
+        pose = np.array([0.1, -0.05, 0.2])
+        modes = m.direct_kinematics(m.inverse_kinematics(pose))
+        assert len(modes) == 2
+        assert np.allclose(modes[0].pose[:2], modes[1].pose[:2], atol=1e-9)
+        phis = sorted(mm.pose[2] for mm in modes)
+        other = np.angle(np.exp(1j * (2 * alpha - 0.2)))
+        assert np.allclose(sorted([0.2, other]), phis, atol=1e-9)
+
+
+# ----------------------------------------------------------------------------- properties
+
+@given(st.floats(-3, 3), st.floats(-3, 3), st.floats(-np.pi, np.pi))
+@settings(max_examples=40, deadline=None)
+def test_ik_of_dk_is_q(x, y, phi):
+    m = isp.examples.stigger_husty()
+    q = m.inverse_kinematics([x, y, phi])
+    modes = m.direct_kinematics(q)
+    assert any(same_pose(mm.pose, [x, y, phi], 1e-7) for mm in modes)
+    for mm in modes:
+        assert np.allclose(m.inverse_kinematics(mm.pose), q, rtol=1e-8, atol=1e-8)
+
+
+def test_symbolic_polynomial_at_q_equals_numeric(rng):
+    m = isp.examples.general_3rpr()
+    P = m.kinematic_polynomial()
+    qs = m.joint_symbols
+    for _ in range(5):
+        q = rng.uniform(4, 12, 3)
+        numeric = m.kinematic_polynomial(q)
+        sub = P.as_expr().subs(dict(zip(qs, [sp.Rational(v) for v in q])))
+        for pt in rng.normal(size=(3, 2)):
+            a = float(sub.subs({x0s: pt[0], x1s: pt[1]}))
+            b = float(numeric.as_expr().subs({x0s: pt[0], x1s: pt[1]}))
+            assert np.isclose(a, b, rtol=1e-9)
+        # and its real roots are the modes' orientations
+        modes = m.direct_kinematics(q)
+        for mm in modes:
+            val = float(numeric.as_expr().subs({x0s: mm.image_point[0], x1s: mm.image_point[1]}))
+            scale = float(sum(abs(c) for c in numeric.coeffs()))
+            assert abs(val) < 1e-9 * scale
+
+
+def test_polynomial_is_general_in_design_parameters():
+    px, qx = sp.symbols("p_x q_x", real=True)
+    m = isp.PlanarParallel([isp.RPR(base=(0, 0), platform=(0, 0)), isp.RPR(base=(px, 0), platform=(qx, 0)),
+                            isp.PPR(base=(10, 9), axis=(-10, -9), platform=(7, 10), angle=sp.pi / 2)])
+    P = m.kinematic_polynomial()
+    assert {px, qx} <= P.as_expr().free_symbols
+    ref = isp.examples.stigger_husty()
+    sub = P.as_expr().subs({px: 7, qx: 5}).subs(dict(zip(m.joint_symbols, ref.q_example)))
+    exact = ref.kinematic_polynomial(ref.q_example).as_expr()
+    ratio = sp.Poly(sp.expand(sub), x0s, x1s).coeffs()[0] / sp.Poly(exact, x0s, x1s).coeffs()[0]
+    assert sp.expand(sp.expand(sub) - sp.expand(ratio * exact)) == 0
+
+
+def test_batch_equals_single(rng):
+    m = isp.examples.stigger_husty()
+    poses = np.column_stack([rng.uniform(-4, 4, 50), rng.uniform(-4, 4, 50), rng.uniform(-np.pi, np.pi, 50)])
+    Q = m.inverse_kinematics(poses)
+    Q[3] = np.nan
+    Q[7, 0] = -1.0
+    r = m.direct_kinematics_batch(Q)
+    assert r.poses.shape == (50, 6, 3) and r.valid.shape == (50, 6)
+    assert not r.row_ok[3] and not r.row_ok[7] and 3 in r.errors and "rho" in r.errors[7]
+    for i in range(50):
+        if i in (3, 7):
+            assert r.count[i] == 0
+            continue
+        single = m.direct_kinematics(Q[i])
+        assert r.count[i] == len(single)
+        for a, b in zip(r.modes(i), single):
+            assert np.allclose(a.image_point, b.image_point, atol=1e-12)
+
+
+# ----------------------------------------------------------------------------- errors
+
+def test_no_real_mode_is_empty():
+    m = isp.examples.stigger_husty()
+    assert m.direct_kinematics([1.0, 1.0, 100.0]) == []
+    assert m.direct_kinematics_batch(np.array([[1.0, 1.0, 100.0]])).count.tolist() == [0]
+
+
+def test_complex_modes_on_request():
+    m = isp.examples.collinear_3rpr(2, 1)
+    m2 = isp.examples.general_3rpr()
+    q = m2.inverse_kinematics([0.5, 0.2, 0.3])
+    modes = m2.direct_kinematics(q, include_complex=True)
+    real = [mm for mm in modes if mm.is_real]
+    cplx = [mm for mm in modes if not mm.is_real]
+    assert len(real) + len(cplx) == 6
+    for mm in cplx:
+        eqs = m2.quadrics(q)
+        X = mm.image_point
+        for e in eqs:
+            c, a0, a1, b0, b1, k0, k1, k2 = (float(v) for v in e.coefficients())
+            val = (c * (X[2]**2 + X[3]**2) + X[2] * (a0 * X[0] + a1 * X[1]) + X[3] * (b0 * X[0] + b1 * X[1])
+                   + k0 * X[0]**2 + k1 * X[0] * X[1] + k2 * X[1]**2)
+            assert abs(val) < 1e-6 * (1 + np.abs(X).max() ** 2)
+    assert m.direct_kinematics(m.q_example, include_complex=False)
+
+
+def test_bad_input():
+    m = isp.examples.stigger_husty()
+    with pytest.raises(isp.InputError, match="shape"):
+        m.direct_kinematics([1.0, 2.0])
+    with pytest.raises(isp.InputError, match="finite"):
+        m.direct_kinematics([np.nan, 2.0, 3.0])
+    with pytest.raises(isp.InputError, match="finite"):
+        m.direct_kinematics([np.inf, 2.0, 3.0])
+    with pytest.raises(isp.InputError, match="rho"):
+        m.direct_kinematics([-1.0, 2.0, 3.0])
+    with pytest.raises(isp.InputError, match="Q"):
+        m.direct_kinematics_batch(np.zeros((4, 2)))
+    with pytest.raises(isp.InputError, match="legs"):
+        isp.PlanarParallel([isp.RPR(base=(0, 0), platform=(0, 0))])
+    with pytest.raises(TypeError, match="legs"):
+        isp.PlanarParallel([1, 2, 3])
+    with pytest.raises(isp.InputError, match="out of reach"):
+        isp.PlanarParallel([isp.RRR(base=(i, 0), platform=(0, i), lengths=(1, 1)) for i in range(3)]
+                           ).inverse_kinematics([9.0, 0, 0])
+
+
+def test_coincident_anchors_are_degenerate():
+    with pytest.raises(isp.DegenerateDesignError, match="same base anchor"):
+        isp.PlanarParallel([isp.RPR(base=(0, 0), platform=(1, 0)), isp.RPR(base=(0, 0), platform=(1, 0)),
+                            isp.RPR(base=(3, 0), platform=(2, 1))])
+    with pytest.raises(isp.DegenerateDesignError, match="platform anchor"):
+        isp.PlanarParallel([isp.RPR(base=(0, 0), platform=(1, 0)), isp.RPR(base=(4, 0), platform=(1, 0)),
+                            isp.RPR(base=(3, 5), platform=(1, 0))])
+
+
+def test_architecture_singularity_is_reported():
+    # congruent base and platform, equal legs: the platform translates on a circle at phi = 0
+    tri = [(0, 0), (4, 0), (1, 3)]
+    m = isp.PlanarParallel([isp.RPR(base=p, platform=p) for p in tri])
+    with pytest.raises(isp.DegenerateDesignError, match="continuum"):
+        m.direct_kinematics([2.0, 2.0, 2.0])
+    r = m.direct_kinematics_batch(np.array([[2.0, 2.0, 2.0], [1.0, 1.5, 2.0]]))
+    assert r.row_ok.tolist() == [False, True] and "continuum" in r.errors[0]
