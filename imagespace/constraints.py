@@ -180,7 +180,7 @@ def pr_quadric(point, line_point, line_direction):
     --------
     >>> import imagespace as isp
     >>> isp.pr_quadric((0, 0), (0, 1), (1, 0)).expr()   # the origin of the platform on y = 1
-    x0**2 - 2*x0*x2 + x1**2 + 2*x1*x3
+    -x0**2 - 2*x0*x2 - x1**2 + 2*x1*x3
     """
     px, py = point
     wx, wy = line_direction

@@ -203,7 +203,7 @@ def transform_matrix(image_point):
     out[..., 1, 1] = out[..., 2, 2] = (x0**2 - x1**2) / n
     out[..., 1, 2] = -2 * x0 * x1 / n
     out[..., 2, 1] = 2 * x0 * x1 / n
-    return out
+    return out + 0.0  # no negative zeros
 
 
 def transform_points(image_point, points):

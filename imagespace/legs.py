@@ -470,8 +470,8 @@ class PRR(Leg):
     --------
     >>> import imagespace as isp
     >>> leg = isp.PRR(base=(0, 0), axis=(1, 0), platform=(0, 0), length=5)
-    >>> leg.actuated_values([3.0, 4.0, 0.0])
-    array([ 6., 0.])
+    >>> leg.actuated_values([3.0, 4.0, 0.0]).tolist()
+    [6.0, 0.0]
     """
 
     joints = "PRR"
