@@ -67,20 +67,43 @@ def _wrap(a):
 
 
 def _exact_cs(angle, name):
-    """Exact (cos, sin) of an angle: sympy trig for sympy input, binary rationals for floats."""
+    """Exact (cos, sin) of an angle.
+
+    Symbols stay symbolic; angles whose cosine and sine sympy evaluates in closed form (``pi/2``,
+    ``7*pi/18`` ...) stay exact; any other number (a float, or a rational such as a float joint
+    value made exact) enters through the binary rationals of its float cosine and sine, so that no
+    unevaluated ``cos(331254131695027/140737488355328)`` reaches the elimination.
+    """
     if isinstance(angle, sp.Basic):
-        return sp.cos(angle), sp.sin(angle)
+        if angle.free_symbols:
+            return sp.cos(angle), sp.sin(angle)
+        c, s = sp.cos(angle), sp.sin(angle)
+        if not (c.has(sp.cos, sp.sin) or s.has(sp.cos, sp.sin)):
+            return c, s
+        if angle.has(sp.pi):
+            return c, s
     a = float(as_exact(angle, name))
     return sp.Rational(np.cos(a)), sp.Rational(np.sin(a))
 
 
-def _unit(v, name):
-    vx, vy = v
+def _unit(value, name):
+    """A direction normalised to length 1.
+
+    Exact input (integers, rationals, sympy) is normalised exactly (``(-10, -9)`` becomes
+    ``(-10, -9)/sqrt(181)``); float input is normalised in floating point and then taken as exact
+    binary rationals, so that no square roots of long rationals enter the symbolic paths.
+    """
+    vx, vy = as_point(value, name)
     n2 = sp.expand(vx**2 + vy**2)
     if n2 == 0 or (n2.is_number and float(n2) == 0.0):
         raise InputError(f"{name} must be a non-zero direction vector, got ({vx}, {vy})")
     if n2 == 1:
         return (vx, vy)
+    raw = list(value) if not isinstance(value, np.ndarray) else list(value.ravel())
+    if any(isinstance(r, (float, np.floating)) and not isinstance(r, sp.Basic) for r in raw):
+        f = np.array([float(vx), float(vy)])
+        f = f / np.hypot(*f)
+        return (sp.Rational(f[0]), sp.Rational(f[1]))
     n = sp.sqrt(n2)
     return (sp.radsimp(vx / n), sp.radsimp(vy / n))
 
@@ -482,7 +505,7 @@ class PRR(Leg):
     def __init__(self, base, axis, platform, length, actuated=None):
         super().__init__(actuated)
         self.base = as_point(base, "base")
-        self.axis = _unit(as_point(axis, "axis"), "axis")
+        self.axis = _unit(axis, "axis")
         self.platform = as_point(platform, "platform")
         self.length = check_positive(as_exact(length, "length"), "length")
 
@@ -547,7 +570,7 @@ class RRP(Leg):
         self.base = as_point(base, "base")
         self.length = check_positive(as_exact(length, "length"), "length")
         self.platform = as_point(platform, "platform")
-        self.direction = _unit(as_point(direction, "direction"), "direction")
+        self.direction = _unit(direction, "direction")
 
     def _geometry(self):
         return {"base": self.base, "length": self.length, "platform": self.platform,
@@ -610,7 +633,7 @@ class RPP(Leg):
         super().__init__(actuated)
         self.base = as_point(base, "base")
         self.platform = as_point(platform, "platform")
-        self.direction = _unit(as_point(direction, "direction"), "direction")
+        self.direction = _unit(direction, "direction")
         self.angle = as_exact(angle, "angle")
         self._beta_cs = _exact_cs(angle, "angle")
         if not self._beta_cs[1].free_symbols and float(self._beta_cs[1]) == 0.0:
@@ -676,9 +699,9 @@ class PRP(Leg):
     def __init__(self, base, axis, platform, direction, actuated=None):
         super().__init__(actuated)
         self.base = as_point(base, "base")
-        self.axis = _unit(as_point(axis, "axis"), "axis")
+        self.axis = _unit(axis, "axis")
         self.platform = as_point(platform, "platform")
-        self.direction = _unit(as_point(direction, "direction"), "direction")
+        self.direction = _unit(direction, "direction")
 
     def _geometry(self):
         return {"base": self.base, "axis": self.axis, "platform": self.platform,
@@ -739,7 +762,7 @@ class PPR(Leg):
     def __init__(self, base, axis, platform, angle, actuated=None):
         super().__init__(actuated)
         self.base = as_point(base, "base")
-        self.axis = _unit(as_point(axis, "axis"), "axis")
+        self.axis = _unit(axis, "axis")
         self.platform = as_point(platform, "platform")
         self.angle = as_exact(angle, "angle")
         cb, sb = _exact_cs(angle, "angle")

@@ -157,11 +157,17 @@ def polish_half_angles(F, theta, steps=4):
     array([[0.78539816]])
     """
     theta = np.array(theta, dtype=float)
+    f = bf_eval_angle(F, theta)
     for _ in range(steps):
-        f = bf_eval_angle(F, theta)
         fp = _bf_derivative_angle(F, theta)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = np.where(np.abs(fp) > 0, f / fp, 0.0)
         step = np.clip(np.nan_to_num(step), -0.05, 0.05)
-        theta = theta - step
+        trial = theta - step
+        ft = bf_eval_angle(F, trial)
+        # safeguard: a step is taken only where it decreases |F| (near a double root the
+        # derivative is rounding noise and an unguarded step would leave the root)
+        better = np.abs(ft) < np.abs(f)
+        theta = np.where(better, trial, theta)
+        f = np.where(better, ft, f)
     return theta

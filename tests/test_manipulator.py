@@ -311,3 +311,101 @@ def test_architecture_singularity_is_reported():
         m.direct_kinematics([2.0, 2.0, 2.0])
     r = m.direct_kinematics_batch(np.array([[2.0, 2.0, 2.0], [1.0, 1.5, 2.0]]))
     assert r.row_ok.tolist() == [False, True] and "continuum" in r.errors[0]
+
+
+# ----------------------------------------------------------------------------- all leg variants
+
+def any_leg(rng, kind, act):
+    A = rng.uniform(-5, 5, 2)
+    a = rng.uniform(-2, 2, 2)
+    d = rng.normal(size=2)
+    if kind == "RPR":
+        return isp.RPR(base=A, platform=a, actuated=act)
+    if kind == "RRR":
+        return isp.RRR(base=A, platform=a, lengths=rng.uniform(2, 5, 2), actuated=act)
+    if kind == "PRR":
+        return isp.PRR(base=A, axis=d, platform=a, length=rng.uniform(2, 5), actuated=act)
+    if kind == "RRP":
+        return isp.RRP(base=A, length=rng.uniform(2, 5), platform=a, direction=d, actuated=act)
+    if kind == "RPP":
+        return isp.RPP(base=A, platform=a, direction=d, angle=rng.uniform(0.4, 2.7), actuated=act)
+    if kind == "PRP":
+        return isp.PRP(base=A, axis=d, platform=a, direction=rng.normal(size=2), actuated=act)
+    return isp.PPR(base=A, axis=d, platform=a, angle=rng.uniform(0.4, 2.7), actuated=act)
+
+
+def exact_real_root_count(poly):
+    """Distinct real roots of a binary form on the projective line, exactly (sympy, rationals)."""
+    x0, x1 = isp.image_symbols()[:2]
+    sqf = sp.Poly(sp.sqf_part(poly.as_expr()), x0, x1)
+    u = sp.Poly(sqf.as_expr().subs(x0, 1), x1)
+    at_infinity = 1 if u.degree() < sqf.total_degree() else 0
+    return u.count_roots() + at_infinity
+
+
+def test_every_leg_variant_recovers_the_pose_and_the_exact_count(rng):
+    kinds = ["RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR"]
+    done, counted = 0, 0
+    while done < 42:
+        kind = kinds[done % 7]
+        act = (done // 7) % 3
+        others = rng.choice(["RPR", "RRR", "PRR", "RRP"], size=2)
+        legs = [any_leg(rng, kind, act)] + [any_leg(rng, k, int(rng.integers(3))) for k in others]
+        try:
+            m = isp.PlanarParallel(legs)
+        except isp.DegenerateDesignError:
+            continue
+        pose = np.array([rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-np.pi, np.pi)])
+        try:
+            q = m.inverse_kinematics(pose)
+        except isp.InputError:
+            continue
+        if any(leg.joints == "RPR" and leg.actuated == 1 and q[i] < 0 for i, leg in enumerate(m.legs)):
+            continue
+        modes = m.direct_kinematics(q)
+        assert any(same_pose(mm.pose, pose, 1e-7) for mm in modes), (m, q)
+        for mm in modes:
+            assert m.joint_residual(mm.pose, q) < 1e-8
+        has_pp = any(qd.kind == "PP" for qd in m.quadrics(q))
+        if not has_pp:
+            # exact count of distinct real roots of the exact polynomial (rational q)
+            P = m.kinematic_polynomial([sp.Rational(v) for v in q])
+            orientations = {round(float(np.arctan2(mm.image_point[1], mm.image_point[0]) % np.pi), 9)
+                            for mm in modes}
+            assert len(orientations) == exact_real_root_count(P), (m, q)
+            counted += 1
+        done += 1
+    assert counted >= 20
+
+
+def test_denominator_vanishing_at_a_root_case_b():
+    """Build a 2RPR-PPR whose Cramer denominator vanishes at the orientation of a known mode."""
+    from imagespace.elimination import bf_eval, eliminate
+
+    pose = np.array([0.7, 1.3, 0.4])
+    X = isp.image_point(pose)
+    c = np.array([2.0, 1.0])
+    cw = isp.transform_points(X, c)
+
+    def build(psi):
+        u = np.array([np.cos(psi), np.sin(psi)])
+        legs = [isp.RPR(base=(0, 0), platform=(0, 0)), isp.RPR(base=(6, 0), platform=(3, 0)),
+                isp.PPR(base=cw - 4.0 * u, axis=u, platform=c, angle=np.pi / 2)]
+        return isp.PlanarParallel(legs)
+
+    def d_at_pose(psi):
+        m = build(psi)
+        q = m.inverse_kinematics(pose)
+        el = eliminate(m.quadrics(q))
+        return bf_eval([float(v) for v in el.D], X[0], X[1])
+
+    from scipy.optimize import brentq
+    grid = np.linspace(0, np.pi, 181)
+    vals = [d_at_pose(p) for p in grid]
+    k = next(i for i in range(180) if vals[i] * vals[i + 1] < 0)
+    psi = brentq(d_at_pose, grid[k], grid[k + 1], xtol=1e-15)
+    m = build(psi)
+    q = m.inverse_kinematics(pose)
+    modes = m.direct_kinematics(q)
+    assert any(same_pose(mm.pose, pose, 1e-7) for mm in modes)
+    assert match(modes, brute_force_dk(m, q), 1e-6)
