@@ -80,6 +80,20 @@ def image_point(pose):
     return np.stack([x0, x1, (x1 * x - x0 * y) / 2, (x0 * x + x1 * y) / 2], axis=-1)
 
 
+def representative_sign(x0, x1):
+    """``-1`` where ``(x0, x1)`` must be negated to reach the normalised representative, else ``+1``.
+
+    The representative has ``x0 > 0``, or ``x1 > 0`` when ``x0 = 0``.
+
+    Examples
+    --------
+    >>> from imagespace.kinematic_map import representative_sign
+    >>> representative_sign(np.array([-1.0, 0.0, 0.0]), np.array([0.0, -1.0, 1.0]))
+    array([-1., -1.,  1.])
+    """
+    return np.where((x0 < 0) | ((x0 == 0) & (x1 < 0)), -1.0, 1.0)
+
+
 def _check_not_absolute(x0, x1, name):
     bad = (x0 == 0) & (x1 == 0)
     if np.any(bad):
@@ -125,7 +139,7 @@ def pose_of(image_point):
     _check_not_absolute(x0, x1, "image_point")
     n = x0**2 + x1**2
     # the angle of (x0, x1) mod pi, doubled: phi in (-pi, pi]
-    s = np.where((x0 < 0) | ((x0 == 0) & (x1 < 0)), -1.0, 1.0)
+    s = representative_sign(x0, x1)
     phi = 2 * np.arctan2(s * x1, s * x0)
     return np.stack([2 * (x0 * x3 + x1 * x2) / n, 2 * (-x0 * x2 + x1 * x3) / n, phi], axis=-1)
 
@@ -145,7 +159,7 @@ def normalize(image_point):
     --------
     >>> import imagespace as isp
     >>> isp.normalize([-2.0, 0.0, 1.0, 4.0])
-    array([ 1. , -0. , -0.5, -2. ])
+    array([ 1. ,  0. , -0.5, -2. ])
     """
     if is_symbolic(image_point):
         x = sp.Matrix(_sym_vector(image_point, 4, "image_point"))
@@ -161,8 +175,7 @@ def normalize(image_point):
     x0, x1 = p[..., 0], p[..., 1]
     _check_not_absolute(x0, x1, "image_point")
     n = np.sqrt(x0**2 + x1**2)
-    s = np.where((x0 < 0) | ((x0 == 0) & (x1 < 0)), -1.0, 1.0)
-    return p * (s / n)[..., None]
+    return p * (representative_sign(x0, x1) / n)[..., None] + 0.0
 
 
 def transform_matrix(image_point):

@@ -208,8 +208,15 @@ class Leg:
         return f"{type(self).__name__}({g}, actuated={self.actuated})"
 
     # -- the dyad ---------------------------------------------------------------
+    def joint_values_ok(self, q):
+        """Boolean mask: which actuated joint values are inside the joint's domain (all, by default)."""
+        return np.ones(np.shape(q), dtype=bool)
+
     def check_joint_value(self, q, name="q"):
-        """Validate a value of the actuated joint (overridden where a domain applies)."""
+        """Raise InputError if a value of the actuated joint is outside its domain."""
+        if not np.all(self.joint_values_ok(np.asarray(q, dtype=float))):
+            raise InputError(f"{name} is outside the domain of the actuated joint "
+                             f"{self.actuated_name} of {self.joints}, got {q}")
         return q
 
     def dyad(self, q):
@@ -377,8 +384,12 @@ class RPR(Leg):
     def _geometry(self):
         return {"base": self.base, "platform": self.platform}
 
+    def joint_values_ok(self, q):
+        q = np.asarray(q, dtype=float)
+        return q >= 0 if self.actuated == 1 else np.ones(q.shape, dtype=bool)
+
     def check_joint_value(self, q, name="q"):
-        if self.actuated == 1 and np.any(np.asarray(q, dtype=float) < 0):
+        if not np.all(self.joint_values_ok(q)):
             raise InputError(f"{name} (the RPR leg length rho) must be >= 0, got {q}")
         return q
 

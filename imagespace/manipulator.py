@@ -14,6 +14,7 @@ from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form,
 from .exceptions import DegenerateDesignError, InputError
 from .kinematic_map import image_point as _image_point
 from .kinematic_map import pose_of as _pose_of
+from .kinematic_map import representative_sign
 from .legs import Leg
 from .roots import real_half_angles
 from .tolerances import TOLERANCES, Tolerances
@@ -134,27 +135,34 @@ def _system(C, X):
 
 
 def _newton(C, X, steps):
+    """Newton on [Q1, Q2, Q3, x0^2 + x1^2 - 1]; each candidate stops once its step is below
+    1e-15 of its size (or its Jacobian is singular), so converged rows cost nothing more."""
     X = X.copy()
+    active = np.all(np.isfinite(X), axis=-1)
     for _ in range(steps):
-        live = np.all(np.isfinite(X), axis=-1)
-        if not np.any(live):
+        idx = np.nonzero(active)
+        if idx[0].size == 0:
             break
-        Fv, J = _system(C, np.where(live[..., None], X, 0.0))
+        Ca = C[idx[0]][:, None]                     # (m, 1, 3, 8)
+        Fv, J = _system(Ca[:, 0], X[idx][:, None, :])
+        Fv, J = Fv[:, 0], J[:, 0]
         det = np.linalg.det(J)
         scale = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-        solvable = live & (np.abs(det) > 1e-14 * scale)
-        step = np.zeros_like(X)
+        solvable = np.abs(det) > 1e-14 * scale
+        step = np.zeros((idx[0].size, 4))
         if np.any(solvable):
             step[solvable] = np.linalg.solve(J[solvable], -Fv[solvable][..., None])[..., 0]
-        X = X + step
-        if np.max(np.abs(step), initial=0.0) < 1e-15 * max(1.0, np.nanmax(np.abs(X), initial=1.0)):
-            break
+        X[idx] = X[idx] + step
+        size = np.maximum(1.0, np.max(np.abs(X[idx]), axis=-1))
+        done = ~solvable | (np.max(np.abs(step), axis=-1) <= 1e-15 * size)
+        # one more step after the first tiny one is pointless: retire converged candidates
+        active[idx[0][done], idx[1][done]] = False
     return X
 
 
 def _normalize_rows(X):
     n = np.sqrt(X[..., 0]**2 + X[..., 1]**2)
-    s = np.where((X[..., 0] < 0) | ((X[..., 0] == 0) & (X[..., 1] < 0)), -1.0, 1.0)
+    s = representative_sign(X[..., 0], X[..., 1])
     with np.errstate(invalid="ignore", divide="ignore"):
         return X * (s / n)[..., None]
 
@@ -523,12 +531,11 @@ class PlanarParallel:
         for i in np.flatnonzero(~row_ok):
             errors[int(i)] = f"Q[{i}] is not finite: {Q[i].tolist()}"
         for j, leg in enumerate(self.legs):
-            for i in np.flatnonzero(row_ok):
-                try:
-                    leg.check_joint_value(Q[i, j], f"Q[{i}, {j}]")
-                except InputError as e:
-                    row_ok[i] = False
-                    errors[int(i)] = str(e)
+            bad = row_ok & ~leg.joint_values_ok(np.where(row_ok, Q[:, j], 0.0))
+            for i in np.flatnonzero(bad):
+                row_ok[i] = False
+                errors[int(i)] = (f"Q[{i}, {j}] = {Q[i, j]} is outside the domain of the actuated "
+                                  f"joint {leg.actuated_name} of {leg.joints}")
         Qs = np.where(row_ok[:, None], Q, 0.0)
         quads = [leg.dyad(Qs[:, j]) for j, leg in enumerate(self.legs)]
         C = _coef_array(quads, n)
