@@ -8,7 +8,8 @@ from .constraints import Quadric, image_symbols, pp_quadric, pr_quadric, rp_quad
 from .exceptions import DegenerateDesignError, EliminationError, ImageSpaceError, InputError
 from .kinematic_map import compose, image_point, inverse, normalize, pose_of, transform_matrix, transform_points
 from .legs import PPR, PRP, PRR, RPP, RPR, RRP, RRR, Leg
-from .manipulator import AssemblyMode, DKBatchResult, PlanarParallel
+from .certify import RealRootCertificate, certify_real_roots
+from .manipulator import AssemblyMode, CertifiedModes, DKBatchResult, PlanarParallel
 from .tolerances import TOLERANCES, Tolerances
 
 __version__ = "0.1.0"
@@ -18,7 +19,8 @@ __all__ = [
     "image_point", "pose_of", "normalize", "transform_matrix", "transform_points", "compose", "inverse",
     "Quadric", "image_symbols", "rr_quadric", "pr_quadric", "rp_quadric", "pp_quadric",
     "Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR",
-    "PlanarParallel", "AssemblyMode", "DKBatchResult",
+    "PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes",
+    "RealRootCertificate", "certify_real_roots",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError",
     "Tolerances", "TOLERANCES",
 ]

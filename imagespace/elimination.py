@@ -262,14 +262,20 @@ def eliminate(quadrics, plan=None):
     if plan is None:
         plan = plan_elimination([q.kind for q in quadrics])
     E1, E2, E3 = (_combine(quadrics, w) for w in (plan.w1, plan.w2, plan.w3))
-    D = bf_add(bf_mul(E1.A, E2.B), bf_scale(bf_mul(E2.A, E1.B), -1))
-    X2 = bf_scale(bf_add(bf_mul(E1.K, E2.B), bf_scale(bf_mul(E2.K, E1.B), -1)), -1)
-    X3 = bf_scale(bf_add(bf_mul(E1.A, E2.K), bf_scale(bf_mul(E2.A, E1.K), -1)), -1)
-    lin = bf_add(bf_add(bf_mul(E3.A, X2), bf_mul(E3.B, X3)), bf_mul(E3.K, D))
+    symbolic = any(isinstance(v, sp.Basic) for q in quadrics for v in q.coefficients())
+    # sympy entries are expanded after every stage: nested unexpanded products would make the
+    # final expansion exponentially expensive
+    ex = (lambda f: [sp.expand(v) for v in f]) if symbolic else (lambda f: f)
+    if symbolic:
+        E1, E2, E3 = (LinearRow(sp.expand(E.c), ex(E.A), ex(E.B), ex(E.K)) for E in (E1, E2, E3))
+    D = ex(bf_add(bf_mul(E1.A, E2.B), bf_scale(bf_mul(E2.A, E1.B), -1)))
+    X2 = ex(bf_scale(bf_add(bf_mul(E1.K, E2.B), bf_scale(bf_mul(E2.K, E1.B), -1)), -1))
+    X3 = ex(bf_scale(bf_add(bf_mul(E1.A, E2.K), bf_scale(bf_mul(E2.A, E1.K), -1)), -1))
+    lin = ex(bf_add(bf_add(bf_mul(E3.A, X2), bf_mul(E3.B, X3)), bf_mul(E3.K, D)))
     if plan.linear_only:
         F = lin
     else:
-        F = bf_add(bf_scale(bf_add(bf_mul(X2, X2), bf_mul(X3, X3)), E3.c), bf_mul(D, lin))
+        F = ex(bf_add(bf_scale(ex(bf_add(bf_mul(X2, X2), bf_mul(X3, X3))), E3.c), bf_mul(D, lin)))
     return Elimination(plan, (E1, E2, E3), D, X2, X3, F)
 
 

@@ -10,6 +10,7 @@ import sympy as sp
 
 from ._validate import as_exact, as_float_array, is_symbolic
 from .constraints import Quadric, image_symbols
+from .certify import certify_real_roots
 from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
 from .exceptions import DegenerateDesignError, InputError
 from .kinematic_map import image_point as _image_point
@@ -19,7 +20,7 @@ from .legs import Leg
 from .roots import real_half_angles
 from .tolerances import TOLERANCES, Tolerances
 
-__all__ = ["PlanarParallel", "AssemblyMode", "DKBatchResult"]
+__all__ = ["PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes"]
 
 _MAX_MODES = 6
 
@@ -59,6 +60,32 @@ class AssemblyMode:
         x, y, phi = self.pose
         return (f"AssemblyMode(x={x:.6g}, y={y:.6g}, phi={phi:.6g}, aspect={self.aspect:+d}, "
                 f"residual={self.residual:.1e})")
+
+
+class CertifiedModes(list):
+    """The list of assembly modes with the certificate of the real-root count.
+
+    Attributes
+    ----------
+    certificate : RealRootCertificate
+        Proven number of distinct real roots of :meth:`PlanarParallel.kinematic_polynomial`
+        at the (exact) joint values, with isolating intervals and the method.
+    modes_per_root : tuple of int
+        For each certified real root (finite ones in ascending ``t = x1/x0``, then the
+        half-turn root if any), how many reported modes have that orientation. A root
+        carries exactly one mode when the Cramer denominator does not vanish there; zero or two
+        in case (b), up to two per orientation in case (a), and zero for the spurious
+        ``phi_c + pi`` root of a PP dyad.
+    """
+
+    def __init__(self, modes, certificate, modes_per_root):
+        super().__init__(modes)
+        self.certificate = certificate
+        self.modes_per_root = tuple(modes_per_root)
+
+    def __repr__(self):
+        return (f"CertifiedModes({list.__repr__(self)}, real roots={self.certificate.count}, "
+                f"method={self.certificate.method!r})")
 
 
 @dataclass
@@ -459,7 +486,7 @@ class PlanarParallel:
         return None if self.q_example is None else np.array([float(v) for v in self.q_example])
 
     # -- direct kinematics ------------------------------------------------------
-    def direct_kinematics(self, q, include_complex=False):
+    def direct_kinematics(self, q, include_complex=False, certify=False):
         """All real assembly modes for the joint values ``q``.
 
         Parameters
@@ -467,10 +494,16 @@ class PlanarParallel:
         q : (3,) float or exact numbers
         include_complex : bool
             Also return the complex solutions (back-substituted, not polished; ``is_real`` False).
+        certify : bool
+            Also prove the number of real roots of the kinematic polynomial at the exact joint
+            values (floats taken as binary rationals, sympy values as given) with python-flint
+            (:func:`imagespace.certify.certify_real_roots`). Every certified root interval that
+            no numeric mode falls into is solved again on its own, so a mode lost by the floating
+            point path is recovered, and the result says how many modes each root carries.
 
         Returns
         -------
-        list of AssemblyMode
+        list of AssemblyMode, or CertifiedModes (a list with ``.certificate``) if ``certify``
             Sorted by ``phi``; empty when no real mode exists.
 
         Raises
@@ -491,9 +524,61 @@ class PlanarParallel:
             raise InputError(f"q must have shape (3,), got {qf.shape}; use direct_kinematics_batch")
         res = self._solve(qf[None, :], raise_degenerate=True)
         modes = res.modes(0)
+        if certify:
+            modes = self._certified(q, qf, modes)
         if include_complex:
             modes += self._complex_modes(qf)
         return modes
+
+    def _certified(self, q, qf, modes):
+        items = list(q) if is_symbolic(q) else [float(v) for v in np.ravel(q)]
+        q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
+        cert = certify_real_roots(self.kinematic_polynomial(q_exact))
+        if not cert.certified:
+            return CertifiedModes(modes, cert, ())
+
+        def t_of(mode):
+            x0, x1 = mode.image_point[:2]
+            return np.inf if abs(x0) <= 1e-14 * abs(x1) else x1 / x0
+
+        def root_of(mode):
+            """Index of the certified root a mode's orientation belongs to (nearest interval)."""
+            t = t_of(mode)
+            if not np.isfinite(t) or abs(t) > 1e12:
+                return len(cert.intervals) if cert.at_infinity else None
+            dist = [max(lo - t, t - hi, 0.0) for lo, hi in cert.intervals]
+            if not dist:
+                return None
+            k = int(np.argmin(dist))
+            return k if dist[k] <= 1e-8 * (1 + abs(t)) else None
+
+        def carried(k):
+            return [mm for mm in modes if root_of(mm) == k]
+
+        n_roots = len(cert.intervals) + int(cert.at_infinity > 0)
+        missing = [k for k in range(n_roots) if not carried(k)]
+        if missing:
+            C = _coef_array(self.quadrics(qf[None, :]), 1)
+            C = C / np.maximum(np.max(np.abs(C), axis=2, keepdims=True), 1e-300)
+            quads = [Quadric(self._kind(j), *(C[0, j, k] for k in range(8))) for j in range(3)]
+            cand = []
+            for k in missing:
+                if k < len(cert.intervals):
+                    t = 0.5 * (cert.intervals[k][0] + cert.intervals[k][1])
+                    x0, x1 = 1.0 / np.hypot(1.0, t), t / np.hypot(1.0, t)
+                else:
+                    x0, x1 = 0.0, 1.0
+                cand += self._solve_orientation(qf, quads, x0, x1)
+            if cand:
+                arr = np.full((1, max(len(cand), _MAX_MODES), 4), np.nan)
+                arr[0, :len(cand)] = cand
+                extra = self._finish(qf[None, :], C, arr, np.array([True]), {}, np.array([True])).modes(0)
+                known = [mm.image_point for mm in modes]
+                for mm in extra:
+                    if not any(np.max(np.abs(mm.image_point - k)) < 1e-9 for k in known):
+                        modes.append(mm)
+                modes.sort(key=lambda mm: mm.pose[2])
+        return CertifiedModes(modes, cert, [len(carried(k)) for k in range(n_roots)])
 
     def direct_kinematics_batch(self, Q):
         """Direct kinematics of many joint vectors at once (vectorised).
