@@ -64,7 +64,14 @@ class RealRootCertificate:
     method: str
 
     def contains(self, t):
-        """True if the finite real root intervals contain ``t = x1/x0`` (a float)."""
+        """True if the finite real root intervals contain ``t = x1/x0`` (a float).
+
+        Examples
+        --------
+        >>> from imagespace.certify import certify_real_roots
+        >>> certify_real_roots([-1, 0, 1]).contains(1.0)      # x1^2 - x0^2
+        True
+        """
         return any(lo <= t <= hi for lo, hi in self.intervals)
 
 

@@ -63,7 +63,9 @@ def demo(out_dir="imagespace-demo", stream=None):
     P = m.kinematic_polynomial(q)
     p(f"\nKinematic polynomial: a binary form of degree {P.total_degree()} in (x0 : x1), x0 = 1:")
     p("  " + str(sp.N(P.as_expr().subs(x0, 1), 10)) + " = 0")
-    modes = m.direct_kinematics(q)
+    modes = m.direct_kinematics(q, certify=True)
+    cert = modes.certificate
+    p(f"\nCertified: {cert.count} distinct real roots on the projective line ({cert.method}).")
     rows = []
     for k, mm in enumerate(modes, 1):
         X = mm.image_point / mm.image_point[0] if abs(mm.image_point[0]) > 1e-12 else mm.image_point

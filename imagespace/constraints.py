@@ -85,7 +85,14 @@ class Quadric:
     k2: Any
 
     def coefficients(self):
-        """The eight coefficients ``(c, a0, a1, b0, b1, k0, k1, k2)`` as a tuple."""
+        """The eight coefficients ``(c, a0, a1, b0, b1, k0, k1, k2)`` as a tuple.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.pp_quadric(1, 0).coefficients()
+        (0, 0, 0, 0, 0, 0, 2, 0)
+        """
         return (self.c, self.a0, self.a1, self.b0, self.b1, self.k0, self.k1, self.k2)
 
     def expr(self, x=None):

@@ -284,6 +284,14 @@ def orientation_form(rows):
 
     Returns the binary quadratic ``G`` as a coefficient list, or raises DegenerateDesignError when
     every such combination vanishes identically.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.elimination import eliminate, orientation_form
+    >>> m = isp.examples.collinear_3rpr(2, 1)
+    >>> orientation_form(eliminate(m.quadrics(m.q_example)).rows)
+    [-576, 0, 2496]
     """
     E1, E2 = rows[0], rows[1]
     v1 = [sp.expand(v) for v in (*E1.A, *E1.B)]

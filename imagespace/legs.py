@@ -209,11 +209,25 @@ class Leg:
 
     # -- the dyad ---------------------------------------------------------------
     def joint_values_ok(self, q):
-        """Boolean mask: which actuated joint values are inside the joint's domain (all, by default)."""
+        """Boolean mask: which actuated joint values are inside the joint's domain (all, by default).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.RPR(base=(0, 0), platform=(0, 0)).joint_values_ok([-1.0, 2.0]).tolist()
+        [False, True]
+        """
         return np.ones(np.shape(q), dtype=bool)
 
     def check_joint_value(self, q, name="q"):
-        """Raise InputError if a value of the actuated joint is outside its domain."""
+        """Raise InputError if a value of the actuated joint is outside its domain.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.RPR(base=(0, 0), platform=(0, 0)).check_joint_value(2.0)
+        2.0
+        """
         if not np.all(self.joint_values_ok(np.asarray(q, dtype=float))):
             raise InputError(f"{name} is outside the domain of the actuated joint "
                              f"{self.actuated_name} of {self.joints}, got {q}")

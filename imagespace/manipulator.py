@@ -124,7 +124,15 @@ class DKBatchResult:
     special: Optional[np.ndarray] = None
 
     def modes(self, i):
-        """The modes of row ``i`` as a list of :class:`AssemblyMode`."""
+        """The modes of row ``i`` as a list of :class:`AssemblyMode`.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> len(m.direct_kinematics_batch([m.q_example_float]).modes(0))
+        6
+        """
         return [AssemblyMode(self.image_points[i, j], self.poses[i, j], float(self.residual[i, j]),
                              int(self.aspect[i, j])) for j in np.flatnonzero(self.valid[i])]
 
