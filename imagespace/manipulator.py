@@ -409,6 +409,41 @@ class PlanarParallel:
         self._symbolic_cache[key] = poly
         return poly
 
+    def compiled(self):
+        """The kinematic polynomial general in the joint values, derived once and compiled (cached).
+
+        Returns
+        -------
+        CompiledPolynomial
+            ``.coefficients(Q)`` evaluates the coefficients for a batch ``(n, 3)`` of joint
+            vectors in one vectorised call.
+
+        Raises
+        ------
+        InputError
+            If the design has free symbols (substitute numbers first).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.compiled().degree
+        6
+        """
+        if "compiled" not in self._symbolic_cache:
+            free = set().union(*(leg.free_symbols for leg in self.legs))
+            if free:
+                raise InputError(f"compiled() needs a numeric design; the design has the symbols "
+                                 f"{sorted(map(str, free))}")
+            from .compile import CompiledPolynomial, compile_exprs
+
+            P = self.kinematic_polynomial()
+            d = P.total_degree()
+            coeffs = [P.coeff_monomial((d - k, k)) for k in range(d + 1)]
+            fn = compile_exprs(coeffs, self.joint_symbols)
+            self._symbolic_cache["compiled"] = CompiledPolynomial(P, d, self.joint_symbols, fn)
+        return self._symbolic_cache["compiled"]
+
     # -- inverse kinematics -----------------------------------------------------
     def inverse_kinematics(self, pose, working_modes=None):
         """Actuated joint values at a pose.

@@ -409,3 +409,25 @@ def test_denominator_vanishing_at_a_root_case_b():
     modes = m.direct_kinematics(q)
     assert any(same_pose(mm.pose, pose, 1e-7) for mm in modes)
     assert match(modes, brute_force_dk(m, q), 1e-6)
+
+
+def test_compiled_coefficients_equal_numeric_elimination(rng):
+    """The compiled general-q polynomial is proportional to the float elimination at each q."""
+    from imagespace.elimination import eliminate
+
+    for m in (isp.examples.stigger_husty(), isp.examples.general_3rpr(), random_design(rng)):
+        comp = m.compiled()
+        Q = rng.uniform(3, 12, (20, 3))
+        C = comp.coefficients(Q)
+        assert C.shape == (20, comp.degree + 1)
+        el = eliminate(m.quadrics(Q))
+        F = np.stack(np.broadcast_arrays(*el.F), axis=1)
+        th = rng.uniform(0, np.pi, 7)          # points on the unit circle: x0^2 + x1^2 = 1
+        def ev(coeffs):
+            d = coeffs.shape[1] - 1
+            k = np.arange(d + 1)
+            return np.einsum("nk,tk->nt", coeffs, np.cos(th)[:, None] ** (d - k) * np.sin(th)[:, None] ** k)
+        a, b = ev(C), ev(F)
+        ratio = a / b
+        assert np.allclose(ratio, ratio[:, :1], rtol=1e-7)
+        assert comp is m.compiled()            # cached
