@@ -239,7 +239,8 @@ class PlanarParallel:
         self.name = name or "-".join(leg.joints for leg in legs)
         self.tolerances = tolerances
         self.q_example = None
-        self._plan = plan_elimination([self._kind(i) for i in range(3)])
+        self._kinds = tuple(leg.dyad(sp.Symbol("_q")).kind for leg in self.legs)
+        self._plan = plan_elimination(list(self._kinds))
         self._symbolic_cache = {}
         self._check_design()
 
@@ -247,8 +248,7 @@ class PlanarParallel:
         return f"PlanarParallel({self.name!r}, legs={list(self.legs)!r})"
 
     def _kind(self, i):
-        leg = self.legs[i]
-        return leg.dyad(sp.Symbol("_q")).kind
+        return self._kinds[i]
 
     def _check_design(self):
         """Reject designs that are degenerate for every joint value (coincident anchors)."""
