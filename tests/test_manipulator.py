@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import imagespace as isp
@@ -183,11 +183,27 @@ def test_seed_004_two_modes_share_position():
 
 # ----------------------------------------------------------------------------- properties
 
+def smallest_singular_value_of_ik(m, pose, h=1e-6):
+    """Independent distance-to-singularity measure: sigma_min of d(IK)/d(pose), central differences."""
+    J = np.empty((3, 3))
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = h
+        J[:, k] = (m.inverse_kinematics(pose + e) - m.inverse_kinematics(pose - e)) / (2 * h)
+    s = np.linalg.svd(J, compute_uv=False)
+    return s[-1] / s[0]
+
+
 @given(st.floats(-3, 3), st.floats(-3, 3), st.floats(-np.pi, np.pi))
 @settings(max_examples=40, deadline=None)
 def test_ik_of_dk_is_q(x, y, phi):
     m = isp.examples.stigger_husty()
+    # at a pose on (or within 1e-4 of) the singularity surface two modes merge and the float path
+    # cannot separate them to 1e-7; that case belongs to the certified tests
+    assume(smallest_singular_value_of_ik(m, np.array([x, y, phi])) > 1e-4)
     q = m.inverse_kinematics([x, y, phi])
+    # a (nearly) zero-length RPR leg is singular too (det Jq = 2 rho = 0): two modes ~2 rho apart
+    assume(min(q[0], q[1]) > 1e-3)
     modes = m.direct_kinematics(q)
     assert any(same_pose(mm.pose, [x, y, phi], 1e-7) for mm in modes)
     for mm in modes:
