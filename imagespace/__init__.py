@@ -8,7 +8,7 @@ from .constraints import Quadric, image_symbols, pp_quadric, pr_quadric, rp_quad
 from .exceptions import DegenerateDesignError, EliminationError, ImageSpaceError, InputError
 from .kinematic_map import compose, image_point, inverse, normalize, pose_of, transform_matrix, transform_points
 from .legs import PPR, PRP, PRR, RPP, RPR, RRP, RRR, Leg
-from .certify import RealRootCertificate, certify_real_roots
+from .certify import RealRootCertificate, certify_real_roots, certify_real_roots_batch
 from .manipulator import AssemblyMode, CertifiedModes, DKBatchResult, PlanarParallel
 from .tolerances import TOLERANCES, Tolerances
 
@@ -20,7 +20,7 @@ __all__ = [
     "Quadric", "image_symbols", "rr_quadric", "pr_quadric", "rp_quadric", "pp_quadric",
     "Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR",
     "PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes",
-    "RealRootCertificate", "certify_real_roots",
+    "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError",
     "Tolerances", "TOLERANCES",
 ]

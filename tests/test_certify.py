@@ -116,3 +116,51 @@ def test_tangent_joint_values_double_root():
 def test_bad_input():
     with pytest.raises(isp.InputError, match="vanish"):
         certify_real_roots([0, 0, 0])
+
+
+def test_batch_certified_counts_agree_with_exact_isolation(rng):
+    """2,000 rows: kinematic sextics of mixed designs, constructed double roots and half-turns."""
+    from imagespace.certify import certify_real_roots_batch
+    from imagespace.elimination import eliminate
+
+    rows = []
+    # kinematic polynomials of the seed-002 mechanism and a general 3-RPR at random joint values
+    for m in (isp.examples.stigger_husty(), isp.examples.general_3rpr()):
+        Q = rng.uniform(2, 16, (700, 3))
+        el = eliminate(m.quadrics(Q))
+        rows.append(np.stack(np.broadcast_arrays(*el.F), axis=1))
+    # constructed: a double real root, or a root at x0 = 0 (half-turn), times random factors
+    extra = []
+    for i in range(600):
+        r = rng.integers(-5, 6, 4) / 2.0
+        f = np.array([1.0])
+        if i % 3 == 0:
+            f = np.convolve(f, [-r[0], 1.0])
+            f = np.convolve(f, [-r[0], 1.0])           # double root t = r0
+        elif i % 3 == 1:
+            f = np.convolve(f, [1.0, 0.0])              # factor x0: the root x0 = 0 (half-turn)
+            f = np.convolve(f, [-r[1], 1.0])
+        while len(f) < 7:
+            f = np.convolve(f, [rng.integers(-4, 5) or 1.0, rng.integers(-4, 5), rng.integers(1, 5)])
+        assert len(f) == 7
+        extra.append(f)
+    rows.append(np.array(extra))
+    F = np.concatenate(rows)
+    assert F.shape[0] == 2000
+    counts, path = certify_real_roots_batch(F)
+    for i in range(F.shape[0]):
+        exact = certify_real_roots([sp.Rational(float(v)) for v in F[i]])
+        assert counts[i] == exact.count, (i, F[i], path[i])
+    assert np.sum(F[:, 6] == 0) >= 150                 # half-turn rows present
+    assert np.sum(path == "discs") > 1000 and np.sum(path == "flint") >= 200
+
+
+def test_batch_odd_inputs():
+    from imagespace.certify import certify_real_roots_batch
+
+    counts, path = certify_real_roots_batch(np.array([[np.nan, 1.0, 1.0], [0.0, 0.0, 0.0], [1.0, 0.0, -1.0]]))
+    assert counts.tolist() == [-1, -1, 2] and path.tolist() == ["invalid", "invalid", "discs"]
+    counts, path = certify_real_roots_batch(np.zeros((0, 7)))
+    assert counts.shape == (0,)
+    with pytest.raises(isp.InputError, match="shape"):
+        certify_real_roots_batch(np.zeros(7))
