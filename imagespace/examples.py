@@ -8,6 +8,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import sympy as sp
 
 from ._validate import as_exact, check_positive
@@ -124,7 +125,6 @@ def choi_3ppr(R=1, r=sp.Rational(1, 2), alpha=7 * sp.pi / 18):
                         platform=(r * sp.sin(th), -r * sp.cos(th)), angle=alpha))
     m = PlanarParallel(legs, name="3-PPR (Choi)")
     # joint values of the pose (0.1 R, -0.05 R, 0.2)
-    import numpy as np
     pose = np.array([0.1 * float(R), -0.05 * float(R), 0.2])
     m.q_example = tuple(sp.Float(v, 17) for v in m.inverse_kinematics(pose))
     return m

@@ -247,9 +247,6 @@ class PlanarParallel:
     def __repr__(self):
         return f"PlanarParallel({self.name!r}, legs={list(self.legs)!r})"
 
-    def _kind(self, i):
-        return self._kinds[i]
-
     def _check_design(self):
         """Reject designs that are degenerate for every joint value (coincident anchors)."""
         anchors = []
@@ -601,9 +598,8 @@ class PlanarParallel:
         n_roots = len(cert.intervals) + int(cert.at_infinity > 0)
         missing = [k for k in range(n_roots) if not carried(k)]
         if missing:
-            C = _coef_array(self.quadrics(qf[None, :]), 1)
-            C = C / np.maximum(np.max(np.abs(C), axis=2, keepdims=True), 1e-300)
-            quads = [Quadric(self._kind(j), *(C[0, j, k] for k in range(8))) for j in range(3)]
+            C, _ = self._scaled_quadrics(qf[None, :])
+            quads = self._row_quadrics(C[0])
             cand = []
             for k in missing:
                 if k < len(cert.intervals):
@@ -665,10 +661,7 @@ class PlanarParallel:
                 errors[int(i)] = (f"Q[{i}, {j}] = {Q[i, j]} is outside the domain of the actuated "
                                   f"joint {leg.actuated_name} of {leg.joints}")
         Qs = np.where(row_ok[:, None], Q, 0.0)
-        quads = [leg.dyad(Qs[:, j]) for j, leg in enumerate(self.legs)]
-        C = _coef_array(quads, n)
-        C = C / np.maximum(np.max(np.abs(C), axis=2, keepdims=True), 1e-300)
-        cq = [Quadric(quads[j].kind, *(C[:, j, k] for k in range(8))) for j in range(3)]
+        C, cq = self._scaled_quadrics(Qs)
         el = eliminate(cq, self._plan)
         Darr = np.stack(np.broadcast_arrays(*el.D), axis=1)
         Farr = np.stack(np.broadcast_arrays(*el.F), axis=1)
@@ -750,9 +743,25 @@ class PlanarParallel:
         aspect = np.where(valid, aspect, 0)
         return DKBatchResult(X, poses, valid, count, resid, aspect, row_ok, errors, special)
 
+    def _scaled_quadrics(self, Q):
+        """Float quadrics for joint vectors Q (n, 3), each scaled to max |coefficient| = 1.
+
+        Returns the (n, 3, 8) coefficient array and the matching list of three Quadric (rows as
+        arrays); scaling a quadric does not change its zero set, and it makes the tolerances of the
+        elimination relative.
+        """
+        quads = [leg.dyad(Q[:, j]) for j, leg in enumerate(self.legs)]
+        C = _coef_array(quads, Q.shape[0])
+        C = C / np.maximum(np.max(np.abs(C), axis=2, keepdims=True), 1e-300)
+        return C, [Quadric(self._kinds[j], *(C[:, j, k] for k in range(8))) for j in range(3)]
+
+    def _row_quadrics(self, c_row):
+        """The three scalar quadrics of one row of a (n, 3, 8) coefficient array."""
+        return [Quadric(self._kinds[j], *(c_row[j, k] for k in range(8))) for j in range(3)]
+
     def _special_candidates(self, q, C):
         """Candidates for one row whose Cramer denominator vanishes (identically or at a root)."""
-        quads = [Quadric(self._kind(j), *(C[j, k] for k in range(8))) for j in range(3)]
+        quads = self._row_quadrics(C)
         el = eliminate(quads, self._plan)
         D = np.array(el.D, dtype=float)
         F = np.array(el.F, dtype=float)
