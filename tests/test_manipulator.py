@@ -447,3 +447,21 @@ def test_compiled_coefficients_equal_numeric_elimination(rng):
         ratio = a / b
         assert np.allclose(ratio, ratio[:, :1], rtol=1e-7)
         assert comp is m.compiled()            # cached
+
+
+def test_batch_odd_inputs():
+    m = isp.examples.stigger_husty()
+    q = m.q_example_float
+    empty = m.direct_kinematics_batch(np.zeros((0, 3)))
+    assert empty.count.shape == (0,) and empty.poses.shape == (0, 6, 3)
+    one = m.direct_kinematics_batch(q)               # a single row given as (3,)
+    assert one.count.tolist() == [6]
+    wide = np.zeros((4, 6))
+    wide[:, ::2] = q                                 # a strided (non-contiguous) view
+    r = m.direct_kinematics_batch(wide[:, ::2])
+    assert r.count.tolist() == [6] * 4
+    r32 = m.direct_kinematics_batch(np.tile(q, (2, 1)).astype(np.float32))
+    ref = m.direct_kinematics(q.astype(np.float32).astype(float))
+    assert r32.count.tolist() == [len(ref)] * 2
+    rn = m.direct_kinematics_batch(np.array([q, [np.nan, 1.0, 1.0], q]))
+    assert rn.row_ok.tolist() == [True, False, True] and rn.count.tolist() == [6, 0, 6]
