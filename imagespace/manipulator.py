@@ -10,7 +10,7 @@ import sympy as sp
 
 from ._validate import as_exact, as_float_array, is_symbolic
 from .constraints import Quadric, image_symbols
-from .certify import certify_real_roots
+from .certify import certify_real_roots, certify_real_roots_batch
 from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
 from .exceptions import DegenerateDesignError, InputError
 from .kinematic_map import image_point as _image_point
@@ -111,6 +111,16 @@ class DKBatchResult:
     special : (n,) bool
         Rows that needed the careful per-row path (Cramer denominator vanishing identically or
         at a root, polynomial identically zero).
+    certified_roots : (n,) int, only with ``certify=True``
+        Proven number of distinct real roots of the kinematic polynomial per row (-1 where the
+        row is not valid).
+    certificate_path : (n,) str, only with ``certify=True``
+        ``"discs"`` (vectorised inclusion discs), ``"flint"`` (exact isolation) or ``"invalid"``.
+    consistent : (n,) bool, only with ``certify=True``
+        The modes' distinct orientations are exactly the certified real roots. Rows where the
+        float path disagreed were solved again by ``direct_kinematics(q, certify=True)``, which
+        re-solves every certified root; a row can stay False only for a root that carries no
+        mode (the spurious root of a PP dyad, or case (b) with no real position).
     """
 
     image_points: np.ndarray
@@ -122,6 +132,9 @@ class DKBatchResult:
     row_ok: np.ndarray
     errors: dict = field(default_factory=dict)
     special: Optional[np.ndarray] = None
+    certified_roots: Optional[np.ndarray] = None
+    certificate_path: Optional[np.ndarray] = None
+    consistent: Optional[np.ndarray] = None
 
     def modes(self, i):
         """The modes of row ``i`` as a list of :class:`AssemblyMode`.
@@ -619,7 +632,7 @@ class PlanarParallel:
                 modes.sort(key=lambda mm: mm.pose[2])
         return CertifiedModes(modes, cert, [len(carried(k)) for k in range(n_roots)])
 
-    def direct_kinematics_batch(self, Q):
+    def direct_kinematics_batch(self, Q, certify=False):
         """Direct kinematics of many joint vectors at once (vectorised).
 
         Parameters
@@ -627,6 +640,11 @@ class PlanarParallel:
         Q : (n, 3) float
             One joint vector per row. Rows with NaN or out-of-domain values are masked
             (``row_ok`` False), not raised.
+        certify : bool
+            Also prove the number of real roots per row (:func:`~imagespace.certify.certify_real_roots_batch`
+            on the compiled kinematic polynomial, floats taken as exact binary rationals) and
+            hold the modes to it; rows that disagree are re-solved per row with the certified
+            path. Fills ``certified_roots``, ``certificate_path`` and ``consistent``.
 
         Returns
         -------
@@ -644,7 +662,43 @@ class PlanarParallel:
         Q = as_float_array(Q, "Q", last=3, finite=False)
         if Q.ndim == 1:
             Q = Q[None, :]
-        return self._solve(Q, raise_degenerate=False)
+        res = self._solve(Q, raise_degenerate=False)
+        if certify:
+            self._certify_batch(Q, res)
+        return res
+
+    def _certify_batch(self, Q, res):
+        n = Q.shape[0]
+        F = self.compiled().coefficients(np.where(res.row_ok[:, None], Q, 0.0))
+        F = np.where(res.row_ok[:, None], F, np.nan)
+        counts, path = certify_real_roots_batch(F) if n else (np.zeros(0, int), np.zeros(0, str))
+        half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])  # in (-pi/2, pi/2]
+        consistent = np.zeros(n, dtype=bool)
+        for i in range(n):
+            if not res.row_ok[i]:
+                continue
+            consistent[i] = _distinct_orientations(half[i][res.valid[i]]) == counts[i]
+        for i in np.flatnonzero(res.row_ok & ~consistent):
+            try:
+                modes = self.direct_kinematics(Q[i], certify=True)
+            except DegenerateDesignError as e:
+                res.row_ok[i] = False
+                res.errors[int(i)] = str(e)
+                continue
+            k = min(len(modes), res.valid.shape[1])
+            for arr, fill in ((res.image_points, np.nan), (res.poses, np.nan), (res.residual, np.nan)):
+                arr[i] = fill
+            res.valid[i] = False
+            res.aspect[i] = 0
+            for j, mm in enumerate(modes[:k]):
+                res.image_points[i, j], res.poses[i, j] = mm.image_point, mm.pose
+                res.residual[i, j], res.aspect[i, j], res.valid[i, j] = mm.residual, mm.aspect, True
+            res.count[i] = k
+            cert = modes.certificate
+            counts[i] = cert.count if cert.certified else -1
+            path[i] = "flint" if cert.certified else "invalid"
+            consistent[i] = all(c == 1 for c in modes.modes_per_root) and len(modes.modes_per_root) == counts[i]
+        res.certified_roots, res.certificate_path, res.consistent = counts, path, consistent
 
     # .. internals ..............................................................
     def _solve(self, Q, raise_degenerate):
@@ -899,6 +953,15 @@ class PlanarParallel:
                 branch = int(np.nanargmin(np.where(np.isnan(d), np.inf, d)))
             out.append(leg.joint_points(p, branch))
         return out
+
+
+def _distinct_orientations(half_angles, tol=1e-9):
+    """Number of distinct orientations among half-angles in (-pi/2, pi/2] (the ends identified)."""
+    h = np.sort(np.asarray(half_angles, dtype=float))
+    if h.size == 0:
+        return 0
+    gaps = np.diff(np.concatenate([h, [h[0] + np.pi]]))
+    return max(1, int(np.sum(gaps > tol)))
 
 
 def _form_coeffs(poly):

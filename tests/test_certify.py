@@ -164,3 +164,23 @@ def test_batch_odd_inputs():
     assert counts.shape == (0,)
     with pytest.raises(isp.InputError, match="shape"):
         certify_real_roots_batch(np.zeros(7))
+
+
+def test_batch_dk_with_certificates(rng):
+    m = isp.examples.stigger_husty()
+    poses = np.column_stack([rng.uniform(-6, 6, 300), rng.uniform(-6, 6, 300), rng.uniform(-np.pi, np.pi, 300)])
+    Q = m.inverse_kinematics(poses)
+    Q[7] = np.nan
+    r = m.direct_kinematics_batch(Q, certify=True)
+    assert r.certified_roots[7] == -1 and not r.consistent[7]
+    ok = np.flatnonzero(r.row_ok)
+    for i in ok[:60]:
+        exact = m.kinematic_polynomial([sp.Rational(float(v)) for v in Q[i]])
+        assert r.certified_roots[i] == certify_real_roots(exact).count
+    # generic rows: one mode per certified root
+    assert np.all(r.consistent[ok]) and np.all(r.count[ok] == r.certified_roots[ok])
+    # a tangent row (double root) of a 3-RPR: three distinct real roots, three modes
+    t = isp.PlanarParallel([isp.RPR(base=(0, 0), platform=(0, 0)), isp.RPR(base=(10, 0), platform=(6, 0)),
+                            isp.RPR(base=(3, 8), platform=(2, 5))])
+    rt = t.direct_kinematics_batch(np.array([[3.0, 7.0, 5.0]]), certify=True)
+    assert rt.certified_roots.tolist() == [3] and rt.count.tolist() == [3] and rt.consistent.tolist() == [True]
