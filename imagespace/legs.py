@@ -108,10 +108,6 @@ def _unit(value, name):
     return (sp.radsimp(vx / n), sp.radsimp(vy / n))
 
 
-def _is_num(x):
-    return not isinstance(x, sp.Basic)
-
-
 class _Ops:
     """cos/sin and constants for one arithmetic: sympy (exact or symbolic) or numpy (float)."""
 

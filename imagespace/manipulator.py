@@ -13,7 +13,6 @@ from .constraints import Quadric, image_symbols
 from .certify import certify_real_roots, certify_real_roots_batch
 from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
 from .exceptions import DegenerateDesignError, InputError
-from .kinematic_map import image_point as _image_point
 from .kinematic_map import pose_of as _pose_of
 from .kinematic_map import representative_sign
 from .legs import Leg
@@ -697,7 +696,9 @@ class PlanarParallel:
             cert = modes.certificate
             counts[i] = cert.count if cert.certified else -1
             path[i] = "flint" if cert.certified else "invalid"
-            consistent[i] = all(c == 1 for c in modes.modes_per_root) and len(modes.modes_per_root) == counts[i]
+            # the same test as above, on the re-solved modes
+            half_i = [np.arctan2(mm.image_point[1], mm.image_point[0]) for mm in modes[:k]]
+            consistent[i] = cert.certified and _distinct_orientations(half_i) == counts[i]
         res.certified_roots, res.certificate_path, res.consistent = counts, path, consistent
 
     # .. internals ..............................................................
