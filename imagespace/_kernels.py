@@ -14,10 +14,11 @@ from __future__ import annotations
 import numpy as np
 
 try:  # numba is optional: the kernels fall back to plain Python/numpy loops without it
-    from numba import njit
+    from numba import njit, prange
     HAVE_NUMBA = True
 except ImportError:  # pragma: no cover - exercised only where numba is missing
     HAVE_NUMBA = False
+    prange = range
 
     def njit(*args, **kwargs):
         def wrap(f):

@@ -8,11 +8,12 @@ from typing import List, Optional
 import numpy as np
 import sympy as sp
 
-from ._validate import as_exact, as_float_array, is_symbolic
+from ._validate import as_exact, as_float_array, check_positive, is_symbolic
 from .constraints import Quadric, image_symbols
 from .certify import certify_real_roots, certify_real_roots_batch
 from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
 from .exceptions import DegenerateDesignError, InputError
+from .fastdk import HAVE_NUMBA, build_kernel
 from .kinematic_map import pose_of as _pose_of
 from .kinematic_map import representative_sign
 from .legs import Leg
@@ -22,6 +23,7 @@ from .tolerances import TOLERANCES, Tolerances
 __all__ = ["PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes"]
 
 _MAX_MODES = 6
+_KERNEL_MIN_ROWS = 2000
 
 
 @dataclass(frozen=True)
@@ -100,7 +102,6 @@ class DKBatchResult:
         Which slots hold a mode (valid slots come first, sorted by ``phi``).
     count : (n,) int
         Number of real assembly modes per row.
-    residual : (n, 6) float
     aspect : (n, 6) int
     row_ok : (n,) bool
         False for rows that could not be solved (non-finite input, a joint value outside its
@@ -109,7 +110,13 @@ class DKBatchResult:
         Row index -> message for every row with ``row_ok`` False.
     special : (n,) bool
         Rows that needed the careful per-row path (Cramer denominator vanishing identically or
-        at a root, polynomial identically zero).
+        at a root, polynomial identically zero; with the kernel also a root touching the axis).
+    residual : (n, 6) float
+        Joint-space residual of each mode: from the legs' inverse kinematics on the numpy path,
+        to first order ``max_i |Q_i| / |dQ_i/dq_i|`` on the kernel path.
+    solver : (n,) str
+        Which path answered each row: ``"kernel"`` (compiled one-pass kernel), ``"numpy"``
+        (vectorised numpy path), ``"certified"`` (per-row certified path), ``"invalid"``.
     certified_roots : (n,) int, only with ``certify=True``
         Proven number of distinct real roots of the kinematic polynomial per row (-1 where the
         row is not valid).
@@ -131,6 +138,7 @@ class DKBatchResult:
     row_ok: np.ndarray
     errors: dict = field(default_factory=dict)
     special: Optional[np.ndarray] = None
+    solver: Optional[np.ndarray] = None
     certified_roots: Optional[np.ndarray] = None
     certificate_path: Optional[np.ndarray] = None
     consistent: Optional[np.ndarray] = None
@@ -631,8 +639,8 @@ class PlanarParallel:
                 modes.sort(key=lambda mm: mm.pose[2])
         return CertifiedModes(modes, cert, [len(carried(k)) for k in range(n_roots)])
 
-    def direct_kinematics_batch(self, Q, certify=False):
-        """Direct kinematics of many joint vectors at once (vectorised).
+    def direct_kinematics_batch(self, Q, certify=False, method="auto"):
+        """Direct kinematics of many joint vectors at once.
 
         Parameters
         ----------
@@ -644,10 +652,20 @@ class PlanarParallel:
             on the compiled kinematic polynomial, floats taken as exact binary rationals) and
             hold the modes to it; rows that disagree are re-solved per row with the certified
             path. Fills ``certified_roots``, ``certificate_path`` and ``consistent``.
+        method : {"auto", "kernel", "numpy"}
+            ``"kernel"``: the compiled one-pass kernel of :mod:`imagespace.fastdk` (numba; real
+            roots only, no eigenvalues); rows it cannot decide in floating point are handed to
+            the numpy path (``special``) or, for a root touching the axis, to the certified
+            per-row path. ``"numpy"``: the vectorised numpy path (companion eigenvalues,
+            Newton, every mode checked by the legs' inverse kinematics). ``"auto"``: the kernel
+            for batches of at least 2,000 rows when numba is installed and the design suits it
+            (no PP dyad, Cramer denominator not identically zero), else numpy. The first kernel
+            call for a design compiles it (a few seconds).
 
         Returns
         -------
         DKBatchResult
+            ``solver`` says per row which path answered.
 
         Examples
         --------
@@ -655,16 +673,126 @@ class PlanarParallel:
         >>> import numpy as np
         >>> m = isp.examples.stigger_husty()
         >>> r = m.direct_kinematics_batch(np.array([m.q_example_float, [np.nan, 1, 1]]))
-        >>> r.count.tolist(), r.row_ok.tolist()
-        ([6, 0], [True, False])
+        >>> r.count.tolist(), r.row_ok.tolist(), r.solver.tolist()
+        ([6, 0], [True, False], ['numpy', 'invalid'])
         """
         Q = as_float_array(Q, "Q", last=3, finite=False)
         if Q.ndim == 1:
             Q = Q[None, :]
-        res = self._solve(Q, raise_degenerate=False)
+        if method not in ("auto", "kernel", "numpy"):
+            raise InputError(f"method must be 'auto', 'kernel' or 'numpy', got {method!r}")
+        kernel = None
+        if method == "kernel" or (method == "auto" and Q.shape[0] >= _KERNEL_MIN_ROWS):
+            kernel = self._kernel()
+            if kernel is None and method == "kernel":
+                raise InputError(
+                    f"method='kernel' is not available for {self.name}: "
+                    + ("numba is not installed" if not HAVE_NUMBA else
+                       "the design has a PP dyad or a Cramer denominator vanishing identically")
+                    + "; use method='numpy' or 'auto'")
+        res = self._solve_kernel(Q, kernel) if kernel is not None else self._solve(Q, raise_degenerate=False)
         if certify:
             self._certify_batch(Q, res)
         return res
+
+    def direct_kinematics_chunks(self, Q, chunk_size=65536, certify=False, method="auto"):
+        """Direct kinematics of a large batch, chunk by chunk (memory bounded by the chunk).
+
+        Parameters
+        ----------
+        Q : (n, 3) float array (a numpy memmap works)
+        chunk_size : int
+            Rows per chunk; the result of one chunk of 65,536 rows takes ~26 MB.
+        certify, method
+            As in :meth:`direct_kinematics_batch`.
+
+        Yields
+        ------
+        (start, DKBatchResult)
+            The rows ``start : start + len(result.count)`` of ``Q``.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> import numpy as np
+        >>> m = isp.examples.general_3rpr()
+        >>> Q = np.tile(m.q_example_float, (5, 1))
+        >>> [(s, r.count.tolist()) for s, r in m.direct_kinematics_chunks(Q, chunk_size=2)]
+        [(0, [6, 6]), (2, [6, 6]), (4, [6])]
+        """
+        chunk_size = int(check_positive(chunk_size, "chunk_size"))
+        Q = np.asarray(Q)
+        if Q.ndim != 2 or Q.shape[-1] != 3:
+            raise InputError(f"Q must have shape (n, 3), got {Q.shape}")
+        for start in range(0, Q.shape[0], chunk_size):
+            yield start, self.direct_kinematics_batch(Q[start:start + chunk_size], certify, method)
+
+    def _kernel(self):
+        """The compiled batch kernel of this design (built once), or None where it does not apply."""
+        if "kernel" not in self._symbolic_cache:
+            free = set().union(*(leg.free_symbols for leg in self.legs))
+            self._symbolic_cache["kernel"] = None if free else build_kernel(self)
+        return self._symbolic_cache["kernel"]
+
+    def _row_check(self, Q):
+        """Rows with finite joint values inside every actuated joint's domain, and messages."""
+        errors = {}
+        row_ok = np.all(np.isfinite(Q), axis=1)
+        for i in np.flatnonzero(~row_ok):
+            errors[int(i)] = f"Q[{i}] is not finite: {Q[i].tolist()}"
+        for j, leg in enumerate(self.legs):
+            bad = row_ok & ~leg.joint_values_ok(np.where(row_ok, Q[:, j], 0.0))
+            for i in np.flatnonzero(bad):
+                row_ok[i] = False
+                errors[int(i)] = (f"Q[{i}, {j}] = {Q[i, j]} is outside the domain of the actuated "
+                                  f"joint {leg.actuated_name} of {leg.joints}")
+        return row_ok, errors
+
+    def _solve_kernel(self, Q, kernel):
+        n = Q.shape[0]
+        row_ok, errors = self._row_check(Q)
+        ok = np.flatnonzero(row_ok)
+        X = np.full((n, _MAX_MODES, 4), np.nan)
+        P = np.full((n, _MAX_MODES, 3), np.nan)
+        R = np.full((n, _MAX_MODES), np.nan)
+        A = np.zeros((n, _MAX_MODES), dtype=int)
+        cnt = np.zeros(n, dtype=int)
+        flag = np.zeros(n, dtype=np.int8)
+        if ok.size == n:
+            X, P, R, A8, cnt, flag = kernel(Q)
+            A = A8.astype(int)
+        elif ok.size:
+            X[ok], P[ok], R[ok], A8, cnt[ok], flag[ok] = kernel(Q[ok])
+            A[ok] = A8
+        solver = np.where(row_ok, "kernel", "invalid").astype("<U9")
+        special = row_ok & (flag != 0)
+        res = DKBatchResult(X, P, np.arange(_MAX_MODES) < cnt[:, None], cnt, R, A, row_ok, errors,
+                            special)
+        # rows the kernel could not decide in floating point (flag 1: Cramer denominator small
+        # at a root, Newton not converging; flag 2: a root touching the axis) take the numpy path,
+        # which solves case (b) per row; certify=True then holds them to the proven count
+        careful = np.flatnonzero(row_ok & (flag != 0))
+        if careful.size:
+            sub = self._solve(Q[careful], raise_degenerate=False)
+            for name in ("image_points", "poses", "valid", "count", "residual", "aspect", "row_ok"):
+                getattr(res, name)[careful] = getattr(sub, name)
+            for k, msg in sub.errors.items():
+                errors[int(careful[k])] = msg.replace(f"Q[{k}", f"Q[{careful[k]}")
+            solver[careful] = "numpy"
+        solver[~res.row_ok] = "invalid"
+        res.solver = solver
+        return res
+
+    @staticmethod
+    def _store_modes(res, i, modes):
+        """Write a list of AssemblyMode into row ``i`` of a DKBatchResult."""
+        k = min(len(modes), res.valid.shape[1])
+        res.image_points[i], res.poses[i], res.residual[i] = np.nan, np.nan, np.nan
+        res.valid[i], res.aspect[i] = False, 0
+        for j, mm in enumerate(modes[:k]):
+            res.image_points[i, j], res.poses[i, j] = mm.image_point, mm.pose
+            res.residual[i, j], res.aspect[i, j], res.valid[i, j] = mm.residual, mm.aspect, True
+        res.count[i] = k
 
     def _certify_batch(self, Q, res):
         n = Q.shape[0]
@@ -683,16 +811,13 @@ class PlanarParallel:
             except DegenerateDesignError as e:
                 res.row_ok[i] = False
                 res.errors[int(i)] = str(e)
+                if res.solver is not None:
+                    res.solver[i] = "invalid"
                 continue
-            k = min(len(modes), res.valid.shape[1])
-            for arr, fill in ((res.image_points, np.nan), (res.poses, np.nan), (res.residual, np.nan)):
-                arr[i] = fill
-            res.valid[i] = False
-            res.aspect[i] = 0
-            for j, mm in enumerate(modes[:k]):
-                res.image_points[i, j], res.poses[i, j] = mm.image_point, mm.pose
-                res.residual[i, j], res.aspect[i, j], res.valid[i, j] = mm.residual, mm.aspect, True
-            res.count[i] = k
+            self._store_modes(res, i, modes)
+            k = res.count[i]
+            if res.solver is not None:
+                res.solver[i] = "certified"
             cert = modes.certificate
             counts[i] = cert.count if cert.certified else -1
             path[i] = "flint" if cert.certified else "invalid"
@@ -705,16 +830,7 @@ class PlanarParallel:
     def _solve(self, Q, raise_degenerate):
         n = Q.shape[0]
         tol = self.tolerances
-        errors = {}
-        row_ok = np.all(np.isfinite(Q), axis=1)
-        for i in np.flatnonzero(~row_ok):
-            errors[int(i)] = f"Q[{i}] is not finite: {Q[i].tolist()}"
-        for j, leg in enumerate(self.legs):
-            bad = row_ok & ~leg.joint_values_ok(np.where(row_ok, Q[:, j], 0.0))
-            for i in np.flatnonzero(bad):
-                row_ok[i] = False
-                errors[int(i)] = (f"Q[{i}, {j}] = {Q[i, j]} is outside the domain of the actuated "
-                                  f"joint {leg.actuated_name} of {leg.joints}")
+        row_ok, errors = self._row_check(Q)
         Qs = np.where(row_ok[:, None], Q, 0.0)
         C, cq = self._scaled_quadrics(Qs)
         el = eliminate(cq, self._plan)
@@ -796,7 +912,9 @@ class PlanarParallel:
         poses = np.where(valid[..., None], poses, np.nan)
         resid = np.where(valid, resid, np.nan)
         aspect = np.where(valid, aspect, 0)
-        return DKBatchResult(X, poses, valid, count, resid, aspect, row_ok, errors, special)
+        solver = np.where(row_ok, "numpy", "invalid").astype("<U9")
+        return DKBatchResult(X, poses, valid, count, resid, aspect, row_ok, errors, special,
+                             solver=solver)
 
     def _scaled_quadrics(self, Q):
         """Float quadrics for joint vectors Q (n, 3), each scaled to max |coefficient| = 1.

@@ -1,0 +1,604 @@
+r"""The compiled batch direct-kinematics kernel: one pass per joint vector, real roots only.
+
+:meth:`PlanarParallel.direct_kinematics_batch` sends large batches here when numba is present.
+For one design the derivation is done once, symbolically and general in the joint values
+``q = (q1, q2, q3)``:
+
+* the three dyad quadrics ``Q_i(x; q_i)`` (8 coefficients each) and their derivatives
+  ``dQ_i/dq_i`` (the diagonal of ``Jq``, used for the joint-space residual),
+* the Cramer forms ``D, X2, X3`` of :mod:`imagespace.elimination` and the kinematic polynomial
+  ``F`` (the ``x0**2 + x1**2`` factors divided out),
+
+and printed as the body of one scalar function (common subexpressions shared), which numba
+compiles together with the solver loop. Per joint vector the kernel then
+
+1. evaluates those coefficients (no temporaries),
+2. finds the real roots of ``F`` on the projective line in two charts, ``t = x1/x0`` with
+   ``|t| <= 1`` and ``s = x0/x1`` with ``|s| <= 1``, so half-turns are ordinary roots and no
+   chart sees a root beyond 1. Roots come from the derivative cascade restricted to the chart's
+   interval: the real roots of ``F^(k)`` split it into pieces where ``F^(k-1)`` is monotone,
+   each solved by Newton kept inside its bracket. No eigenvalues, no complex arithmetic,
+3. back-substitutes ``x2 = X2/D, x3 = X3/D``, polishes ``(x0..x3)`` by Newton on
+   ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` (4x4 Gaussian elimination with partial pivoting), and
+   checks every mode: relative constraint residual below ``1e-9``, joint residual
+   ``max_i |Q_i| / |dQ_i/dq_i|`` reported,
+4. writes normalised image points, poses, aspects (sign of the 4x4 determinant) sorted by ``phi``.
+
+A row is flagged instead of guessed when a float computation cannot decide it: a root met at a
+critical point without a sign change (a double root, or a complex pair within rounding of the
+axis: ``suspect``), or the Cramer denominator vanishing at a root, a vanishing polynomial, a
+Newton step that does not converge (``special``). The caller re-solves flagged rows with the
+careful and certified per-row paths.
+
+Designs the kernel does not take (the caller uses the numpy path): a PP dyad (its pair of planes
+carries a spurious root that only the leg's inverse kinematics can discard) and designs whose
+Cramer denominator vanishes identically (case (a), e.g. seed 003).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import math
+import os
+import sys
+import types
+
+import numpy as np
+import sympy as sp
+
+from ._kernels import HAVE_NUMBA, njit
+
+__all__ = ["BatchKernel", "build_kernel", "HAVE_NUMBA"]
+
+_KEEP = 1.0 + 1e-12          # chart roots kept up to this |t|; the overlap is deduplicated
+_REACH = 1.0 + 1.0 / 64      # each chart searches a little beyond 1
+_MAX = 6
+
+
+# --------------------------------------------------------------------------- scalar numerics
+
+@njit(cache=True)
+def _horner(c, deg, t):
+    v = c[deg]
+    for k in range(deg - 1, -1, -1):
+        v = v * t + c[k]
+    return v
+
+
+@njit(cache=True)
+def _abs_horner(c, deg, t):
+    v = abs(c[deg])
+    at = abs(t)
+    for k in range(deg - 1, -1, -1):
+        v = v * at + abs(c[k])
+    return v
+
+
+@njit(cache=True)
+def _monotone_root(c, deg, a, b, fa, fb, flat_a, flat_b, coarse):
+    """The root of a polynomial monotone on [a, b] with fa * fb < 0: Newton kept inside the
+    bracket (a step leaving it, or four steps that do not halve it, give way to bisection, so it
+    always converges), stopped once ``|p(t)|`` is
+    within the rounding error of its evaluation or the bracket is a few ulps wide; with
+    ``coarse`` (a critical point for the next level of the cascade) once a step is below 1e-9.
+
+    ``flat_a``/``flat_b``: the end is a critical point (p' = 0 there), so the first guess comes from
+    the quadratic model p(a) + k (t - a)**2 through p(b) rather than from the secant.
+    """
+    if flat_a and (abs(fa) <= abs(fb) or not flat_b):
+        t = a + (b - a) * math.sqrt(fa / (fa - fb))
+    elif flat_b:
+        t = b - (b - a) * math.sqrt(fb / (fb - fa))
+    else:
+        t = a - fa * (b - a) / (fb - fa)
+    if not (a < t < b):
+        t = 0.5 * (a + b)
+    width = b - a
+    for it in range(400):
+        f = c[deg]
+        d = 0.0
+        e = abs(c[deg])
+        at = abs(t)
+        for k in range(deg - 1, -1, -1):
+            d = d * t + f
+            f = f * t + c[k]
+            e = e * at + abs(c[k])
+        if abs(f) <= 4.5e-16 * deg * e:
+            return t
+        if (f < 0.0) == (fa < 0.0):
+            a, fa = t, f
+        else:
+            b, fb = t, f
+        if b - a <= 4e-16 * max(1.0, abs(a), abs(b)):
+            return t
+        tn = t - f / d if d != 0.0 else 0.5 * (a + b)
+        if it % 4 == 3:
+            # safeguard: a Newton run that has not halved the bracket in four steps is crawling
+            # (far from the root, or a near-flat stretch): bisect
+            if b - a > 0.5 * width:
+                tn = 0.5 * (a + b)
+            width = b - a
+        if not (a < tn < b):
+            tn = 0.5 * (a + b)
+        elif coarse and abs(tn - t) <= 1e-9 * max(1.0, abs(t)):
+            return tn
+        t = tn
+    return t
+
+
+@njit(cache=True)
+def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
+    """Real roots of ``sum p[k] t**k`` (``p[deg] != 0``) in [lo, hi] by the derivative cascade.
+
+    W: (7, 7) work table, pts/vals: (8,) work, new: (7,) work, out: (6,) roots (ascending).
+    Returns (count, suspect).
+    """
+    for k in range(deg + 1):
+        W[0, k] = p[k]
+    for j in range(1, deg + 1):
+        for k in range(deg + 1 - j):
+            W[j, k] = W[j - 1, k + 1] * (k + 1)
+    ncrit = 0
+    suspect = False
+    for j in range(deg - 1, -1, -1):
+        dg = deg - j
+        c = W[j]
+        npts = ncrit + 2
+        pts[0] = lo
+        for i in range(ncrit):
+            pts[i + 1] = out[i]
+        pts[npts - 1] = hi
+        for i in range(npts):
+            vals[i] = _horner(c, dg, pts[i])
+        nnew = 0
+        for i in range(npts - 1):
+            fa, fb = vals[i], vals[i + 1]
+            if fa * fb < 0.0:
+                if dg == 1:
+                    new[nnew] = -c[0] / c[1]
+                elif dg == 2:
+                    # the one root of a quadratic in a piece with a sign change, stably
+                    disc = max(c[1] * c[1] - 4.0 * c[0] * c[2], 0.0)
+                    qq = -0.5 * (c[1] + math.copysign(math.sqrt(disc), c[1]))
+                    r1 = qq / c[2]
+                    r2 = c[0] / qq if qq != 0.0 else r1
+                    r = r1 if pts[i] <= r1 <= pts[i + 1] else r2
+                    new[nnew] = min(max(r, pts[i]), pts[i + 1])
+                else:
+                    new[nnew] = _monotone_root(c, dg, pts[i], pts[i + 1], fa, fb,
+                                               i > 0, i + 1 < npts - 1, j > 0)
+                nnew += 1
+            if i + 1 < npts - 1:
+                # a root touching the axis at the critical point pts[i + 1]
+                t = pts[i + 1]
+                scale = _abs_horner(c, dg, max(abs(t), 1.0))
+                if abs(vals[i + 1]) <= 64 * 2.2e-16 * dg * scale:
+                    dup = False
+                    for m in range(nnew):
+                        if abs(new[m] - t) <= 1e-12 * max(1.0, abs(t)):
+                            dup = True
+                    if not dup:
+                        new[nnew] = t
+                        nnew += 1
+                        if j == 0:
+                            suspect = True
+        # the pieces are visited in order, so new[] is sorted up to touching points
+        for a in range(1, nnew):
+            v = new[a]
+            b = a - 1
+            while b >= 0 and new[b] > v:
+                new[b + 1] = new[b]
+                b -= 1
+            new[b + 1] = v
+        ncrit = nnew
+        for i in range(nnew):
+            out[i] = new[i]
+    return ncrit, suspect
+
+
+@njit(cache=True)
+def _bf(f, off, deg, x0, x1):
+    """Binary form with coefficients f[off:off+deg+1] (x0**(deg-k) x1**k) at (x0, x1), |x0|, |x1| <= 1."""
+    v = 0.0
+    p1 = 1.0
+    for k in range(deg + 1):
+        v = v * x0 + f[off + k] * p1
+        p1 *= x1
+    return v
+
+
+@njit(cache=True)
+def _system(C, X, val, J):
+    """[Q1, Q2, Q3, x0^2 + x1^2 - 1] and its Jacobian at X; C: (24,) scaled quadric coefficients."""
+    x0, x1, x2, x3 = X[0], X[1], X[2], X[3]
+    for i in range(3):
+        c, a0, a1, b0, b1 = C[8 * i], C[8 * i + 1], C[8 * i + 2], C[8 * i + 3], C[8 * i + 4]
+        k0, k1, k2 = C[8 * i + 5], C[8 * i + 6], C[8 * i + 7]
+        val[i] = (c * (x2 * x2 + x3 * x3) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
+                  + k0 * x0 * x0 + k1 * x0 * x1 + k2 * x1 * x1)
+        J[i, 0] = a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1
+        J[i, 1] = a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1
+        J[i, 2] = 2 * c * x2 + a0 * x0 + a1 * x1
+        J[i, 3] = 2 * c * x3 + b0 * x0 + b1 * x1
+    val[3] = x0 * x0 + x1 * x1 - 1.0
+    J[3, 0] = 2 * x0
+    J[3, 1] = 2 * x1
+    J[3, 2] = 0.0
+    J[3, 3] = 0.0
+
+
+@njit(cache=True)
+def _det4(J, x0, x1):
+    """det of the 4x4 system Jacobian, expanded along its last row (2 x0, 2 x1, 0, 0)."""
+    m30 = (J[0, 1] * (J[1, 2] * J[2, 3] - J[1, 3] * J[2, 2])
+           - J[0, 2] * (J[1, 1] * J[2, 3] - J[1, 3] * J[2, 1])
+           + J[0, 3] * (J[1, 1] * J[2, 2] - J[1, 2] * J[2, 1]))
+    m31 = (J[0, 0] * (J[1, 2] * J[2, 3] - J[1, 3] * J[2, 2])
+           - J[0, 2] * (J[1, 0] * J[2, 3] - J[1, 3] * J[2, 0])
+           + J[0, 3] * (J[1, 0] * J[2, 2] - J[1, 2] * J[2, 0]))
+    return -2.0 * x0 * m30 + 2.0 * x1 * m31
+
+
+@njit(cache=True)
+def _solve4(J, r, dx):
+    """Solve J dx = r in place (partial pivoting); returns the determinant (0 when singular)."""
+    det = 1.0
+    scale = 0.0
+    for i in range(4):
+        for k in range(4):
+            scale = max(scale, abs(J[i, k]))
+    for k in range(4):
+        p = k
+        for i in range(k + 1, 4):
+            if abs(J[i, k]) > abs(J[p, k]):
+                p = i
+        if abs(J[p, k]) <= 1e-14 * scale:
+            return 0.0
+        if p != k:
+            for m in range(4):
+                tmp = J[k, m]
+                J[k, m] = J[p, m]
+                J[p, m] = tmp
+            tmp = r[k]
+            r[k] = r[p]
+            r[p] = tmp
+            det = -det
+        det *= J[k, k]
+        for i in range(k + 1, 4):
+            f = J[i, k] / J[k, k]
+            for m in range(k, 4):
+                J[i, m] -= f * J[k, m]
+            r[i] -= f * r[k]
+    for k in range(3, -1, -1):
+        s = r[k]
+        for m in range(k + 1, 4):
+            s -= J[k, m] * dx[m]
+        dx[k] = s / J[k, k]
+    return det
+
+
+@njit(cache=True)
+def _solve_row(buf, layout, out_X, out_P, out_res, out_asp, work):
+    """Everything after the coefficients for one row. Returns (count, flag): flag 0 ok,
+    1 special (careful path), 2 suspect (certified path)."""
+    dD, dX, dF = layout[0], layout[1], layout[2]
+    oD, oX2, oX3, oF = 48, 48 + dD + 1, 48 + dD + dX + 2, 48 + dD + 2 * dX + 3
+    W = work[0:49].reshape((7, 7))
+    pts, vals, new, rts = work[49:57], work[57:65], work[65:72], work[72:78]
+    p = work[78:85]
+    cand = work[85:85 + 4 * 12].reshape((12, 4))
+    Cs = work[133:157]
+    val, dx, X = work[157:161], work[161:165], work[165:169]
+    J = work[169:185].reshape((4, 4))
+    # scaled quadrics (zero set unchanged) and their q-derivatives with the same scale
+    for i in range(3):
+        s = 0.0
+        for k in range(8):
+            s = max(s, abs(buf[8 * i + k]))
+        if not (s > 0.0) or not np.isfinite(s):
+            return 0, 1
+        for k in range(8):
+            Cs[8 * i + k] = buf[8 * i + k] / s
+            buf[24 + 8 * i + k] = buf[24 + 8 * i + k] / s
+    fn = 0.0
+    for k in range(dF + 1):
+        if not np.isfinite(buf[oF + k]):
+            return 0, 1
+        fn = max(fn, abs(buf[oF + k]))
+    if fn == 0.0:
+        return 0, 1
+    dn = 0.0
+    for k in range(dD + 1):
+        dn = max(dn, abs(buf[oD + k]))
+    if dn == 0.0:
+        return 0, 1
+    # two charts: t = x1/x0 on [-1, 1] and s = x0/x1 on [-1, 1] (each searched a little beyond
+    # and deduplicated where they overlap), so half-turns are ordinary roots and every root is
+    # found where its chart is well conditioned
+    ncand = 0
+    suspect = False
+    for chart in range(2):
+        for k in range(dF + 1):
+            p[k] = buf[oF + k] / fn if chart == 0 else buf[oF + dF - k] / fn
+        deg = dF
+        while deg > 0 and p[deg] == 0.0:
+            deg -= 1
+        if deg == 0:
+            continue
+        nr, sus = _interval_roots(p, deg, -_REACH, _REACH, W, pts, vals, new, rts)
+        suspect = suspect or sus
+        for m in range(nr):
+            t = rts[m]
+            if abs(t) > _KEEP:
+                continue
+            h = 1.0 / math.sqrt(1.0 + t * t)
+            x0 = h if chart == 0 else t * h
+            x1 = t * h if chart == 0 else h
+            if x0 < 0.0 or (x0 == 0.0 and x1 < 0.0):
+                x0, x1 = -x0, -x1
+            dup = False
+            for j in range(ncand):
+                if abs(cand[j, 0] * x1 - cand[j, 1] * x0) <= 1e-10:
+                    dup = True
+            if dup:
+                continue
+            if ncand >= 12:
+                return 0, 1
+            cand[ncand, 0] = x0
+            cand[ncand, 1] = x1
+            ncand += 1
+    if suspect:
+        return 0, 2
+    count = 0
+    for j in range(ncand):
+        x0, x1 = cand[j, 0], cand[j, 1]
+        Dv = _bf(buf, oD, dD, x0, x1)
+        if abs(Dv) <= 1e-7 * dn:
+            return 0, 1
+        X[0], X[1] = x0, x1
+        X[2] = _bf(buf, oX2, dX, x0, x1) / Dv
+        X[3] = _bf(buf, oX3, dX, x0, x1) / Dv
+        # Newton on the 4x4 system: one step takes the back-substituted point (error ~1e-13)
+        # to rounding; the error after a step is of the order of the step squared, so stop once
+        # a step is below 1e-9 of the size. The aspect is the sign of the determinant at the
+        # last linearisation point (within a step of 1e-9 of the mode)
+        det = 0.0
+        for it in range(8):
+            _system(Cs, X, val, J)
+            det = _det4(J, X[0], X[1])
+            for i in range(4):
+                val[i] = -val[i]
+            if _solve4(J, val, dx) == 0.0:
+                break
+            big = 1.0
+            stp = 0.0
+            for i in range(4):
+                X[i] += dx[i]
+                big = max(big, abs(X[i]))
+                stp = max(stp, abs(dx[i]))
+            if stp <= 1e-9 * big:
+                break
+        sg = -1.0 if (X[0] < 0.0 or (X[0] == 0.0 and X[1] < 0.0)) else 1.0
+        nrm = sg / math.sqrt(X[0] * X[0] + X[1] * X[1])
+        for i in range(4):
+            X[i] = X[i] * nrm
+        _system(Cs, X, val, J)
+        size = 1.0 + X[2] * X[2] + X[3] * X[3]
+        rel = max(abs(val[0]), abs(val[1]), abs(val[2])) / size
+        if not (rel <= 1e-9):
+            return 0, 1
+        jres = 0.0
+        for i in range(3):
+            g = buf[24 + 8 * i:32 + 8 * i]
+            dq = (g[0] * (X[2] * X[2] + X[3] * X[3]) + X[2] * (g[1] * X[0] + g[2] * X[1])
+                  + X[3] * (g[3] * X[0] + g[4] * X[1]) + g[5] * X[0] * X[0] + g[6] * X[0] * X[1]
+                  + g[7] * X[1] * X[1])
+            jres = max(jres, abs(val[i]) / abs(dq) if dq != 0.0 else math.inf)
+        if count >= _MAX:
+            return 0, 1
+        phi = 2.0 * math.atan2(X[1], X[0])
+        # insertion by phi
+        pos = count
+        while pos > 0 and out_P[pos - 1, 2] > phi:
+            for i in range(4):
+                out_X[pos, i] = out_X[pos - 1, i]
+            for i in range(3):
+                out_P[pos, i] = out_P[pos - 1, i]
+            out_res[pos] = out_res[pos - 1]
+            out_asp[pos] = out_asp[pos - 1]
+            pos -= 1
+        for i in range(4):
+            out_X[pos, i] = X[i]
+        out_P[pos, 0] = 2.0 * (X[3] * X[0] + X[2] * X[1])
+        out_P[pos, 1] = 2.0 * (X[3] * X[1] - X[2] * X[0])
+        out_P[pos, 2] = phi
+        out_res[pos] = jres
+        out_asp[pos] = 1 if det > 0 else (-1 if det < 0 else 0)
+        count += 1
+    # two roots may polish onto one mode only if the float roots were wrong: let the careful path decide
+    for a in range(count):
+        for b in range(a + 1, count):
+            dd = 0.0
+            for i in range(4):
+                dd = max(dd, abs(out_X[a, i] - out_X[b, i]))
+            if dd <= 1e-9 * (1.0 + abs(out_X[a, 2]) + abs(out_X[a, 3])):
+                return 0, 1
+    return count, 0
+
+
+# --------------------------------------------------------------------------- code generation
+
+def _float_expr(e):
+    """The expression with every number (sqrt(181), 1/3, huge integers) evaluated to a float."""
+    return sp.N(sp.sympify(e), 17)
+
+
+def _coefficient_source(exprs, symbols, name):
+    """Source of ``def name(q0, q1, q2, out)`` writing ``exprs`` into ``out``."""
+    args = [sp.Symbol(f"_q{i}") for i in range(len(symbols))]
+    sub = dict(zip(symbols, args))
+    exprs = [_float_expr(sp.sympify(e).xreplace(sub)) for e in exprs]
+    repl, red = sp.cse(exprs, symbols=sp.numbered_symbols("_c"), optimizations="basic")
+    lines = [f"def {name}({', '.join(map(str, args))}, out):"]
+    pr = sp.printing.pycode
+    for s, e in repl:
+        lines.append(f"    {s} = {pr(e, fully_qualified_modules=True)}")
+    for i, e in enumerate(red):
+        lines.append(f"    out[{i}] = {pr(e, fully_qualified_modules=True)}")
+    lines.append("    return None")
+    return "\n".join(lines) + "\n"
+
+
+_LOOP_SOURCE = """
+
+@njit(parallel=True, cache=CACHE)
+def run(Q, layout, nbuf, X, P, R, A, cnt, flag):
+    n = Q.shape[0]
+    nblocks = min(n, 64)
+    for b in prange(nblocks):
+        lo = b * n // nblocks
+        hi = (b + 1) * n // nblocks
+        buf = np.empty(nbuf)
+        work = np.empty(200)
+        for r in range(lo, hi):
+            coefficients(Q[r, 0], Q[r, 1], Q[r, 2], buf)
+            k, f = _solve_row(buf, layout, X[r], P[r], R[r], A[r], work)
+            if f != 0:
+                k = 0
+            for j in range(k, X.shape[1]):
+                for i in range(4):
+                    X[r, j, i] = np.nan
+                for i in range(3):
+                    P[r, j, i] = np.nan
+                R[r, j] = np.nan
+                A[r, j] = 0
+            cnt[r] = k
+            flag[r] = f
+"""
+
+_HEADER = """# generated by imagespace.fastdk for one design; safe to delete
+import math
+import numpy as np
+from numba import njit, prange
+from imagespace.fastdk import _solve_row
+"""
+
+
+def _cache_dir():
+    """Where generated kernels live, so numba's on-disk cache can keep them between sessions
+    (``IMAGESPACE_CACHE`` or ``~/.cache/imagespace``); None when it cannot be written."""
+    root = os.environ.get("IMAGESPACE_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "imagespace")
+    path = os.path.join(root, "kernels")
+    try:
+        os.makedirs(path, exist_ok=True)
+        probe = os.path.join(path, ".probe")
+        with open(probe, "w") as fh:
+            fh.write("")
+        os.remove(probe)
+    except OSError:
+        return None
+    return path
+
+
+def _load_module(source):
+    """Import generated source: from a file in the cache directory (numba caches the compiled
+    machine code next to it), or from memory (compiled afresh in every process)."""
+    # the key covers this module's own source too: numba's cache of the generated loop does not
+    # notice a change in the helpers it calls, so a new imagespace must mean a new file
+    with open(__file__, "rb") as fh:
+        own = fh.read()
+    key = hashlib.sha256(source.encode() + own).hexdigest()[:20]
+    folder = _cache_dir()
+    if folder is not None:
+        path = os.path.join(folder, f"k_{key}.py")
+        if not os.path.exists(path):
+            tmp = f"{path}.{os.getpid()}.tmp"
+            with open(tmp, "w") as fh:
+                fh.write(source.replace("CACHE", "True"))
+            os.replace(tmp, path)
+        spec = importlib.util.spec_from_file_location(f"imagespace_kernel_{key}", path)
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[spec.name] = mod   # numba's cache finds the module again by its name
+        spec.loader.exec_module(mod)
+        return mod
+    ns = {}
+    exec(compile(source.replace("CACHE", "False"), f"<imagespace kernel {key}>", "exec"), ns)
+    return types.SimpleNamespace(**ns)
+
+
+class BatchKernel:
+    """The compiled direct-kinematics kernel of one design (see the module docstring).
+
+    Built by :func:`build_kernel`; called by :meth:`PlanarParallel.direct_kinematics_batch`.
+
+    Attributes
+    ----------
+    source : str
+        The generated module: the coefficient function (readable Python) and the parallel loop.
+    layout : (3,) int
+        Degrees of ``D``, ``X2``/``X3`` and ``F``.
+    """
+
+    def __init__(self, coefficient_source, layout, nbuf):
+        self.source = _HEADER + "\n\n@njit(cache=CACHE)\n" + coefficient_source + _LOOP_SOURCE
+        self.layout = np.asarray(layout, dtype=np.int64)
+        self.nbuf = nbuf
+        self._run = _load_module(self.source).run
+
+    def __call__(self, Q):
+        """Solve joint vectors ``Q`` (n, 3) (finite, in the joints' domains).
+
+        Returns
+        -------
+        X (n, 6, 4), poses (n, 6, 3), residual (n, 6), aspect (n, 6) int8, count (n,) int64,
+        flag (n,) int8 (0 solved, 1 careful path needed, 2 certified path needed)
+        """
+        Q = np.ascontiguousarray(Q, dtype=float)
+        n = Q.shape[0]
+        # every slot is written by the kernel (in parallel: the pages are first touched there)
+        X = np.empty((n, _MAX, 4))
+        P = np.empty((n, _MAX, 3))
+        R = np.empty((n, _MAX))
+        A = np.empty((n, _MAX), dtype=np.int8)
+        cnt = np.empty(n, dtype=np.int64)
+        flag = np.empty(n, dtype=np.int8)
+        if n:
+            self._run(Q, self.layout, self.nbuf, X, P, R, A, cnt, flag)
+        return X, P, R, A, cnt, flag
+
+
+def build_kernel(manipulator):
+    """Derive and compile the batch kernel of a numeric design, or return None where the kernel
+    does not apply (no numba, a PP dyad, a Cramer denominator vanishing identically).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.fastdk import build_kernel, HAVE_NUMBA
+    >>> k = build_kernel(isp.examples.general_3rpr())
+    >>> (k is not None) == HAVE_NUMBA
+    True
+    """
+    from .elimination import eliminate
+
+    if not HAVE_NUMBA or "PP" in manipulator._kinds:
+        return None
+    q = manipulator.joint_symbols
+    quads = manipulator.quadrics(None)
+    el = eliminate(quads, manipulator._plan)
+    D = [sp.expand(v) for v in el.D]
+    if all(v == 0 for v in D):
+        return None
+    P = manipulator.kinematic_polynomial()
+    d = P.total_degree()
+    F = [P.coeff_monomial((d - k, k)) for k in range(d + 1)]
+    C = [v for qd in quads for v in qd.coefficients()]
+    dC = [sp.diff(v, q[i]) for i, qd in enumerate(quads) for v in qd.coefficients()]
+    exprs = C + dC + D + list(el.X2) + list(el.X3) + F
+    layout = (len(D) - 1, len(el.X2) - 1, d)
+    if len(el.X3) != len(el.X2) or d > _MAX:
+        return None
+    src = _coefficient_source(exprs, q, "coefficients")
+    return BatchKernel(src, layout, len(exprs))
