@@ -461,6 +461,45 @@ class PlanarParallel:
             self._symbolic_cache["compiled"] = CompiledPolynomial(P, d, self.joint_symbols, fn)
         return self._symbolic_cache["compiled"]
 
+    # -- singularities ----------------------------------------------------------
+    def singularity_polynomial(self, q=None):
+        """``det`` of the Jacobian of ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` with respect to ``x0..x3``.
+
+        A homogeneous quartic in the image coordinates; its zero set is the direct-kinematic
+        singularity surface, and its sign at a normalised mode is :attr:`AssemblyMode.aspect`.
+        Where every actuated joint only changes a radius or an offset (RPR, PPR and the like) the
+        joint values drop out: they multiply ``x0**2 + x1**2`` in the quadric, whose gradient is
+        a multiple of the normalisation row. Where an actuated joint moves a circle's centre or a
+        line (an actuated RRR base revolute ...) the joint symbols stay in the result.
+
+        Parameters
+        ----------
+        q : None or (3,) numbers / sympy expressions
+            ``None``: general in :attr:`joint_symbols`.
+
+        Returns
+        -------
+        sympy.Poly
+            In ``(x0, x1, x2, x3)``; :attr:`joint_symbols` among its free symbols only where the
+            surface depends on the joint values.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> S = m.singularity_polynomial()
+        >>> S.total_degree(), S.free_symbols & set(m.joint_symbols)
+        (4, set())
+        """
+        key = ("singularity", None if q is None else tuple(sp.sympify(v) for v in q)
+               if is_symbolic(q) else tuple(float(v) for v in np.ravel(q)))
+        if key not in self._symbolic_cache:
+            x = image_symbols()
+            eqs = self.constraint_equations(q) + [x[0]**2 + x[1]**2 - 1]
+            J = sp.Matrix(eqs).jacobian(sp.Matrix(x))
+            self._symbolic_cache[key] = sp.Poly(sp.expand(J.det(method="berkowitz")), *x)
+        return self._symbolic_cache[key]
+
     # -- inverse kinematics -----------------------------------------------------
     def inverse_kinematics(self, pose, working_modes=None):
         """Actuated joint values at a pose.
