@@ -131,8 +131,11 @@ def _monotone_root(c, deg, a, b, fa, fb, flat_a, flat_b, coarse):
 def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
     """Real roots of ``sum p[k] t**k`` (``p[deg] != 0``) in [lo, hi] by the derivative cascade.
 
-    W: (7, 7) work table, pts/vals: (8,) work, new: (7,) work, out: (6,) roots (ascending).
-    Returns (count, suspect).
+    Work arrays for degree d: W (d+1, d+1), pts and vals (d+2,), new (d+1,); out (d,) receives the
+    roots (ascending). Returns (count, suspect). A polynomial of degree ``dg`` has at most ``dg``
+    roots; a root (touching or from a sign change) that would exceed that, which only rounding
+    around a near-triple root can produce, is not stored but flags the row ``suspect`` (so no
+    buffer is ever overrun).
     """
     for k in range(deg + 1):
         W[0, k] = p[k]
@@ -154,7 +157,9 @@ def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
         nnew = 0
         for i in range(npts - 1):
             fa, fb = vals[i], vals[i + 1]
-            if fa * fb < 0.0:
+            if fa * fb < 0.0 and nnew >= dg:
+                suspect = True        # see the docstring: never more than dg roots are stored
+            elif fa * fb < 0.0:
                 if dg == 1:
                     new[nnew] = -c[0] / c[1]
                 elif dg == 2:
@@ -178,7 +183,9 @@ def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
                     for m in range(nnew):
                         if abs(new[m] - t) <= 1e-12 * max(1.0, abs(t)):
                             dup = True
-                    if not dup:
+                    if not dup and nnew >= dg:
+                        suspect = True    # see the docstring: never more than dg roots are stored
+                    elif not dup:
                         new[nnew] = t
                         nnew += 1
                         if j == 0:
