@@ -49,7 +49,7 @@ import sympy as sp
 
 from ._kernels import HAVE_NUMBA, njit
 
-__all__ = ["BatchKernel", "build_kernel", "HAVE_NUMBA"]
+__all__ = ["BatchKernel", "build_kernel", "real_roots_cascade", "HAVE_NUMBA"]
 
 _KEEP = 1.0 + 1e-12          # chart roots kept up to this |t|; the overlap is deduplicated
 _REACH = 1.0 + 1.0 / 64      # each chart searches a little beyond 1
@@ -202,6 +202,74 @@ def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
         for i in range(nnew):
             out[i] = new[i]
     return ncrit, suspect
+
+
+@njit(cache=True)
+def _cascade_batch(C, roots, counts, suspect):
+    n, d1 = C.shape
+    d = d1 - 1
+    W = np.empty((d1, d1))
+    pts = np.empty(d + 2)
+    vals = np.empty(d + 2)
+    new = np.empty(d1)
+    out = np.empty(d)
+    for i in range(n):
+        c = C[i]
+        bound = 0.0
+        for k in range(d):
+            bound = max(bound, abs(c[k] / c[d]))
+        bound = 1.0 + bound          # Cauchy: every root lies strictly inside
+        k, sus = _interval_roots(c, d, -bound, bound, W, pts, vals, new, out)
+        for m in range(d):
+            roots[i, m] = out[m] if m < k else np.nan
+        counts[i] = k
+        suspect[i] = sus
+
+
+def real_roots_cascade(C):
+    """Real roots of a batch of polynomials ``sum_k C[:, k] t**k`` with non-zero leading coefficients.
+
+    The derivative cascade of the batch kernel on the whole real line (inside the Cauchy bound):
+    only real roots are computed, each by Newton kept inside a bracket on which the polynomial is
+    monotone. A root met at a critical point without a sign change (a double root, or a complex
+    pair within rounding of the axis) is reported there and the row flagged ``suspect``: a float
+    computation cannot tell those apart, so callers send such rows to the certified path.
+
+    Parameters
+    ----------
+    C : (n, d+1) float
+        ``C[:, d]`` must be non-zero (rows where it is zero or that are not finite get count -1).
+
+    Returns
+    -------
+    roots : (n, d) float
+        Ascending real roots, NaN-padded.
+    counts : (n,) int
+    suspect : (n,) bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.fastdk import real_roots_cascade
+    >>> r, n, s = real_roots_cascade(np.array([[-2.0, 0.0, 1.0], [1.0, -2.0, 1.0], [1.0, 0.0, 1.0]]))
+    >>> n.tolist(), s.tolist()
+    ([2, 1, 0], [False, True, False])
+    >>> np.round(r[0], 12).tolist()
+    [-1.414213562373, 1.414213562373]
+    """
+    C = np.ascontiguousarray(C, dtype=float)
+    n, d1 = C.shape
+    roots = np.full((n, d1 - 1), np.nan)
+    counts = np.full(n, -1, dtype=np.int64)
+    suspect = np.zeros(n, dtype=bool)
+    good = np.all(np.isfinite(C), axis=1) & (C[:, -1] != 0)
+    if np.any(good):
+        r = np.empty((int(good.sum()), d1 - 1))
+        k = np.empty(int(good.sum()), dtype=np.int64)
+        s = np.empty(int(good.sum()), dtype=np.bool_)
+        _cascade_batch(C[good], r, k, s)
+        roots[good], counts[good], suspect[good] = r, k, s
+    return roots, counts, suspect
 
 
 @njit(cache=True)

@@ -188,7 +188,7 @@ def test_batch_dk_with_certificates(rng):
 
 def test_derivative_cascade_kernel_against_exact_counts(rng):
     """The compiled real-root kernel: same counts as exact isolation wherever it does not flag the row."""
-    from imagespace._kernels import real_roots_cascade
+    from imagespace.fastdk import real_roots_cascade
     from imagespace.certify import certify_real_roots_batch
 
     m = isp.examples.stigger_husty()
