@@ -398,7 +398,7 @@ class PlanarParallel:
         >>> m.kinematic_polynomial(m.q_example).total_degree()
         6
         """
-        key = None if q is None else tuple(sp.sympify(v) for v in q) if is_symbolic(q) else tuple(float(v) for v in np.ravel(q))
+        key = _cache_key(q)
         if key in self._symbolic_cache:
             return self._symbolic_cache[key]
         eqs = self.quadrics(None if q is None else [as_exact(v, f"q[{i}]") for i, v in enumerate(q)]
@@ -491,8 +491,7 @@ class PlanarParallel:
         >>> S.total_degree(), S.free_symbols & set(m.joint_symbols)
         (4, set())
         """
-        key = ("singularity", None if q is None else tuple(sp.sympify(v) for v in q)
-               if is_symbolic(q) else tuple(float(v) for v in np.ravel(q)))
+        key = ("singularity", _cache_key(q))
         if key not in self._symbolic_cache:
             x = image_symbols()
             eqs = self.constraint_equations(q) + [x[0]**2 + x[1]**2 - 1]
@@ -791,18 +790,18 @@ class PlanarParallel:
         n = Q.shape[0]
         row_ok, errors = self._row_check(Q)
         ok = np.flatnonzero(row_ok)
-        X = np.full((n, _MAX_MODES, 4), np.nan)
-        P = np.full((n, _MAX_MODES, 3), np.nan)
-        R = np.full((n, _MAX_MODES), np.nan)
-        A = np.zeros((n, _MAX_MODES), dtype=int)
-        cnt = np.zeros(n, dtype=int)
-        flag = np.zeros(n, dtype=np.int8)
-        if ok.size == n:
+        if ok.size == n:                       # the usual case: the kernel's arrays are the result
             X, P, R, A8, cnt, flag = kernel(Q)
-            A = A8.astype(int)
-        elif ok.size:
-            X[ok], P[ok], R[ok], A8, cnt[ok], flag[ok] = kernel(Q[ok])
-            A[ok] = A8
+        else:                                  # masked rows stay NaN / 0
+            X = np.full((n, _MAX_MODES, 4), np.nan)
+            P = np.full((n, _MAX_MODES, 3), np.nan)
+            R = np.full((n, _MAX_MODES), np.nan)
+            A8 = np.zeros((n, _MAX_MODES), dtype=np.int8)
+            cnt = np.zeros(n, dtype=np.int64)
+            flag = np.zeros(n, dtype=np.int8)
+            if ok.size:
+                X[ok], P[ok], R[ok], A8[ok], cnt[ok], flag[ok] = kernel(Q[ok])
+        A = A8.astype(int)
         solver = np.where(row_ok, "kernel", "invalid").astype("<U9")
         special = row_ok & (flag != 0)
         res = DKBatchResult(X, P, np.arange(_MAX_MODES) < cnt[:, None], cnt, R, A, row_ok, errors,
@@ -815,8 +814,8 @@ class PlanarParallel:
             sub = self._solve(Q[careful], raise_degenerate=False)
             for name in ("image_points", "poses", "valid", "count", "residual", "aspect", "row_ok"):
                 getattr(res, name)[careful] = getattr(sub, name)
-            for k, msg in sub.errors.items():
-                errors[int(careful[k])] = msg.replace(f"Q[{k}", f"Q[{careful[k]}")
+            for k, msg in sub.errors.items():   # only DegenerateDesignError messages (q stated)
+                errors[int(careful[k])] = msg
             solver[careful] = "numpy"
         solver[~res.row_ok] = "invalid"
         res.solver = solver
@@ -1111,6 +1110,15 @@ class PlanarParallel:
                 branch = int(np.nanargmin(np.where(np.isnan(d), np.inf, d)))
             out.append(leg.joint_points(p, branch))
         return out
+
+
+def _cache_key(q):
+    """Key of the symbolic caches for joint values ``q`` (None: general in the joint symbols)."""
+    if q is None:
+        return None
+    if is_symbolic(q):
+        return tuple(sp.sympify(v) for v in q)
+    return tuple(float(v) for v in np.ravel(q))
 
 
 def _distinct_orientations(half_angles, tol=1e-9):
