@@ -10,6 +10,8 @@ from .kinematic_map import compose, image_point, inverse, normalize, pose_of, tr
 from .legs import PPR, PRP, PRR, RPP, RPR, RRP, RRR, Leg
 from .certify import RealRootCertificate, certify_real_roots, certify_real_roots_batch
 from .manipulator import AssemblyMode, CertifiedModes, DKBatchResult, PlanarParallel
+from .singularities import (ConicSection, PoseJacobians, SingularitySurface, jacobians,
+                            singularity_surface, singularity_surfaces)
 from .tolerances import TOLERANCES, Tolerances
 
 __version__ = "0.1.0"
@@ -20,6 +22,8 @@ __all__ = [
     "Quadric", "image_symbols", "rr_quadric", "pr_quadric", "rp_quadric", "pp_quadric",
     "Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR",
     "PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes",
+    "SingularitySurface", "PoseJacobians", "ConicSection", "singularity_surface", "singularity_surfaces",
+    "jacobians",
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError",
     "Tolerances", "TOLERANCES",

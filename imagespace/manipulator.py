@@ -496,8 +496,53 @@ class PlanarParallel:
             x = image_symbols()
             eqs = self.constraint_equations(q) + [x[0]**2 + x[1]**2 - 1]
             J = sp.Matrix(eqs).jacobian(sp.Matrix(x))
-            self._symbolic_cache[key] = sp.Poly(sp.expand(J.det(method="berkowitz")), *x)
+            det = sp.expand(J.det(method="berkowitz"))
+            for s in self.joint_symbols:        # canonical in sin/cos of an actuated angle
+                if det.has(sp.sin(s)):
+                    det = sp.expand(det.subs(sp.sin(s)**2, 1 - sp.cos(s)**2))
+            self._symbolic_cache[key] = sp.Poly(det, *x)
         return self._symbolic_cache[key]
+
+    def singularity_surface(self, q=None, working_modes=None):
+        """The singularity surface, compiled and labelled; see :func:`imagespace.singularity_surface`.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.examples.general_3rpr().singularity_surface().kind
+        'joint-free'
+        """
+        from .singularities import singularity_surface
+
+        return singularity_surface(self, q=q, working_modes=working_modes)
+
+    def singularity_surfaces(self):
+        """Every image-space singularity surface, one per working mode; see
+        :func:`imagespace.singularity_surfaces`.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> [S.kind for S in isp.examples.general_3rpr().singularity_surfaces()]
+        ['joint-free']
+        """
+        from .singularities import singularity_surfaces
+
+        return singularity_surfaces(self)
+
+    def jacobians(self, pose, q=None, working_modes=None):
+        """Seed 003's ``Jx``, ``Jq``, ``J`` and the singularity type; see :func:`imagespace.jacobians`.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.jacobians(m.direct_kinematics(m.q_example)[0].pose).kind.tolist()
+        ['regular']
+        """
+        from .singularities import jacobians
+
+        return jacobians(self, pose, q=q, working_modes=working_modes)
 
     # -- inverse kinematics -----------------------------------------------------
     def inverse_kinematics(self, pose, working_modes=None):

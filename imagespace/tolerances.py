@@ -31,6 +31,10 @@ class Tolerances:
         inputs is treated as identically zero (exact arithmetic then confirms).
     newton_steps : int
         Maximum Newton iterations when polishing a mode on the full constraint system.
+    singular : float
+        A Jacobian is singular when ``|det| / prod(row norms) <= singular`` (dimensionless);
+        a float conic invariant is zero when below ``singular`` times the coefficient scale to
+        the invariant's degree.
     """
 
     joint_residual: float = 1e-7
@@ -38,6 +42,7 @@ class Tolerances:
     duplicate: float = 1e-7
     degenerate: float = 1e-11
     newton_steps: int = 30
+    singular: float = 1e-9
 
 
 TOLERANCES = Tolerances()

@@ -1,0 +1,756 @@
+"""The singularity surface ``det J = 0``, the Jacobians ``Jx``/``Jq`` and fixed-orientation sections.
+
+Three objects, one derivation (:meth:`PlanarParallel.singularity_polynomial`, the determinant of
+the Jacobian of the three constraint quadrics and ``x0**2 + x1**2 - 1`` with respect to
+``x0..x3``):
+
+* :class:`SingularitySurface` - the quartic as a function on image space, compiled (value and
+  gradient, batched), with a label saying what it is: ``"joint-free"`` (every actuated joint only
+  changes a radius or an offset, the joint values dropped out), ``"given-joints"`` (the surface
+  for fixed joint values) or ``"working-mode"`` (the joint values of the legs whose actuator moves
+  a circle's centre or a line were eliminated through that leg's inverse kinematics, one surface
+  per choice of branches).
+* :class:`PoseJacobians` - seed 003's ``Jx = dF/dx``, ``Jq = -dF/dq``, ``J = Jq^-1 Jx`` in the
+  pose coordinates ``(x, y, phi)`` and the classification inverse-kinematic / direct-kinematic /
+  both. ``F_i`` is leg ``i``'s quadric at the normalised image point of the pose, which for an RR
+  dyad is exactly ``|P_i - A_i|**2 - r_i**2``.
+* :class:`ConicSection` - the surface at a fixed orientation ``phi``: a conic in the workspace
+  ``(x, y)`` (Sefrioui & Gosselin's quadratic nature), with its type.
+
+Identity used by the tests: at a pose and joint values that satisfy the constraints,
+``S(image_point(pose)) = -16 det Jx(pose)``, because the map
+``(x, y, phi) -> (cos(phi/2), sin(phi/2), ...)`` completed by the image point itself has
+determinant ``-1/8`` and ``grad(x0**2 + x1**2 - 1) . X = 2``. So the image-space surface is the
+direct-kinematic singularity locus, and ``sign S = -sign det Jx``.
+
+References
+----------
+M. J. D. Hayes, M. L. Husty, P. J. Zsombor-Murray, *Singular configurations of wrist-partitioned
+6R serial robots: a geometric perspective for users*, and A. Stigger, M. Husty (seed 002), for the
+quartic; C. Gosselin, J. Angeles, *Singularity analysis of closed-loop kinematic chains*, IEEE
+Trans. Robot. Autom. 6 (1990) 281-290, doi:10.1109/70.56660, for the singularity types;
+J. Sefrioui, C. Gosselin, *On the quadratic nature of the singularity curves of planar
+three-degree-of-freedom parallel manipulators*, Mech. Mach. Theory 30 (1995) 533-551,
+doi:10.1016/0094-114X(94)00054-M.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from ._validate import as_exact, as_float_array, is_symbolic
+from .compile import compile_exprs
+from .constraints import image_symbols
+from .exceptions import InputError
+from .kinematic_map import pose_of
+
+__all__ = ["SingularitySurface", "PoseJacobians", "ConicSection", "singularity_surface",
+           "singularity_surfaces", "jacobians", "pose_chart_point", "image_chart_point"]
+
+_KINDS = ("joint-free", "given-joints", "working-mode")
+
+
+# -- charts -----------------------------------------------------------------------------------
+def pose_chart_point(P):
+    """Normalised image points of poses and their derivative with respect to ``(x, y, phi)``.
+
+    Parameters
+    ----------
+    P : (n, 3) float
+
+    Returns
+    -------
+    X : (n, 4) float
+        ``(cos(phi/2), sin(phi/2), (x1 x - x0 y)/2, (x0 x + x1 y)/2)``.
+    dX : (n, 4, 3) float
+        ``dX[:, :, k]`` is the derivative along ``x``, ``y``, ``phi``.
+
+    Examples
+    --------
+    >>> from imagespace.singularities import pose_chart_point
+    >>> X, dX = pose_chart_point([[2.0, 0.0, 0.0]])
+    >>> X.tolist(), dX[0, :, 0].tolist()
+    ([[1.0, 0.0, 0.0, 1.0]], [0.0, 0.0, 0.0, 0.5])
+    """
+    P = np.atleast_2d(np.asarray(P, dtype=float))
+    x, y, phi = P[:, 0], P[:, 1], P[:, 2]
+    c, s = np.cos(phi / 2), np.sin(phi / 2)
+    X = np.stack([c, s, (s * x - c * y) / 2, (c * x + s * y) / 2], axis=-1)
+    z = np.zeros_like(c)
+    dX = np.stack([np.stack([z, z, s / 2, c / 2], -1),
+                   np.stack([z, z, -c / 2, s / 2], -1),
+                   np.stack([-s / 2, c / 2, X[:, 3] / 2, -X[:, 2] / 2], -1)], axis=-1)
+    return X, dX
+
+
+def image_chart_point(U):
+    """Image points of the affine chart ``(x2/x0, x3/x0, x1/x0)`` (seed 002, Abb. 2) and its derivative.
+
+    Parameters
+    ----------
+    U : (n, 3) float
+        Chart coordinates ``(u, v, w) = (x2/x0, x3/x0, x1/x0)``.
+
+    Returns
+    -------
+    X : (n, 4) float
+        ``(1, w, u, v)``.
+    dX : (n, 4, 3) float
+
+    Examples
+    --------
+    >>> from imagespace.singularities import image_chart_point
+    >>> image_chart_point([[1.0, 2.0, 3.0]])[0].tolist()
+    [[1.0, 3.0, 1.0, 2.0]]
+    """
+    U = np.atleast_2d(np.asarray(U, dtype=float))
+    X = np.stack([np.ones(len(U)), U[:, 2], U[:, 0], U[:, 1]], axis=-1)
+    dX = np.zeros((len(U), 4, 3))
+    dX[:, 2, 0] = dX[:, 3, 1] = dX[:, 1, 2] = 1.0
+    return X, dX
+
+
+# -- compiled constraint functions ----------------------------------------------------------------
+def _constraint_functions(m):
+    """Compiled ``[Q_i, dQ_i/dx (4), dQ_i/dq_i]`` for the three legs, arguments ``(x0..x3, q1..q3)``."""
+    key = "constraint_functions"
+    if key not in m._symbolic_cache:
+        _require_numeric(m)
+        x = image_symbols()
+        qs = m.joint_symbols
+        exprs = []
+        for leg, qi in zip(m.legs, qs):
+            Q = sp.expand(leg.dyad(qi).expr())
+            exprs += [Q] + [sp.diff(Q, v) for v in x] + [sp.diff(Q, qi)]
+        m._symbolic_cache[key] = compile_exprs(exprs, list(x) + list(qs))
+    return m._symbolic_cache[key]
+
+
+def _require_numeric(m):
+    free = set().union(*(leg.free_symbols for leg in m.legs))
+    if free:
+        raise InputError(f"numeric evaluation needs a numeric design; the design has the symbols "
+                         f"{sorted(map(str, free))} (substitute numbers first)")
+
+
+def _constraint_values(m, X, Q):
+    """``(vals (n,3), grad (n,3,4), dq (n,3))`` of the three quadrics at image points and joints."""
+    out = _constraint_functions(m)(*X.T, *Q.T)
+    out = out.reshape(len(X), 3, 6)
+    return out[:, :, 0], out[:, :, 1:5], out[:, :, 5]
+
+
+# -- the surface --------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class SingularitySurface:
+    """The direct-kinematic singularity surface ``det J = 0`` of one manipulator, ready to evaluate.
+
+    Build it with :meth:`PlanarParallel.singularity_surface` (or :func:`singularity_surface`).
+
+    Attributes
+    ----------
+    manipulator : PlanarParallel
+    polynomial : sympy.Poly
+        The quartic in ``(x0, x1, x2, x3)``. For ``kind == "working-mode"`` it still contains the
+        joint symbols of the legs in :attr:`eliminated`.
+    kind : str
+        ``"joint-free"``: the joint values dropped out, one surface for all joint values;
+        ``"given-joints"``: the surface at the joint values :attr:`q`;
+        ``"working-mode"``: the joint values of the legs :attr:`eliminated` are replaced by those
+        legs' inverse kinematics on the branches :attr:`working_modes` (not a polynomial
+        surface; its points are where the manipulator *assembled in that working mode* is
+        direct-kinematically singular).
+    q : tuple or None
+        The joint values (``"given-joints"`` only).
+    working_modes : tuple or None
+        Per leg, the inverse-kinematics branch used, or ``None`` for legs not eliminated.
+    eliminated : tuple of int
+        The legs whose joint values were eliminated.
+
+    Notes
+    -----
+    Sign convention: ``S(X)`` is a form of even degree (4), so ``S(-X) = S(X)`` and its sign at a
+    pose does not depend on the representative; :attr:`AssemblyMode.aspect` is this sign.
+    At poses satisfying the constraints ``S(image_point(pose)) = -16 det Jx(pose)``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> S = isp.examples.stigger_husty().singularity_surface()
+    >>> S.kind, S.polynomial.total_degree()
+    ('joint-free', 4)
+    """
+
+    manipulator: object
+    polynomial: sp.Poly
+    kind: str
+    q: tuple | None = None
+    working_modes: tuple | None = None
+    eliminated: tuple = ()
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    def __repr__(self):
+        extra = {"joint-free": "", "given-joints": f", q={self.q}",
+                 "working-mode": f", working_modes={self.working_modes}"}[self.kind]
+        return f"SingularitySurface({self.manipulator.name!r}, kind={self.kind!r}{extra})"
+
+    @property
+    def is_polynomial(self):
+        """True unless joint values were eliminated through the leg inverse kinematics."""
+        return self.kind != "working-mode"
+
+    def expr(self):
+        """The quartic as a sympy expression in ``x0..x3`` (joint symbols for ``"working-mode"``).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> S = isp.examples.general_3rpr().singularity_surface()
+        >>> sorted(map(str, S.expr().free_symbols))
+        ['x0', 'x1', 'x2', 'x3']
+        """
+        return self.polynomial.as_expr()
+
+    def _args(self):
+        x = image_symbols()
+        if self.kind == "working-mode":
+            return list(x) + [self.manipulator.joint_symbols[i] for i in self.eliminated]
+        return list(x)
+
+    def _compiled(self, what):
+        if what not in self._cache:
+            _require_numeric(self.manipulator)
+            e = self.expr()
+            args = self._args()
+            if what == "value":
+                self._cache[what] = compile_exprs([e], args)
+            else:
+                self._cache[what] = compile_exprs([sp.diff(e, a) for a in args], args)
+        return self._cache[what]
+
+    def _joints(self, X):
+        """Joint values of the eliminated legs at image points ``X``: ``(n, k)``, NaN out of reach."""
+        m = self.manipulator
+        ok = np.hypot(X[:, 0], X[:, 1]) > 0
+        P = np.full((len(X), 3), np.nan)
+        if ok.any():
+            P[ok] = pose_of(X[ok])
+        cols = []
+        for i in self.eliminated:
+            vals = m.legs[i].actuated_values(np.where(np.isfinite(P), P, 0.0))[:, self.working_modes[i]]
+            cols.append(np.where(ok, vals, np.nan))
+        return np.stack(cols, axis=-1)
+
+    def _check_X(self, X, name="X"):
+        X = as_float_array(X, name, last=4, finite=False)
+        return X, X.ndim == 1
+
+    def __call__(self, X):
+        """``S`` at image points (any representatives).
+
+        Parameters
+        ----------
+        X : (4,) or (n, 4) float
+
+        Returns
+        -------
+        float or (n,) float
+            NaN where a working-mode surface is undefined (a leg cannot reach the pose).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> S = m.singularity_surface()
+        >>> modes = m.direct_kinematics(m.q_example)
+        >>> np.sign(S([mm.image_point for mm in modes])).astype(int).tolist() == [mm.aspect for mm in modes]
+        True
+        """
+        X, single = self._check_X(X)
+        X2 = np.atleast_2d(X)
+        args = list(X2.T)
+        if self.kind == "working-mode":
+            args += list(self._joints(X2).T)
+        v = self._compiled("value")(*args)[:, 0]
+        return v[0] if single else v
+
+    def value_and_gradient(self, X):
+        """``S`` and its gradient with respect to ``x0..x3`` at image points, batched.
+
+        For a ``"working-mode"`` surface the gradient includes the joint values' dependence on
+        the pose (implicit function theorem on the leg's quadric ``Q_i(X, q_i) = 0``:
+        ``dq_i/dX = -grad_X Q_i / (dQ_i/dq_i)``).
+
+        Parameters
+        ----------
+        X : (4,) or (n, 4) float
+
+        Returns
+        -------
+        value : float or (n,) float
+        gradient : (4,) or (n, 4) float
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> S = isp.examples.general_3rpr().singularity_surface()
+        >>> v, g = S.value_and_gradient([[1.0, 0.2, 0.3, -0.4]])
+        >>> bool(abs(g[0] @ [1.0, 0.2, 0.3, -0.4] - 4 * v[0]) < 1e-9 * abs(v[0]))   # Euler: degree 4
+        True
+        """
+        X, single = self._check_X(X)
+        X2 = np.atleast_2d(X)
+        args = list(X2.T)
+        if self.kind == "working-mode":
+            qe = self._joints(X2)
+            args += list(qe.T)
+        v = self._compiled("value")(*args)[:, 0]
+        g = self._compiled("gradient")(*args)
+        G = g[:, :4].copy()
+        if self.kind == "working-mode":
+            Q = np.zeros((len(X2), 3))
+            for k, i in enumerate(self.eliminated):
+                Q[:, i] = qe[:, k]
+            _, dQdx, dQdq = _constraint_values(self.manipulator, X2, np.nan_to_num(Q))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                for k, i in enumerate(self.eliminated):
+                    G -= (g[:, 4 + k] / dQdq[:, i])[:, None] * dQdx[:, i, :]
+            G[~np.isfinite(v)] = np.nan
+        return (v[0], G[0]) if single else (v, G)
+
+    def at_poses(self, P, gradient=False):
+        """``S`` at the normalised image points of poses (and the gradient in ``(x, y, phi)``).
+
+        Parameters
+        ----------
+        P : (3,) or (n, 3) float
+        gradient : bool
+
+        Returns
+        -------
+        value : float or (n,) float
+        gradient : (3,) or (n, 3) float, only with ``gradient=True``
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> S = isp.examples.stigger_husty().singularity_surface()
+        >>> float(S.at_poses([0.0, 0.0, 0.3])) == float(S(isp.image_point([0.0, 0.0, 0.3])))
+        True
+        """
+        P = as_float_array(P, "P", last=3, finite=False)
+        single = P.ndim == 1
+        X, dX = pose_chart_point(np.atleast_2d(P))
+        if not gradient:
+            v = self(X)
+            return v[0] if single else v
+        v, G = self.value_and_gradient(X)
+        Gp = np.einsum("ni,nik->nk", G, dX)
+        return (v[0], Gp[0]) if single else (v, Gp)
+
+    def section(self, phi):
+        """The surface at a fixed orientation: a conic in the workspace ``(x, y)``.
+
+        Parameters
+        ----------
+        phi : float or sympy expression
+            The orientation (radians). A sympy value (``sp.pi/3``, ``2*sp.atan(sp.Rational(1, 3))``
+            ...) gives exact coefficients and an exactly decided type.
+
+        Returns
+        -------
+        ConicSection
+
+        Raises
+        ------
+        InputError
+            For a ``"working-mode"`` surface (not polynomial in ``x, y``; take the surface for
+            given joint values instead).
+
+        Examples
+        --------
+        >>> import imagespace as isp, sympy as sp
+        >>> S = isp.examples.stigger_husty().singularity_surface()
+        >>> S.section(2 * sp.atan(sp.Rational(1, 2))).type
+        'hyperbola'
+        """
+        if self.kind == "working-mode":
+            raise InputError("section() needs a polynomial surface; a working-mode surface is not "
+                             "a conic at fixed phi - use singularity_surface(q=...) for given joint values")
+        return ConicSection.of(self, phi)
+
+    def chart_expression(self, chart):
+        """The quartic in chart coordinates as a sympy expression (polynomial kinds).
+
+        Returns ``(expr, (u, v, w))``.
+
+        ``chart="image"``: ``(u, v, w) = (x2/x0, x3/x0, x1/x0)``; ``chart="pose"``:
+        ``(u, v, w) = (x, y, phi)`` (polynomial in ``x, y``, trigonometric in ``phi/2``).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> S = isp.examples.general_3rpr().singularity_surface()
+        >>> expr, (u, v, w) = S.chart_expression("image")
+        >>> sp.Poly(expr, u, v, w).total_degree()
+        4
+        """
+        if not self.is_polynomial:
+            raise InputError("chart_expression() needs a polynomial surface (kind 'joint-free' or "
+                             f"'given-joints'), got kind {self.kind!r}")
+        u, v, w = sp.symbols("u v w", real=True)
+        x0, x1, x2, x3 = image_symbols()
+        if chart == "image":
+            sub = {x0: 1, x1: w, x2: u, x3: v}
+        elif chart == "pose":
+            c, s = sp.cos(w / 2), sp.sin(w / 2)
+            sub = {x0: c, x1: s, x2: (s * u - c * v) / 2, x3: (c * u + s * v) / 2}
+        else:
+            raise InputError(f"chart must be 'image' or 'pose', got {chart!r}")
+        return sp.expand(self.expr().xreplace(sub)), (u, v, w)
+
+
+def singularity_surface(manipulator, q=None, working_modes=None):
+    """The singularity surface of a manipulator, labelled by what it is.
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    q : None or (3,) numbers
+        Joint values. Needed (or ``working_modes``) when an actuated joint moves a circle's
+        centre or a line; ignored (with the label ``"joint-free"``) when the joint values drop out.
+    working_modes : sequence of three ints, optional
+        Branches of the leg inverse kinematics through which the joint values are eliminated
+        (``"working-mode"`` surface); only the legs whose joint value stays in the quartic use it.
+
+    Returns
+    -------
+    SingularitySurface
+
+    Raises
+    ------
+    InputError
+        If the surface depends on the joint values and neither ``q`` nor ``working_modes`` is
+        given, or both are.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> m = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3, 2), actuated=0),
+    ...                         isp.RPR(base=(6, 0), platform=(1, 0)), isp.RPR(base=(2, 5), platform=(0, 1))])
+    >>> isp.singularity_surface(m, working_modes=(1, 0, 0))
+    SingularitySurface('RRR-RPR-RPR', kind='working-mode', working_modes=(1, None, None))
+    """
+    P = manipulator.singularity_polynomial()
+    joint_syms = manipulator.joint_symbols
+    depends = tuple(i for i, s in enumerate(joint_syms) if s in P.free_symbols)
+    if not depends:
+        return SingularitySurface(manipulator, P, "joint-free")
+    if q is not None and working_modes is not None:
+        raise InputError("give either q (the surface at given joint values) or working_modes (the "
+                         "joint values eliminated through the leg inverse kinematics), not both")
+    if q is not None:
+        if is_symbolic(q):
+            qs = tuple(sp.sympify(v) for v in q)
+        else:
+            qa = manipulator._check_q(q)
+            if qa.shape != (3,):
+                raise InputError(f"q must have shape (3,), got {qa.shape}")
+            qs = tuple(as_exact(float(v), f"q[{i}]") for i, v in enumerate(qa))
+        Pq = sp.Poly(P.as_expr().xreplace(dict(zip(joint_syms, qs))), *image_symbols())
+        return SingularitySurface(manipulator, Pq, "given-joints", q=tuple(qs))
+    if working_modes is None:
+        legs = ", ".join(f"legs[{i}] ({manipulator.legs[i].joints}, {manipulator.legs[i].n_branches} branches)"
+                         for i in depends)
+        raise InputError(f"the singularity surface of {manipulator.name} depends on the joint values of "
+                         f"{legs}: pass q=... for the surface at given joint values, or "
+                         "working_modes=(b0, b1, b2) to eliminate them through the leg inverse "
+                         "kinematics (singularity_surfaces() lists every working mode)")
+    wm = tuple(working_modes)
+    if len(wm) != 3:
+        raise InputError(f"working_modes must have three entries, got {working_modes!r}")
+    for i in depends:
+        nb = manipulator.legs[i].n_branches
+        if isinstance(wm[i], bool) or not isinstance(wm[i], (int, np.integer)) or not 0 <= wm[i] < nb:
+            raise InputError(f"working_modes[{i}] must be an int in 0..{nb - 1} for "
+                             f"{manipulator.legs[i].joints}, got {wm[i]!r}")
+    used = tuple(int(wm[i]) if i in depends else None for i in range(3))
+    return SingularitySurface(manipulator, P, "working-mode", working_modes=used, eliminated=depends)
+
+
+def singularity_surfaces(manipulator):
+    """Every singularity surface in image space alone: one per combination of working modes.
+
+    A single ``"joint-free"`` surface when the joint values drop out.
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+
+    Returns
+    -------
+    list of SingularitySurface
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> len(isp.singularity_surfaces(isp.examples.stigger_husty()))
+    1
+    """
+    P = manipulator.singularity_polynomial()
+    depends = [i for i, s in enumerate(manipulator.joint_symbols) if s in P.free_symbols]
+    if not depends:
+        return [singularity_surface(manipulator)]
+    ranges = [range(manipulator.legs[i].n_branches) if i in depends else [0] for i in range(3)]
+    return [singularity_surface(manipulator, working_modes=wm) for wm in itertools.product(*ranges)]
+
+
+# -- Jacobians and singularity types ------------------------------------------------------------
+@dataclass(frozen=True)
+class PoseJacobians:
+    """Seed 003's Jacobians at poses: ``Jx xdot = Jq qdot``, ``J = Jq^-1 Jx``.
+
+    ``F_i(x, y, phi, q) = Q_i(image_point(x, y, phi), q_i)`` with the normalised image point; for
+    an RR dyad this is ``|P_i - A_i|**2 - r_i**2`` exactly, for a line constraint the signed
+    distance times the line's scale.
+
+    Attributes
+    ----------
+    pose : (n, 3) float
+    q : (n, 3) float
+    Jx : (n, 3, 3) float
+        ``dF/d(x, y, phi)``.
+    Jq : (n, 3, 3) float
+        ``-dF/dq`` (diagonal: each leg's constraint contains only its own joint).
+    J : (n, 3, 3) float
+        ``Jq^-1 Jx``; NaN where ``Jq`` is singular.
+    det_Jx, det_Jq : (n,) float
+    ratio_Jx, ratio_Jq : (n,) float
+        ``|det| / prod(row norms)`` of ``Jx`` and of ``[Jx | Jq]`` rows' ``Jq`` parts relative to
+        the rows' norms: dimensionless, in ``[0, 1]``; a leg whose whole row vanishes counts as 0.
+    direct_kinematic, inverse_kinematic : (n,) bool
+        ``ratio_Jx <= tol`` / ``ratio_Jq <= tol``.
+    kind : (n,) str
+        ``"regular"``, ``"inverse-kinematic"``, ``"direct-kinematic"``, ``"both"``, or
+        ``"unreachable"`` where a leg cannot reach the pose (batch rows are not raised on).
+    valid : (n,) bool
+        The rows with finite joint values (the others are NaN).
+    tol : float
+        The threshold used (``Tolerances.singular``).
+    """
+
+    pose: np.ndarray
+    q: np.ndarray
+    Jx: np.ndarray
+    Jq: np.ndarray
+    J: np.ndarray
+    det_Jx: np.ndarray
+    det_Jq: np.ndarray
+    ratio_Jx: np.ndarray
+    ratio_Jq: np.ndarray
+    direct_kinematic: np.ndarray
+    inverse_kinematic: np.ndarray
+    kind: np.ndarray
+    valid: np.ndarray
+    tol: float
+
+
+def jacobians(manipulator, pose, q=None, working_modes=None):
+    """``Jx``, ``Jq``, ``J`` and the singularity type at poses (seed 003).
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    pose : (3,) or (n, 3) float
+    q : (3,) or (n, 3) float, optional
+        Joint values; by default the inverse kinematics at ``pose`` on ``working_modes``.
+    working_modes : sequence of three ints, optional
+
+    Returns
+    -------
+    PoseJacobians
+        Arrays with a leading batch axis (length 1 for a single pose).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> m = isp.examples.general_3rpr()
+    >>> jac = isp.jacobians(m, [0.5, 1.0, 0.2])
+    >>> jac.kind.tolist()
+    ['regular']
+    """
+    P = np.atleast_2d(as_float_array(pose, "pose", last=3))
+    if q is None:
+        Q = np.atleast_2d(manipulator.inverse_kinematics(P, working_modes))
+    else:
+        Q = np.broadcast_to(np.atleast_2d(manipulator._check_q(q)), P.shape).copy()
+    valid = np.all(np.isfinite(Q), axis=-1)
+    X, dX = pose_chart_point(P)
+    _, dQdx, dQdq = _constraint_values(manipulator, X, Q)
+    Jx = np.einsum("nij,njk->nik", dQdx, dX)
+    Jq = np.zeros_like(Jx)
+    idx = np.arange(3)
+    Jq[:, idx, idx] = -dQdq
+    with np.errstate(divide="ignore", invalid="ignore"):
+        det_Jx = np.full(len(P), np.nan)
+        det_Jx[valid] = np.linalg.det(Jx[valid])
+        det_Jq = np.prod(-dQdq, axis=-1)
+        rows = np.linalg.norm(Jx, axis=-1)                    # (n, 3)
+        ratio_x = np.where(np.all(rows > 0, -1), np.abs(det_Jx) / np.prod(rows, -1), 0.0)
+        full = np.hypot(rows, np.abs(dQdq))
+        ratio_q = np.where(np.all(full > 0, -1), np.min(np.abs(dQdq) / full, -1), 0.0)
+        J = np.where(np.abs(det_Jq)[:, None, None] > 0,
+                     Jx / np.where(dQdq == 0, np.nan, -dQdq)[:, :, None], np.nan)
+    tol = manipulator.tolerances.singular
+    dk, ik = ratio_x <= tol, ratio_q <= tol
+    dk, ik = dk & valid, ik & valid
+    kind = np.where(dk & ik, "both", np.where(dk, "direct-kinematic",
+                                               np.where(ik, "inverse-kinematic", "regular")))
+    kind = np.where(valid, kind, "unreachable")
+    return PoseJacobians(P, Q, Jx, Jq, J, det_Jx, det_Jq, ratio_x, ratio_q, dk, ik, kind, valid, tol)
+
+
+# -- fixed-orientation sections -----------------------------------------------------------------
+_CONIC_NAMES = ("ellipse", "imaginary ellipse", "parabola", "hyperbola", "intersecting lines",
+                "parallel lines", "coincident lines", "imaginary parallel lines", "point", "line",
+                "empty", "plane")
+
+
+@dataclass(frozen=True)
+class ConicSection:
+    """The singularity surface at a fixed orientation: ``A x² + B xy + C y² + D x + E y + F = 0``.
+
+    Attributes
+    ----------
+    phi : float
+    coefficients : tuple of six
+        ``(A, B, C, D, E, F)``: sympy numbers when exact, floats otherwise. Computed from the
+        representative ``(x0, x1) = (cos(phi/2), sin(phi/2))`` (exact: ``(1, tan(phi/2))``, a
+        positive multiple), so the sign of the conic's value is the aspect.
+    type : str
+        One of ``ellipse, imaginary ellipse, parabola, hyperbola, intersecting lines, parallel
+        lines, coincident lines, imaginary parallel lines, point, line, empty, plane``.
+    exact : bool
+        True when the coefficients are exact and the type was decided by exact sign tests;
+        otherwise decided in floating point with the relative tolerance ``Tolerances.singular``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> c = isp.examples.general_3rpr().singularity_surface().section(0.4)
+    >>> c.type in ("ellipse", "hyperbola", "parabola", "intersecting lines")
+    True
+    """
+
+    phi: float
+    coefficients: tuple
+    type: str
+    exact: bool
+
+    @classmethod
+    def of(cls, surface, phi):
+        (u, v, w) = sp.symbols("u v w", real=True)
+        x0, x1, x2, x3 = image_symbols()
+        e = surface.expr()
+        exact = is_symbolic(phi)
+        if exact:
+            phi_s = sp.sympify(phi)
+            if phi_s.free_symbols:
+                raise InputError(f"phi must be a number or an exact sympy number, got {phi!r}")
+            half = sp.simplify(sp.tan(phi_s / 2))
+            c0, s0 = (sp.Integer(0), sp.Integer(1)) if half in (sp.zoo, sp.oo, -sp.oo) else (sp.Integer(1), half)
+        else:
+            phi_f = float(as_float_array(phi, "phi"))
+            c0, s0 = sp.Float(np.cos(phi_f / 2), 17), sp.Float(np.sin(phi_f / 2), 17)
+        sub = {x0: c0, x1: s0, x2: (s0 * u - c0 * v) / 2, x3: (c0 * u + s0 * v) / 2}
+        poly = sp.Poly(sp.expand(e.xreplace(sub)), u, v)
+        if poly.total_degree() > 2:
+            raise InputError(f"the section at phi={phi} has degree {poly.total_degree()} in (x, y); "
+                             "expected a conic")
+        mons = [(2, 0), (1, 1), (0, 2), (1, 0), (0, 1), (0, 0)]
+        co = [poly.coeff_monomial(mm) for mm in mons]
+        if exact:
+            co = [sp.radsimp(c) for c in co]
+            kind = _conic_type(co, _exact_sign)
+            return cls(float(sp.N(phi_s)), tuple(co), kind, True)
+        cf = np.array([float(c) for c in co])
+        tol = surface.manipulator.tolerances.singular
+        kind = _conic_type(list(cf), _float_sign_fn(cf, tol))
+        return cls(phi_f, tuple(float(c) for c in cf), kind, False)
+
+    @property
+    def matrix(self):
+        """The symmetric 3x3 matrix ``M`` with ``[x, y, 1] M [x, y, 1]^T`` the conic (float)."""
+        A, B, C, D, E, F = (float(c) for c in self.coefficients)
+        return np.array([[A, B / 2, D / 2], [B / 2, C, E / 2], [D / 2, E / 2, F]])
+
+    def __call__(self, x, y):
+        """The conic's value at workspace points (broadcasting); its sign is the aspect.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> mode = m.direct_kinematics(m.q_example)[0]
+        >>> c = m.singularity_surface().section(mode.pose[2])
+        >>> int(np.sign(c(mode.pose[0], mode.pose[1]))) == mode.aspect
+        True
+        """
+        A, B, C, D, E, F = (float(c) for c in self.coefficients)
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        return A * x * x + B * x * y + C * y * y + D * x + E * y + F
+
+
+def _exact_sign(a, degree=1):
+    a = sp.sympify(a)
+    if a.is_zero:
+        return 0
+    if a.is_positive:
+        return 1
+    if a.is_negative:
+        return -1
+    z = sp.simplify(a)
+    if z.is_zero:
+        return 0
+    v = sp.N(z, 50)
+    if v == 0:
+        raise InputError(f"could not decide the sign of {a} exactly")
+    return 1 if v > 0 else -1
+
+
+def _float_sign_fn(cf, tol):
+    scale = float(np.max(np.abs(cf))) if np.any(cf) else 0.0
+
+    def sign(a, degree=1):
+        a = float(a)
+        return 0 if abs(a) <= tol * scale ** degree else (1 if a > 0 else -1)
+    return sign
+
+
+def _conic_type(co, sign):
+    """Classify a conic from the signs of its invariants; ``sign(value, degree)`` decides a sign
+    (``degree``: how many coefficients multiply in ``value``, for a float tolerance)."""
+    A, B, C, D, E, F = co
+    if all(sign(c, 1) == 0 for c in (A, B, C)):
+        if sign(D, 1) == 0 and sign(E, 1) == 0:
+            return "plane" if sign(F, 1) == 0 else "empty"
+        return "line"
+    delta = sign(4 * A * C - B * B, 2)
+    Delta = sign(4 * A * C * F - A * E * E - B * B * F + B * D * E - C * D * D, 3)   # 4 det M
+    if Delta != 0:
+        if delta > 0:
+            return "imaginary ellipse" if sign(A + C, 1) * Delta > 0 else "ellipse"
+        return "parabola" if delta == 0 else "hyperbola"
+    if delta < 0:
+        return "intersecting lines"
+    if delta > 0:
+        return "point"
+    # the quadratic part is a square: parallel, coincident or imaginary parallel lines
+    cof = sign((4 * A * F - D * D) + (4 * C * F - E * E), 2)
+    if cof < 0:
+        return "parallel lines"
+    return "coincident lines" if cof == 0 else "imaginary parallel lines"
