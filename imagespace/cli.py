@@ -9,7 +9,12 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-__all__ = ["main", "demo"]
+from .exceptions import InputError
+
+__all__ = ["main", "demo", "mesh_command", "plot_command", "default_box", "EXAMPLES"]
+
+EXAMPLES = {"stigger-husty": "stigger_husty", "general-3rpr": "general_3rpr",
+            "collinear-3rpr": "collinear_3rpr", "choi-3ppr": "choi_3ppr"}
 
 
 def _table(rows, headers):
@@ -85,7 +90,140 @@ def demo(out_dir="imagespace-demo", stream=None):
     return path
 
 
-def main(argv=None):
+def _example(name):
+    from . import examples
+
+    if name not in EXAMPLES:
+        raise SystemExit(f"imagespace: unknown example {name!r}; choose one of {', '.join(EXAMPLES)}")
+    return getattr(examples, EXAMPLES[name])()
+
+
+def _design_scale(m):
+    """A length for default boxes: the largest anchor coordinate or example joint value."""
+    vals = [1.0]
+    for leg in m.legs:
+        for v in leg.geometry(exact=False).values():
+            vals += [abs(c) for c in np.atleast_1d(v)]
+    if m.q_example is not None:
+        vals += [abs(float(v)) for v, leg in zip(m.q_example, m.legs) if not leg.actuated_is_angle]
+    return float(max(vals))
+
+
+def default_box(m, chart):
+    """The default meshing box of a chart, scaled by the design: image ``+-0.8 L`` and
+    ``x1/x0 in [-3, 3]``; pose ``+-L`` and ``phi in [-pi, pi]``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.cli import default_box
+    >>> default_box(isp.examples.stigger_husty(), "pose")[2]
+    (-3.141592653589793, 3.141592653589793)
+    """
+    L = _design_scale(m)
+    if chart == "image":
+        return ((-0.8 * L, 0.8 * L), (-0.8 * L, 0.8 * L), (-3.0, 3.0))
+    return ((-L, L), (-L, L), (-np.pi, np.pi))
+
+
+def _surface(m, args):
+    if args.q is not None:
+        return m.singularity_surface(q=args.q)
+    if args.working_modes is not None:
+        return m.singularity_surface(working_modes=args.working_modes)
+    return m.singularity_surface()
+
+
+def _box(m, args):
+    if args.box is None:
+        return default_box(m, args.chart)
+    b = args.box
+    return ((b[0], b[1]), (b[2], b[3]), (b[4], b[5]))
+
+
+def mesh_command(args, stream=None):
+    """``imagespace mesh``: mesh the singularity surface of an example and export it.
+
+    Examples
+    --------
+    >>> import io, tempfile, pathlib
+    >>> from imagespace.cli import main
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "s.ply"
+    >>> main(["mesh", "--resolution", "24", "-o", str(out)], stream=io.StringIO())
+    0
+    >>> out.exists()
+    True
+    """
+    import time
+
+    from .meshing import export_mesh, mesh_surface
+
+    from .meshing import EXPORT_FORMATS
+
+    stream = stream or sys.stdout
+    if Path(args.output).suffix.lower() not in EXPORT_FORMATS:
+        raise InputError(f"-o/--output must end in one of {', '.join(EXPORT_FORMATS)} (the format is "
+                         f"taken from the suffix), got {args.output!r}")
+    m = _example(args.example)
+    S = _surface(m, args)
+    box = _box(m, args)
+    t = time.perf_counter()
+    mesh = mesh_surface(S, box, chart=args.chart, resolution=args.resolution)
+    path = export_mesh(mesh, args.output)
+    t = time.perf_counter() - t
+    md = mesh.metadata["imagespace"]
+    print(f"{m.name}: {S!r}", file=stream)
+    print(f"chart {args.chart}, box {[list(map(float, b)) for b in box]}, resolution {args.resolution}", file=stream)
+    print(f"{len(mesh.faces)} triangles, {len(mesh.vertices)} vertices; every vertex within "
+          f"{md['max_distance']:.2e} of the surface (sign change bracketed, {md['max_distance'] / md['size']:.1e} "
+          f"of the box size); {t:.2f} s", file=stream)
+    print(f"written: {path}", file=stream)
+    return 0
+
+
+def plot_command(args, stream=None):
+    """``imagespace plot``: the figures of seed 002 for an example, written to a file.
+
+    Examples
+    --------
+    >>> import io, tempfile, pathlib
+    >>> from imagespace.cli import main
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "conic.png"
+    >>> main(["plot", "conic", "-o", str(out)], stream=io.StringIO())
+    0
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from . import plotting
+
+    stream = stream or sys.stdout
+    m = _example(args.example)
+    q = m.q_example_float if args.q is None else np.array(args.q)
+    if args.figure == "modes":
+        fig = plotting.plot_assembly_modes(m, q)
+    elif args.figure == "quadrics":
+        fig = plotting.plot_constraint_quadrics(m, q, _box(m, argparse.Namespace(box=args.box, chart="image")),
+                                                resolution=args.resolution)
+    elif args.figure == "surface":
+        S = _surface(m, args)
+        fig = plotting.plot_singularity_surface(S, _box(m, args), chart=args.chart,
+                                                resolution=args.resolution, q=q)
+    else:
+        S = _surface(m, args)
+        modes = m.direct_kinematics(q)
+        phi = args.phi if args.phi is not None else (modes[0].pose[2] if modes else 0.0)
+        L = _design_scale(m)
+        fig = plotting.plot_conic_section(S, phi, (-L, L), (-L, L), modes=modes)
+    fig.savefig(args.output, dpi=110)
+    plt.close(fig)
+    print(f"written: {args.output}", file=stream)
+    return 0
+
+
+def main(argv=None, stream=None):
     """Entry point of the ``imagespace`` command.
 
     Examples
@@ -101,9 +239,40 @@ def main(argv=None):
     sub = parser.add_subparsers(dest="command", required=True)
     d = sub.add_parser("demo", help="the six-solution 2RPR-PPR example of Stigger & Husty, end to end")
     d.add_argument("-o", "--out", default="imagespace-demo", help="folder for the picture (default: %(default)s)")
+
+    def common(p, resolution):
+        p.add_argument("--example", default="stigger-husty", choices=sorted(EXAMPLES),
+                       help="the mechanism (default: %(default)s)")
+        p.add_argument("--chart", default="image", choices=("image", "pose"),
+                       help="image: (x2/x0, x3/x0, x1/x0); pose: (x, y, phi) (default: %(default)s)")
+        p.add_argument("--resolution", type=int, default=resolution, help="grid points per axis (default: %(default)s)")
+        p.add_argument("--box", type=float, nargs=6, metavar=("UMIN", "UMAX", "VMIN", "VMAX", "WMIN", "WMAX"),
+                       help="box in chart coordinates (default: scaled to the design)")
+        p.add_argument("--q", type=float, nargs=3, help="joint values (surface at given joints / modes to draw)")
+        p.add_argument("--working-modes", type=int, nargs=3, dest="working_modes",
+                       help="leg IK branches through which joint values are eliminated")
+
+    me = sub.add_parser("mesh", help="mesh the singularity surface and export it (STL, PLY, OBJ, GLB)")
+    common(me, 128)
+    me.add_argument("-o", "--output", default="surface.stl", help="output file; the format from the suffix")
+    pl = sub.add_parser("plot", help="figures: modes, quadrics (Abb. 2), surface (Abb. 4), conic")
+    pl.add_argument("figure", choices=("modes", "quadrics", "surface", "conic"))
+    common(pl, 40)
+    pl.add_argument("--phi", type=float, help="orientation of the conic section (default: the first mode's)")
+    pl.add_argument("-o", "--output", default="figure.png", help="image file (default: %(default)s)")
     args = parser.parse_args(argv)
-    if args.command == "demo":
-        demo(args.out)
+    from .exceptions import ImageSpaceError
+
+    try:
+        if args.command == "demo":
+            demo(args.out, stream=stream)
+        elif args.command == "mesh":
+            return mesh_command(args, stream)
+        elif args.command == "plot":
+            return plot_command(args, stream)
+    except (ImageSpaceError, ValueError) as exc:
+        print(f"imagespace {args.command}: error: {exc}", file=sys.stderr)
+        return 2
     return 0
 
 

@@ -11,9 +11,12 @@ import numpy as np
 from ._validate import as_float_array
 from .exceptions import InputError
 
-__all__ = ["plot_mechanism", "plot_assembly_modes"]
+__all__ = ["plot_mechanism", "plot_assembly_modes", "plot_singularity_surface", "plot_constraint_quadrics",
+           "plot_conic_section"]
 
 _LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green")
+_ASPECT_COLOURS = {1: "tab:red", -1: "tab:blue", 0: "k"}
+_CHART_LABELS = {"image": ("x2/x0", "x3/x0", "x1/x0"), "pose": ("x", "y", "phi [rad]")}
 
 
 def _pyplot():
@@ -125,4 +128,222 @@ def plot_assembly_modes(manipulator, q, modes=None, ax=None, ncols=3):
         a.set_visible(False)
     fig.suptitle(f"{manipulator.name}: {len(modes)} assembly modes")
     fig.tight_layout()
+    return fig
+
+
+def _axes3d(ax):
+    plt = _pyplot()
+    if ax is None:
+        fig = plt.figure(figsize=(7, 6))
+        return fig, fig.add_subplot(projection="3d")
+    if getattr(ax, "name", "") != "3d":
+        raise InputError("ax must be a 3D Axes (fig.add_subplot(projection='3d')), "
+                         f"got {type(ax).__name__}")
+    return ax.figure, ax
+
+
+def _chart_coords(modes, chart):
+    if chart == "pose":
+        return np.array([mm.pose for mm in modes])
+    X = np.array([mm.image_point for mm in modes])
+    return np.column_stack([X[:, 2] / X[:, 0], X[:, 3] / X[:, 0], X[:, 1] / X[:, 0]])
+
+
+def _modes_for(manipulator, q, modes):
+    if modes is not None:
+        return list(modes)
+    if q is None:
+        return []
+    return list(manipulator.direct_kinematics(np.array([float(v) for v in q])))
+
+
+def _draw_mesh(ax, mesh, colour, alpha):
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from matplotlib.colors import to_rgb
+
+    light = np.array([-0.4, -0.5, 0.77])
+    shade = 0.55 + 0.45 * np.abs(mesh.face_normals @ light)       # two-sided Lambert shading
+    rgb = np.clip(np.outer(shade, to_rgb(colour)), 0, 1)
+    coll = Poly3DCollection(mesh.triangles, facecolors=np.column_stack([rgb, np.full(len(rgb), alpha)]),
+                            edgecolor="none")
+    ax.add_collection3d(coll)
+    return coll
+
+
+def _set_box(ax, box, chart):
+    for k, setter in enumerate((ax.set_xlim, ax.set_ylim, ax.set_zlim)):
+        setter(*box[k])
+    ax.set_xlabel(_CHART_LABELS[chart][0])
+    ax.set_ylabel(_CHART_LABELS[chart][1])
+    ax.set_zlabel(_CHART_LABELS[chart][2])
+
+
+def plot_singularity_surface(surface, box, chart="image", resolution=48, q=None, modes=None, ax=None,
+                             alpha=0.35):
+    """The singularity surface with the assembly modes coloured by aspect (seed 002, Abb. 4).
+
+    Parameters
+    ----------
+    surface : SingularitySurface
+    box : (3, 2) float
+        In chart coordinates (see :func:`imagespace.meshing.mesh_surface`).
+    chart : {"image", "pose"}
+    resolution : int
+        Grid points per axis of the mesh (48 draws quickly).
+    q : (3,) float, optional
+        Joint values whose assembly modes are drawn (red: aspect +1, blue: -1).
+    modes : list of AssemblyMode, optional
+        Instead of ``q``.
+    ax : 3D matplotlib Axes, optional
+    alpha : float
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.plotting import plot_singularity_surface
+    >>> m = isp.examples.stigger_husty()
+    >>> fig = plot_singularity_surface(m.singularity_surface(), [(-12, 12), (-12, 12), (-3, 3)],
+    ...                                resolution=24, q=m.q_example)
+    >>> len(fig.axes)
+    1
+    """
+    from .meshing import mesh_surface
+
+    b = np.asarray(box, dtype=float)
+    mesh = mesh_surface(surface, box, chart=chart, resolution=resolution)
+    fig, ax = _axes3d(ax)
+    _draw_mesh(ax, mesh, "0.6", alpha)
+    ms = _modes_for(surface.manipulator, q, modes)
+    if ms:
+        P = _chart_coords(ms, chart)
+        for sign in (1, -1):
+            sel = np.array([mm.aspect == sign for mm in ms])
+            if sel.any():
+                ax.scatter(*P[sel].T, color=_ASPECT_COLOURS[sign], s=40, depthshade=False,
+                           label=f"aspect {sign:+d} ({sel.sum()})")
+        ax.legend(loc="upper left", fontsize=8)
+    _set_box(ax, b, chart)
+    ax.set_title(f"{surface.manipulator.name}: det J = 0 ({surface.kind})", fontsize=10)
+    return fig
+
+
+def plot_constraint_quadrics(manipulator, q, box, resolution=40, modes=None, ax=None, alpha=0.25):
+    """The three constraint quadrics in the image chart and their intersection points (seed 002, Abb. 2).
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    q : (3,) float or exact numbers
+    box : (3, 2) float
+        Ranges of ``(x2/x0, x3/x0, x1/x0)``.
+    resolution : int
+    modes : list of AssemblyMode, optional
+        Default: the direct kinematics at ``q``.
+    ax : 3D matplotlib Axes, optional
+    alpha : float
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.plotting import plot_constraint_quadrics
+    >>> m = isp.examples.stigger_husty()
+    >>> fig = plot_constraint_quadrics(m, m.q_example, [(-12, 12), (-12, 12), (-3, 3)], resolution=20)
+    >>> len(fig.axes)
+    1
+    """
+    import sympy as sp
+
+    from .constraints import image_symbols
+    from .meshing import PolynomialImplicit, mesh_implicit
+
+    b = np.asarray(box, dtype=float)
+    fig, ax = _axes3d(ax)
+    x0, x1, x2, x3 = image_symbols()
+    u, v, w = sp.symbols("u v w", real=True)
+    for i, e in enumerate(manipulator.constraint_equations(q)):
+        expr = sp.expand(e.xreplace({x0: 1, x1: w, x2: u, x3: v}))
+        mesh = mesh_implicit(PolynomialImplicit(expr, (u, v, w)), box, resolution=resolution)
+        if len(mesh.faces):
+            _draw_mesh(ax, mesh, _LEG_COLOURS[i % 3], alpha)
+        ax.plot([], [], color=_LEG_COLOURS[i % 3], lw=6, alpha=0.5,
+                label=f"H{i + 1}: {manipulator.legs[i].joints} ({manipulator.quadrics(q)[i].kind} dyad)")
+    ms = _modes_for(manipulator, q, modes)
+    if ms:
+        P = _chart_coords(ms, "image")
+        ax.scatter(*P.T, color="k", s=30, depthshade=False, label=f"{len(ms)} assembly modes")
+    ax.legend(loc="upper left", fontsize=8)
+    _set_box(ax, b, "image")
+    ax.set_title(f"{manipulator.name}: constraint quadrics", fontsize=10)
+    return fig
+
+
+def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=300):
+    """The singularity curve at a fixed orientation over the workspace, aspects shaded.
+
+    Parameters
+    ----------
+    surface : SingularitySurface
+        ``"joint-free"`` or ``"given-joints"``.
+    phi : float
+        Orientation (radians).
+    xlim, ylim : (2,) float
+        The workspace window.
+    q : (3,) float, optional
+        Joint values: the assembly modes with orientation ``phi`` (to 1e-6 rad) are marked.
+    modes : list of AssemblyMode, optional
+        Instead of ``q``.
+    ax : matplotlib Axes, optional
+    n : int
+        Samples per axis for the shading and the curve.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.plotting import plot_conic_section
+    >>> m = isp.examples.stigger_husty()
+    >>> mode = m.direct_kinematics(m.q_example)[0]
+    >>> fig = plot_conic_section(m.singularity_surface(), mode.pose[2], (-15, 15), (-15, 15), q=m.q_example)
+    >>> fig.axes[0].get_title().startswith("phi")
+    True
+    """
+    plt = _pyplot()
+    from matplotlib.colors import ListedColormap
+
+    con = surface.section(phi)
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6, 5.5))
+    else:
+        fig = ax.figure
+    xs = np.linspace(*xlim, n)
+    ys = np.linspace(*ylim, n)
+    Xg, Yg = np.meshgrid(xs, ys)
+    Z = con(Xg, Yg)
+    ax.contourf(Xg, Yg, np.sign(Z), levels=[-1.5, 0, 1.5],
+                cmap=ListedColormap(["#c6dbef", "#fcbba1"]), alpha=0.8)
+    if np.nanmin(Z) < 0 < np.nanmax(Z):
+        ax.contour(Xg, Yg, Z, levels=[0.0], colors="k", linewidths=1.5)
+    ms = [mm for mm in _modes_for(surface.manipulator, q, modes)
+          if abs(np.remainder(mm.pose[2] - float(phi) + np.pi, 2 * np.pi) - np.pi) < 1e-6]
+    for mm in ms:
+        ax.plot(mm.pose[0], mm.pose[1], "o", color=_ASPECT_COLOURS[mm.aspect], mec="k", ms=8)
+    ax.plot([], [], "s", color="#fcbba1", label="det J > 0 (aspect +1)")
+    ax.plot([], [], "s", color="#c6dbef", label="det J < 0 (aspect -1)")
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_aspect("equal")
+    ax.set_title(f"phi = {np.degrees(float(phi)):.2f} deg: {con.type}", fontsize=10)
     return fig

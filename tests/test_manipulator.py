@@ -465,3 +465,21 @@ def test_batch_odd_inputs():
     assert r32.count.tolist() == [len(ref)] * 2
     rn = m.direct_kinematics_batch(np.array([q, [np.nan, 1.0, 1.0], q]))
     assert rn.row_ok.tolist() == [True, False, True] and rn.count.tolist() == [6, 0, 6]
+
+
+def test_cli_mesh_and_plot(tmp_path):
+    import io
+
+    import trimesh
+
+    from imagespace.cli import main
+    out = tmp_path / "s.obj"
+    buf = io.StringIO()
+    assert main(["mesh", "--chart", "pose", "--resolution", "20", "-o", str(out)], stream=buf) == 0
+    assert "triangles" in buf.getvalue()
+    assert len(trimesh.load(out, force="mesh").faces) > 100
+    assert main(["mesh", "-o", str(tmp_path / "s.xyz")], stream=buf) == 2
+    for fig in ("modes", "quadrics", "surface", "conic"):
+        png = tmp_path / f"{fig}.png"
+        assert main(["plot", fig, "--resolution", "12", "-o", str(png)], stream=buf) == 0
+        assert png.stat().st_size > 1000
