@@ -12,6 +12,7 @@ from .certify import RealRootCertificate, certify_real_roots, certify_real_roots
 from .manipulator import AssemblyMode, CertifiedModes, DKBatchResult, PlanarParallel
 from .singularities import (ConicSection, PoseJacobians, SingularitySurface, jacobians,
                             singularity_surface, singularity_surfaces)
+from .meshing import export_mesh, mesh_implicit, mesh_surface
 from .tolerances import TOLERANCES, Tolerances
 
 __version__ = "0.1.0"
@@ -23,7 +24,7 @@ __all__ = [
     "Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR",
     "PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes",
     "SingularitySurface", "PoseJacobians", "ConicSection", "singularity_surface", "singularity_surfaces",
-    "jacobians",
+    "jacobians", "mesh_surface", "mesh_implicit", "export_mesh",
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError",
     "Tolerances", "TOLERANCES",

@@ -193,11 +193,11 @@ def surface_implicit(surface, chart="image"):
     key = ("implicit", chart)
     if key in surface._cache:
         return surface._cache[key]
+    to_X = image_chart_point if chart == "image" else pose_chart_point
     if surface.is_polynomial:
         expr, syms = surface.chart_expression(chart)
         surface._cache[key] = PolynomialImplicit(expr, syms)
         return surface._cache[key]
-    to_X = image_chart_point if chart == "image" else pose_chart_point
 
     def vg(P):
         X, dX = to_X(P)
@@ -239,7 +239,7 @@ class _Progress:
     def __init__(self, enabled, total):
         self.bar = None
         if enabled is not False:
-            from tqdm.auto import tqdm
+            from tqdm import tqdm
 
             self.bar = tqdm(total=total, delay=1.0, desc="meshing", leave=False)
 
@@ -361,10 +361,11 @@ def _clean(V, faces, origin, h, height):
     F = remap[faces]
     keep = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])
     F = F[keep]
-    T = V[F]
-    cross = np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1)
-    longest = np.max(np.linalg.norm(T - np.roll(T, 1, axis=1), axis=2), axis=1)
-    F = F[cross > height * longest]
+    e1 = V[F[:, 1]] - V[F[:, 0]]
+    e2 = V[F[:, 2]] - V[F[:, 0]]
+    cross = np.cross(e1, e2)
+    # twice the area over the longest possible edge (a cell diagonal): a bound on the altitude
+    F = F[np.sqrt(np.einsum("ij,ij->i", cross, cross)) > height * 2 * float(np.linalg.norm(h))]
     used = np.zeros(len(V), dtype=bool)
     used[F] = True
     new_index = np.cumsum(used) - 1

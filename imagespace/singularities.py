@@ -194,7 +194,8 @@ class SingularitySurface:
     _cache: dict = field(default_factory=dict, repr=False)
 
     def __repr__(self):
-        extra = {"joint-free": "", "given-joints": f", q={self.q}",
+        qtext = None if self.q is None else "(" + ", ".join(f"{float(v):.10g}" for v in self.q) + ")"
+        extra = {"joint-free": "", "given-joints": f", q={qtext}",
                  "working-mode": f", working_modes={self.working_modes}"}[self.kind]
         return f"SingularitySurface({self.manipulator.name!r}, kind={self.kind!r}{extra})"
 
@@ -382,6 +383,43 @@ class SingularitySurface:
             raise InputError("section() needs a polynomial surface; a working-mode surface is not "
                              "a conic at fixed phi - use singularity_surface(q=...) for given joint values")
         return ConicSection.of(self, phi)
+
+    def section_coefficients(self, phi):
+        """Conic coefficients ``(A, B, C, D, E, F)`` for many orientations at once (float, batched).
+
+        The fast face of :meth:`section`: the pose-chart expression is compiled once as
+        coefficients of ``x**a y**b`` that are functions of ``phi``.
+
+        Parameters
+        ----------
+        phi : (n,) float
+
+        Returns
+        -------
+        (n, 6) float
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> S = isp.examples.stigger_husty().singularity_surface()
+        >>> bool(np.allclose(S.section_coefficients([0.7])[0], S.section(0.7).coefficients))
+        True
+        """
+        from .meshing import surface_implicit
+
+        if self.kind == "working-mode":
+            raise InputError("section_coefficients() needs a polynomial surface; use "
+                             "singularity_surface(q=...) for given joint values")
+        phi = np.atleast_1d(as_float_array(phi, "phi"))
+        imp = surface_implicit(self, "pose")
+        C = imp._coeffs(phi)
+        order = {(2, 0): 0, (1, 1): 1, (0, 2): 2, (1, 0): 3, (0, 1): 4, (0, 0): 5}
+        out = np.zeros((len(phi), 6))
+        for k, mono in enumerate(imp._monomials):
+            if mono not in order:
+                raise InputError(f"the section has the monomial x**{mono[0]} y**{mono[1]}; expected a conic")
+            out[:, order[mono]] = C[:, k]
+        return out
 
     def chart_expression(self, chart):
         """The quartic in chart coordinates as a sympy expression (polynomial kinds).
