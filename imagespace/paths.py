@@ -1,0 +1,864 @@
+"""Paths in image space and their certified singularity checks.
+
+A path is a chain of pieces ``t -> X(t)``, ``t in [0, 1]``, each polynomial in ``t`` in the
+homogeneous coordinates (straight segments, polylines, polynomial and rational curves - a rational
+curve is the polynomial curve of its numerators, since ``X`` and ``X / d(t)`` are the same point),
+or a straight segment in pose space ``(x, y, phi)`` (trigonometric in ``t``).
+
+:func:`check_path` substitutes every polynomial piece into the singularity quartic ``S`` and
+decides **exactly** whether the univariate polynomial ``p(t) = S(X(t))`` has a root in ``[0, 1]``:
+``S`` is scaled to rational coefficients when it is a constant multiple of a rational form (the
+seed-002 quartic is ``sqrt(181)/362`` times one), the endpoints are taken as the exact binary
+rationals they are, ``p`` is built in python-flint ``fmpq_poly`` arithmetic, split into square-free
+factors and their real roots isolated by FLINT (certified balls); each root in ``[0, 1]`` is
+reported with an isolating interval narrower than ``1e-12`` and its multiplicity (even: the path
+touches the surface; odd: it crosses). Designs whose quartic is not a multiple of a rational one
+are decided by sympy's exact root counting over the algebraic field. Pose-space segments are
+decided by interval arithmetic (python-flint ``arb``) with subdivision; where that cannot decide
+(a tangency), the result says so.
+
+:func:`segments_free` is the batched fast path for straight segments: the Bernstein coefficients
+of ``p`` on ``[0, 1]`` are computed in floating point with a rigorous bound on their rounding
+error; if all of them are certainly of one sign the segment is free (convex-hull property), if the
+two end values are certainly of opposite signs it crosses; the rest (and ``exact=True``) go to the
+exact path above.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import numpy as np
+import sympy as sp
+
+from ._validate import as_float_array
+from .constraints import image_symbols
+from .exceptions import InputError
+
+__all__ = ["ImagePath", "PathCheck", "Crossing", "check_path", "segments_free", "segment", "polyline",
+           "polynomial_curve", "rational_curve", "pose_segment"]
+
+_ISOLATION_WIDTH = 1e-12
+
+
+# -- paths ---------------------------------------------------------------------------------------
+def _exact(v):
+    """A coordinate as an exact Fraction: floats as the binary rationals they are, sympy rationals as such."""
+    if isinstance(v, Fraction):
+        return v
+    if isinstance(v, sp.Basic):
+        r = sp.nsimplify(v, rational=True)
+        if not r.is_Rational:
+            raise InputError(f"path coefficients must be rational, got {v}")
+        return Fraction(int(r.p), int(r.q))
+    if isinstance(v, (int, np.integer)):
+        return Fraction(int(v))
+    return Fraction(float(v))
+
+
+@dataclass(frozen=True)
+class ImagePath:
+    """A path ``t -> X(t)`` in image space made of pieces, each over ``t in [0, 1]``.
+
+    Build with :func:`segment`, :func:`polyline`, :func:`polynomial_curve`, :func:`rational_curve`
+    or :func:`pose_segment`.
+
+    Attributes
+    ----------
+    pieces : tuple
+        For polynomial pieces: ``(deg + 1, 4)`` exact rational coefficient arrays (object dtype;
+        row ``k`` multiplies ``t**k``). For pose segments: ``(2, 3)`` float endpoint poses.
+    kind : str
+        ``"polynomial"`` or ``"pose"``.
+    """
+
+    pieces: tuple
+    kind: str = "polynomial"
+
+    def __len__(self):
+        return len(self.pieces)
+
+    @property
+    def start(self):
+        """The first point, ``(4,)`` float."""
+        return self.evaluate(0, np.array([0.0]))[0]
+
+    @property
+    def end(self):
+        """The last point, ``(4,)`` float."""
+        return self.evaluate(len(self.pieces) - 1, np.array([1.0]))[0]
+
+    def evaluate(self, piece, t):
+        """Points of one piece at parameters ``t``: ``(n, 4)`` float (homogeneous).
+
+        Examples
+        --------
+        >>> from imagespace.paths import segment
+        >>> segment([1, 0, 0, 0], [1, 0, 2, 0]).evaluate(0, [0.5]).tolist()
+        [[1.0, 0.0, 1.0, 0.0]]
+        """
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if self.kind == "pose":
+            from .kinematic_map import image_point
+
+            p0, p1 = self.pieces[piece]
+            return image_point(p0[None, :] + t[:, None] * (p1 - p0)[None, :])
+        C = np.array(self.pieces[piece], dtype=float)
+        return np.stack([np.polyval(C[::-1, j], t) for j in range(4)], axis=-1)
+
+    def sample(self, per_piece=64):
+        """Points along the whole path: ``(len(self) * per_piece + 1, 4)`` float, and their
+        global parameters ``s in [0, len(self)]``.
+
+        Examples
+        --------
+        >>> from imagespace.paths import polyline
+        >>> X, s = polyline([[1, 0, 0, 0], [1, 0, 1, 0], [1, 0, 1, 1]]).sample(4)
+        >>> X.shape, float(s[-1])
+        ((9, 4), 2.0)
+        """
+        out, ss = [], []
+        for k in range(len(self.pieces)):
+            t = np.linspace(0, 1, per_piece + 1)[: -1 if k < len(self.pieces) - 1 else None]
+            out.append(self.evaluate(k, t))
+            ss.append(k + t)
+        return np.concatenate(out), np.concatenate(ss)
+
+    def poses(self, per_piece=64):
+        """Poses along the path: ``(n, 3)`` float, ``phi`` unwrapped to be continuous.
+
+        Examples
+        --------
+        >>> from imagespace.paths import pose_segment
+        >>> pose_segment([0, 0, 0], [1, 0, 0.5]).poses(2)[:, 2].tolist()
+        [0.0, 0.25, 0.5]
+        """
+        from .kinematic_map import pose_of
+
+        X, _ = self.sample(per_piece)
+        P = pose_of(X)
+        P[:, 2] = np.unwrap(P[:, 2])
+        return P
+
+
+def _point(v, name):
+    a = as_float_array(v, name, last=4, allow_batch=False)
+    if a[0] == 0 and a[1] == 0:
+        raise InputError(f"{name} has x0 = x1 = 0, a point of the absolute line, not a displacement; got {a.tolist()}")
+    return a
+
+
+def segment(a, b):
+    """The straight segment ``(1 - t) a + t b`` between two image points (the representatives given).
+
+    Parameters
+    ----------
+    a, b : (4,) float
+        Image points; ``X`` and ``-X`` are the same point but give different segments: the one
+        through the representatives given is taken.
+
+    Returns
+    -------
+    ImagePath
+
+    Examples
+    --------
+    >>> from imagespace.paths import segment
+    >>> len(segment([1, 0, 0, 0], [1, 0.5, 1, 2]))
+    1
+    """
+    return polyline([a, b])
+
+
+def polyline(points):
+    """A polyline through image points (one straight segment per consecutive pair).
+
+    Parameters
+    ----------
+    points : (k, 4) float, k >= 2
+
+    Returns
+    -------
+    ImagePath
+
+    Raises
+    ------
+    InputError
+        Fewer than two points, a zero-length segment, a non-finite point, or a segment through
+        the absolute line ``x0 = x1 = 0``.
+
+    Examples
+    --------
+    >>> from imagespace.paths import polyline
+    >>> len(polyline([[1, 0, 0, 0], [1, 0, 1, 0], [1, 0.2, 1, 1]]))
+    2
+    """
+    P = as_float_array(points, "points", last=4)
+    if P.ndim != 2 or len(P) < 2:
+        raise InputError(f"points must be (k, 4) with k >= 2, got shape {P.shape}")
+    pieces = []
+    for k in range(len(P) - 1):
+        a, b = _point(P[k], f"points[{k}]"), _point(P[k + 1], f"points[{k + 1}]")
+        if np.array_equal(a, b):
+            raise InputError(f"points[{k}] and points[{k + 1}] are equal: a zero-length segment")
+        if a[0] * b[1] - a[1] * b[0] == 0 and a[0] * b[0] + a[1] * b[1] < 0:
+            raise InputError(f"the segment from points[{k}] to points[{k + 1}] passes through x0 = x1 = 0 "
+                             "(not a displacement); flip the sign of one representative")
+        C = np.empty((2, 4), dtype=object)
+        for j in range(4):
+            C[0, j] = _exact(a[j])
+            C[1, j] = _exact(b[j]) - C[0, j]
+        pieces.append(C)
+    return ImagePath(tuple(pieces))
+
+
+def polynomial_curve(coefficients):
+    """A polynomial curve ``X(t) = sum_k c_k t**k``, ``t in [0, 1]``.
+
+    Parameters
+    ----------
+    coefficients : (deg + 1, 4) numbers
+        Row ``k`` multiplies ``t**k``; exact sympy rationals are kept exact, floats are taken as
+        the binary rationals they are.
+
+    Returns
+    -------
+    ImagePath
+
+    Examples
+    --------
+    >>> from imagespace.paths import polynomial_curve
+    >>> polynomial_curve([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]).evaluate(0, [1.0]).tolist()
+    [[1.0, 1.0, 1.0, 0.0]]
+    """
+    rows = np.array(coefficients, dtype=object)
+    if rows.ndim != 2 or rows.shape[1] != 4 or rows.shape[0] < 1:
+        raise InputError(f"coefficients must be (deg + 1, 4), got shape {rows.shape}")
+    flo = as_float_array(np.array(rows, dtype=float), "coefficients", last=4)
+    if flo.shape[0] == 1 or not np.any(flo[1:]):
+        raise InputError("coefficients describe a constant curve (a zero-length path)")
+    C = np.empty(rows.shape, dtype=object)
+    for i in range(rows.shape[0]):
+        for j in range(4):
+            C[i, j] = _exact(rows[i, j])
+    return ImagePath((C,))
+
+
+def rational_curve(numerators, denominator):
+    """A rational curve ``X(t) = N(t) / d(t)``: as a point of image space it is ``N(t)``.
+
+    Parameters
+    ----------
+    numerators : (deg + 1, 4) numbers
+    denominator : (m + 1,) numbers
+        Must not vanish on ``[0, 1]`` (checked exactly); it does not change the points.
+
+    Returns
+    -------
+    ImagePath
+
+    Examples
+    --------
+    >>> from imagespace.paths import rational_curve
+    >>> len(rational_curve([[1, 0, 0, 0], [0, 1, 1, 0]], [1, 1]))
+    1
+    """
+    from flint import fmpq_poly
+
+    d = [_exact(v) for v in np.ravel(np.array(denominator, dtype=object))]
+    dp = fmpq_poly([_fmpq(c) for c in d])
+    if dp.is_zero() or _roots_in_unit_interval(dp):
+        raise InputError(f"denominator must not vanish on [0, 1], got {denominator!r}")
+    return polynomial_curve(numerators)
+
+
+def pose_segment(p0, p1):
+    """The straight segment in pose space from ``p0`` to ``p1`` (``phi`` linear in ``t``).
+
+    Parameters
+    ----------
+    p0, p1 : (3,) float
+
+    Returns
+    -------
+    ImagePath
+        ``kind == "pose"``; checked by interval arithmetic.
+
+    Examples
+    --------
+    >>> from imagespace.paths import pose_segment
+    >>> pose_segment([0, 0, 0], [1, 2, 0.3]).kind
+    'pose'
+    """
+    a = as_float_array(p0, "p0", last=3, allow_batch=False)
+    b = as_float_array(p1, "p1", last=3, allow_batch=False)
+    if np.array_equal(a, b):
+        raise InputError("p0 and p1 are equal: a zero-length segment")
+    return ImagePath(((a, b),), kind="pose")
+
+
+# -- the exact decision ----------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Quartic:
+    """The singularity quartic prepared for paths: rational coefficients when possible."""
+
+    poly: sp.Poly                     # in x0..x3, rational when `rational`
+    rational: bool
+    monomials: tuple                  # exponent tuples
+    coeffs_q: tuple                   # Fractions (rational case)
+    coeffs_f: np.ndarray              # floats
+    surface: object
+
+
+def _prepare(target):
+    from .manipulator import PlanarParallel
+    from .singularities import SingularitySurface
+
+    if isinstance(target, PlanarParallel):
+        S = target.singularity_surface()
+    elif isinstance(target, SingularitySurface):
+        S = target
+    else:
+        raise TypeError(f"target must be a PlanarParallel or a SingularitySurface, got {type(target).__name__}")
+    if not S.is_polynomial:
+        raise InputError("path checks need a polynomial surface; use singularity_surface(q=...) "
+                         "for a design whose surface depends on the joint values")
+    if "paths" in S._cache:
+        return S._cache["paths"]
+    P = S.polynomial
+    if P.is_zero:
+        raise InputError("the singularity quartic vanishes identically: every pose is singular")
+    terms = P.terms()
+    lead = terms[0][1]
+    scaled = [sp.nsimplify(sp.radsimp(c / lead)) for _, c in terms]
+    rational = all(c.is_Rational for c in scaled)
+    if rational:
+        den = sp.ilcm(*[c.q for c in scaled])
+        scaled = [c * den for c in scaled]
+        coeffs = tuple(Fraction(int(c.p), int(c.q)) for c in scaled)
+        poly = sp.Poly(dict(zip([m for m, _ in terms], scaled)), *image_symbols())
+    else:
+        coeffs = ()
+        poly = P
+        scaled = [c for _, c in terms]
+    prep = _Quartic(poly, rational, tuple(m for m, _ in terms), coeffs,
+                    np.array([float(sp.N(c, 20)) for c in scaled]), S)
+    S._cache["paths"] = prep
+    return prep
+
+
+def _fmpq(x):
+    from flint import fmpq
+
+    if isinstance(x, Fraction):
+        return fmpq(x.numerator, x.denominator)
+    x = sp.Rational(x)
+    return fmpq(int(x.p), int(x.q))
+
+
+def _piece_polynomial(quartic, C):
+    """``S(X(t))`` as an fmpq_poly (rational case) for a piece with coefficient rows ``C``."""
+    from flint import fmpq_poly
+
+    coords = [fmpq_poly([_fmpq(C[k, j]) for k in range(C.shape[0])]) for j in range(4)]
+    powers = [[fmpq_poly([1])] for _ in range(4)]
+    total = fmpq_poly([0])
+    for mono, c in zip(quartic.monomials, quartic.coeffs_q):
+        term = fmpq_poly([_fmpq(c)])
+        for j, e in enumerate(mono):
+            while len(powers[j]) <= e:
+                powers[j].append(powers[j][-1] * coords[j])
+            if e:
+                term = term * powers[j][e]
+        total = total + term
+    return total
+
+
+def _roots_in_unit_interval(p, width=_ISOLATION_WIDTH):
+    """Real roots of an fmpq_poly in ``[0, 1]``: list of ``(lo, hi, multiplicity)`` (exact isolation)."""
+    from flint import fmpq
+
+    out = []
+    _, factors = p.factor_squarefree()
+    for f, mult in factors:
+        if f.degree() < 1:
+            continue
+        for r, _ in f.complex_roots():
+            if not r.imag.is_zero():
+                continue
+            lo_a, hi_a = r.real.lower(), r.real.upper()
+            lo, hi = _arb_to_fmpq_floor(lo_a), _arb_to_fmpq_ceil(hi_a)
+            if hi < 0 or lo > 1:
+                continue
+            # the root is simple in f: f changes sign on [lo, hi]; clip to [0, 1] and refine
+            lo, hi = max(lo, fmpq(0)), min(hi, fmpq(1))
+            flo, fhi = f(lo), f(hi)
+            if flo == 0:
+                out.append((float(lo), float(lo), mult))
+                continue
+            if fhi == 0:
+                out.append((float(hi), float(hi), mult))
+                continue
+            if (flo > 0) == (fhi > 0):        # the ball stuck out of [0, 1]: no root inside
+                continue
+            while float(hi - lo) >= width:
+                mid = (lo + hi) / 2
+                fm = f(mid)
+                if fm == 0:
+                    lo = hi = mid
+                    break
+                if (fm > 0) == (flo > 0):
+                    lo, flo = mid, fm
+                else:
+                    hi = mid
+            out.append((float(lo), float(hi), mult))
+    out.sort()
+    return out
+
+
+def _arb_to_fmpq_floor(a):
+    from flint import fmpq
+
+    fr = Fraction(float(a.mid())) - Fraction(float(a.rad())) - Fraction(1, 2**60)
+    return fmpq(fr.numerator, fr.denominator) if isinstance(fr, Fraction) else fmpq(fr)
+
+
+def _arb_to_fmpq_ceil(a):
+    from flint import fmpq
+
+    fr = Fraction(float(a.mid())) + Fraction(float(a.rad())) + Fraction(1, 2**60)
+    return fmpq(fr.numerator, fr.denominator)
+
+
+def _sympy_roots(quartic, C):
+    """Algebraic (non-rational) quartics: exact root counting with sympy over the extension field."""
+    t = sp.Symbol("t")
+    X = [sum(sp.Rational(C[k, j].numerator, C[k, j].denominator) * t**k for k in range(C.shape[0]))
+         for j in range(4)]
+    e = sp.expand(quartic.poly.as_expr().xreplace(dict(zip(image_symbols(), X))))
+    if e == 0:
+        return None
+    p = sp.Poly(e, t, extension=True)
+    out = []
+    for f, mult in p.sqf_list()[1]:
+        n = f.count_roots(0, 1)
+        if n == 0:
+            continue
+        lo, hi = sp.Rational(0), sp.Rational(1)
+        # isolate by bisection with exact counts
+        stack = [(lo, hi, n)]
+        while stack:
+            a, b, k = stack.pop()
+            if k == 0:
+                continue
+            if k == 1 and float(b - a) < _ISOLATION_WIDTH:
+                out.append((float(a), float(b), mult))
+                continue
+            m = (a + b) / 2
+            k1 = f.count_roots(a, m)
+            stack += [(a, m, k1), (m, b, k - k1)] if f.eval(m) != 0 else [(a, m, k1 - 1), (m, b, k - k1)]
+            if f.eval(m) == 0:
+                out.append((float(m), float(m), mult))
+    out.sort()
+    return out
+
+
+# -- results -------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Crossing:
+    """Where a path meets the singularity surface.
+
+    Attributes
+    ----------
+    piece : int
+    t : (float, float)
+        An interval of the piece's parameter containing the root (width < 1e-12), and no other.
+    multiplicity : int
+        Even: the path touches the surface without crossing; odd: it crosses (``>= 2``:
+        tangentially); ``0``: the whole piece lies on the surface (``t = (0, 1)``).
+    """
+
+    piece: int
+    t: tuple
+    multiplicity: int
+
+    @property
+    def crosses(self):
+        return self.multiplicity % 2 == 1
+
+
+@dataclass(frozen=True)
+class PathCheck:
+    """The certified answer of :func:`check_path`.
+
+    Attributes
+    ----------
+    singularity_free : bool
+        No point of the path is on the surface (no root at all in any piece).
+    crosses : bool
+        ``det J`` changes sign along the path (odd-multiplicity root).
+    touches : bool
+        The path meets the surface somewhere (crossing or tangential contact).
+    crossings : tuple of Crossing
+    domain_exits : tuple of dict
+        ``{"piece", "leg", "t", "what"}`` where a leg's joint reaches zero length or a given limit.
+    min_distance : float
+        Smallest ``|S| / |grad S|`` over a dense sample of the path (normalised image points):
+        a float diagnostic, not part of the certificate.
+    certified : bool
+        True when every piece was decided exactly or by rigorous intervals.
+    method : str
+    polynomials : tuple
+        ``S(X(t))`` of every polynomial piece (sympy Poly in ``t``, the quartic scaled to
+        rational coefficients when possible); ``None`` for pose pieces.
+    """
+
+    singularity_free: bool
+    crosses: bool
+    touches: bool
+    crossings: tuple
+    domain_exits: tuple
+    min_distance: float
+    certified: bool
+    method: str
+    polynomials: tuple = field(repr=False, default=())
+
+
+def check_path(target, path, joint_limits=None, manipulator=None):
+    """Certify whether a path in image space meets the singularity surface.
+
+    Parameters
+    ----------
+    target : PlanarParallel or SingularitySurface
+        A polynomial surface (``"joint-free"`` or ``"given-joints"``).
+    path : ImagePath
+    joint_limits : (3, 2) float, optional
+        ``(min, max)`` per actuated joint; crossings of a limit are reported in
+        ``domain_exits`` (exactly, through the leg's quadric at the limit value).
+    manipulator : PlanarParallel, optional
+        For domain checks when ``target`` is a surface (default: the surface's manipulator).
+
+    Returns
+    -------
+    PathCheck
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.paths import check_path, segment
+    >>> m = isp.examples.stigger_husty()
+    >>> a, b = [mm.image_point for mm in m.direct_kinematics(m.q_example)[:2]]
+    >>> res = check_path(m, segment(a, b))
+    >>> res.crosses, res.certified          # modes 1 and 2 have opposite aspects
+    (True, True)
+    """
+    if not isinstance(path, ImagePath):
+        raise TypeError(f"path must be an ImagePath (segment, polyline, ...), got {type(path).__name__}")
+    quartic = _prepare(target)
+    m = manipulator or quartic.surface.manipulator
+    crossings, polys, certified, methods = [], [], True, set()
+    t_sym = sp.Symbol("t")
+    for k, piece in enumerate(path.pieces):
+        if path.kind == "pose":
+            roots, ok = _pose_roots(quartic, piece)
+            certified &= ok
+            methods.add("arb interval subdivision (python-flint)")
+            polys.append(None)
+        elif quartic.rational:
+            p = _piece_polynomial(quartic, piece)
+            if p.is_zero():
+                roots = [(0.0, 1.0, 0)]
+            else:
+                roots = _roots_in_unit_interval(p)
+            polys.append(sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(p.coeffs())] or [0], t_sym))
+            methods.add("exact: fmpq_poly square-free factors, FLINT certified real-root isolation")
+        else:
+            roots = _sympy_roots(quartic, piece)
+            roots = [(0.0, 1.0, 0)] if roots is None else roots
+            polys.append(None)
+            methods.add("exact: sympy root counting over the algebraic coefficient field")
+        for lo, hi, mult in roots:
+            crossings.append(Crossing(k, (lo, hi), mult))
+    exits = _domain_exits(m, path, joint_limits) if m is not None else []
+    X, _ = path.sample(128)
+    X = X / np.hypot(X[:, 0], X[:, 1])[:, None]
+    v, G = quartic.surface.value_and_gradient(X)
+    min_dist = float(np.min(np.abs(v) / np.linalg.norm(G, axis=1)))
+    on_surface = any(c.multiplicity == 0 for c in crossings)
+    touches = bool(crossings)
+    crosses = on_surface or any(c.crosses for c in crossings)
+    return PathCheck(not touches, crosses, touches, tuple(crossings), tuple(exits), min_dist, certified,
+                     "; ".join(sorted(methods)) + ("; a piece lies on the surface" if on_surface else ""),
+                     tuple(polys))
+
+
+def _domain_exits(m, path, joint_limits):
+    """Where a leg's joint value reaches a bound: zero length of a prismatic leg that must stay
+    positive, or a user limit; decided exactly from ``Q_i(X(t), bound) = 0``."""
+    from flint import fmpq_poly
+
+    out = []
+    bounds = []
+    for i, leg in enumerate(m.legs):
+        # a prismatic actuator whose domain is q >= 0 (an RPR leg's length) ends at zero length
+        if not leg.actuated_is_angle and not bool(np.all(leg.joint_values_ok(np.array([-1.0])))):
+            bounds.append((i, 0, "zero length"))
+    if joint_limits is not None:
+        L = as_float_array(joint_limits, "joint_limits")
+        if L.shape != (3, 2) or np.any(L[:, 0] > L[:, 1]):
+            raise InputError(f"joint_limits must be (3, 2) with min <= max per joint, got {L.tolist()}")
+        for i in range(3):
+            for j, name in ((0, "lower limit"), (1, "upper limit")):
+                if np.isfinite(L[i, j]):
+                    bounds.append((i, sp.Rational(Fraction(float(L[i, j]))), name))
+    if not bounds or path.kind == "pose":
+        return out
+    x = image_symbols()
+    for i, value, what in bounds:
+        Q = sp.Poly(sp.expand(m.legs[i].dyad(sp.Integer(value) if value == 0 else value).expr()), *x)
+        if any(not c.is_Rational for c in Q.coeffs()):
+            continue
+        prep = _Quartic(Q, True, tuple(Q.monoms()), tuple(Fraction(int(c.p), int(c.q)) for c in Q.coeffs()),
+                        np.array([float(c) for c in Q.coeffs()]), None)
+        for k, piece in enumerate(path.pieces):
+            p = _piece_polynomial(prep, piece)
+            if isinstance(p, fmpq_poly) and not p.is_zero():
+                for lo, hi, _ in _roots_in_unit_interval(p):
+                    out.append({"piece": k, "leg": i, "t": (lo, hi), "what": what})
+    return out
+
+
+def _pose_roots(quartic, piece, max_depth=64):
+    """Roots of ``S`` along a pose-space segment by arb interval subdivision.
+
+    On each interval ``T`` the value is enclosed by the mean-value form
+    ``S(mid) + S'(T) [-r, r]`` (``S'`` by the chain rule through the pose-to-image map); where
+    ``0`` is outside ``S'(T)`` the function is monotone on ``T``, so the end signs decide
+    (opposite: exactly one root, refined by bisection to 1e-12; equal: none). An interval
+    narrower than 1e-12 where neither can be shown is reported as a possible tangency with
+    ``certified = False``.
+
+    Returns ``(roots, certified)``.
+    """
+    from flint import arb, ctx
+
+    p0, p1 = (np.asarray(v, float) for v in piece)
+    if quartic.rational:
+        coeffs = [arb(_fmpq(c)) for c in quartic.coeffs_q]
+    else:
+        coeffs = [arb(float(c)) + arb(0, abs(float(c)) * 2.0**-50) for c in quartic.coeffs_f]
+    old = ctx.prec
+    ctx.prec = 128
+    try:
+        P0 = [arb(_fmpq(Fraction(float(v)))) for v in p0]
+        D = [arb(_fmpq(Fraction(float(v1)) - Fraction(float(v0)))) for v0, v1 in zip(p0, p1)]
+
+        def value_and_slope(t):
+            x, y, phi = (P0[j] + t * D[j] for j in range(3))
+            c, sn = (phi / 2).cos(), (phi / 2).sin()
+            dc, ds = -sn * D[2] / 2, c * D[2] / 2
+            X = (c, sn, (sn * x - c * y) / 2, (c * x + sn * y) / 2)
+            dX = (dc, ds, (ds * x + sn * D[0] - dc * y - c * D[1]) / 2,
+                  (dc * x + c * D[0] + ds * y + sn * D[1]) / 2)
+            val, slope = arb(0), arb(0)
+            for mono, co in zip(quartic.monomials, coeffs):
+                term = co
+                for j, e in enumerate(mono):
+                    if e:
+                        term = term * X[j] ** e
+                val += term
+                for j, e in enumerate(mono):
+                    if e:
+                        part = co * e * X[j] ** (e - 1) * dX[j]
+                        for k, f in enumerate(mono):
+                            if k != j and f:
+                                part = part * X[k] ** f
+                        slope += part
+            return val, slope
+
+        def sign_at(t):
+            v, _ = value_and_slope(arb(_fmpq(t)))
+            if v.is_zero():
+                return 0
+            return 1 if v > 0 else (-1 if v < 0 else None)
+
+        roots, ok = [], True
+        stack = [(Fraction(0), Fraction(1), 0)]
+        while stack:
+            a, b, depth = stack.pop()
+            mid, rad = (a + b) / 2, (b - a) / 2
+            vm, _ = value_and_slope(arb(_fmpq(mid)))
+            _, dT = value_and_slope(arb(_fmpq(mid), _fmpq(rad)))
+            enclosure = vm + dT * arb(0, _fmpq(rad))
+            if not enclosure.contains(0):
+                continue
+            if not dT.contains(0):                   # monotone on [a, b]
+                sa, sb = sign_at(a), sign_at(b)
+                if sa is None or sb is None:
+                    ok = False
+                    roots.append((float(a), float(b), 1))
+                elif sa == 0 or sb == 0:
+                    r = a if sa == 0 else b
+                    roots.append((float(r), float(r), 1))
+                elif sa != sb:
+                    while b - a >= Fraction(_ISOLATION_WIDTH):
+                        m_ = (a + b) / 2
+                        sm = sign_at(m_)
+                        if sm == 0 or sm is None:
+                            a = b = m_
+                            break
+                        a, b = (m_, b) if sm == sa else (a, m_)
+                    roots.append((float(a), float(b), 1))
+                continue
+            if float(b - a) < _ISOLATION_WIDTH or depth >= max_depth:
+                ok = False                           # a tangency or a root of even multiplicity?
+                roots.append((float(a), float(b), 2))
+                continue
+            stack += [(mid, b, depth + 1), (a, mid, depth + 1)]
+        roots = sorted(set(roots))
+        return roots, ok
+    finally:
+        ctx.prec = old
+
+
+# -- the batched exclusion test ---------------------------------------------------------------------
+_U = 2.0**-53
+
+
+def segments_free(target, A, B, exact=True):
+    """Batched certified check of straight segments ``(1 - t) A + t B``.
+
+    Parameters
+    ----------
+    target : PlanarParallel or SingularitySurface
+    A, B : (n, 4) float
+        Endpoint representatives.
+    exact : bool
+        Send the segments the floating-point test cannot decide to the exact path (default);
+        with ``False`` they are reported undecided.
+
+    Returns
+    -------
+    free : (n,) bool
+        Proven free of the surface (``False`` for undecided rows when ``exact=False``).
+    decided_by : (n,) str
+        ``"bernstein"`` (all Bernstein coefficients of one certain sign, or certain opposite end
+        signs), ``"exact"`` or ``"undecided"``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.paths import segments_free
+    >>> m = isp.examples.stigger_husty()
+    >>> modes = m.direct_kinematics(m.q_example)
+    >>> A = np.array([modes[0].image_point] * 2)
+    >>> B = np.array([modes[1].image_point, isp.image_point(modes[0].pose + [0.1, 0.0, 0.0])])
+    >>> free, how = segments_free(m, A, B)
+    >>> free.tolist()                      # to another mode (a chord: always singular), to a neighbour
+    [False, True]
+    """
+    quartic = _prepare(target)
+    A = as_float_array(A, "A", last=4)
+    B = as_float_array(B, "B", last=4)
+    A, B = np.atleast_2d(A), np.atleast_2d(B)
+    if A.shape != B.shape:
+        raise InputError(f"A and B must have the same shape, got {A.shape} and {B.shape}")
+    bern, err = _bernstein(quartic, A, B)
+    free, decided = _bernstein_decide(bern, err, levels=3)
+    how = np.where(decided, "bernstein", "undecided").astype(object)
+    if exact and quartic.rational:
+        for i in np.flatnonzero(~decided):
+            path = segment(A[i], B[i])
+            p = _piece_polynomial(quartic, path.pieces[0])
+            free[i] = (not p.is_zero()) and not _roots_in_unit_interval(p)
+            how[i] = "exact"
+    elif exact:
+        for i in np.flatnonzero(~decided):
+            res = _sympy_roots(quartic, segment(A[i], B[i]).pieces[0])
+            free[i] = res is not None and not res
+            how[i] = "exact"
+    return free, how.astype(str)
+
+
+def _bernstein_decide(bern, err, levels):
+    """Decide rows from Bernstein coefficients with error bounds, subdividing undecided rows at
+    t = 1/2 up to ``levels`` times. Returns ``(free, decided)``."""
+    n = len(bern)
+    free = np.zeros(n, dtype=bool)
+    decided = np.zeros(n, dtype=bool)
+    # pieces: (row index, coefficients (k, 5), error bound (k, 5))
+    rows = np.arange(n)
+    B, E = bern, err
+    for level in range(levels + 1):
+        sure_pos = np.all(B > E, axis=1)
+        sure_neg = np.all(B < -E, axis=1)
+        opp = ((B[:, 0] > E[:, 0]) & (B[:, -1] < -E[:, -1])) | ((B[:, 0] < -E[:, 0]) & (B[:, -1] > E[:, -1]))
+        zero_end = (B[:, 0] == 0) & (E[:, 0] == 0) | (B[:, -1] == 0) & (E[:, -1] == 0)
+        hit = opp | zero_end
+        # a row crosses if any of its pieces does; it is free if all its pieces are one-signed
+        crossing_rows = np.unique(rows[hit])
+        decided[crossing_rows] = True
+        free[crossing_rows] = False
+        open_piece = ~(sure_pos | sure_neg | hit) & ~decided[rows]
+        if level == levels:
+            undecided_rows = np.unique(rows[open_piece])
+            break
+        # subdivide the open pieces (de Casteljau at 1/2; every average adds a rounding)
+        Bo, Eo, ro = B[open_piece], E[open_piece], rows[open_piece]
+        left, right = [Bo[:, 0]], [Bo[:, -1]]
+        cur = Bo
+        for _ in range(4):
+            cur = 0.5 * (cur[:, :-1] + cur[:, 1:])
+            left.append(cur[:, 0])
+            right.append(cur[:, -1])
+        L = np.stack(left, axis=1)
+        R = np.stack(right[::-1], axis=1)
+        grow = np.max(Eo, axis=1) + 8 * _U * np.max(np.abs(Bo), axis=1)
+        B = np.concatenate([L, R])
+        E = np.repeat(np.concatenate([grow, grow])[:, None], 5, axis=1)
+        rows = np.concatenate([ro, ro])
+    still = np.zeros(n, dtype=bool)
+    still[undecided_rows] = True
+    still &= ~decided
+    done = ~decided & ~still
+    free[done] = True
+    decided[done] = True
+    return free, decided
+
+
+def _bernstein(quartic, A, B):
+    """Bernstein coefficients ``(n, 5)`` of ``S((1-t)A + tB)`` on ``[0, 1]`` and rigorous bounds
+    on their rounding errors.
+
+    Scaled Bernstein coefficients multiply by convolution, and a linear factor
+    ``(1-t) a + t b`` has the scaled coefficients ``(a, b)`` - exact inputs. The same products
+    with absolute values bound every rounding error by ``gamma_k * |.|`` (Higham, Accuracy and
+    Stability of Numerical Algorithms, sec. 3.1), ``k`` the length of the longest chain of
+    operations (products, the convolution sums, the coefficient, the sum over monomials, the
+    final division by the binomial).
+    """
+    n = len(A)
+    deg = 4
+    total = np.zeros((n, deg + 1))
+    total_abs = np.zeros((n, deg + 1))
+    absA, absB = np.abs(A), np.abs(B)
+    for mono, c in zip(quartic.monomials, quartic.coeffs_f):
+        prod = np.ones((n, 1))
+        prod_abs = np.ones((n, 1))
+        for j, e in enumerate(mono):
+            for _ in range(e):
+                nxt = np.zeros((n, prod.shape[1] + 1))
+                nxt[:, :-1] += prod * A[:, j:j + 1]
+                nxt[:, 1:] += prod * B[:, j:j + 1]
+                nxt_abs = np.zeros_like(nxt)
+                nxt_abs[:, :-1] += prod_abs * absA[:, j:j + 1]
+                nxt_abs[:, 1:] += prod_abs * absB[:, j:j + 1]
+                prod, prod_abs = nxt, nxt_abs
+        total += c * prod
+        total_abs += abs(c) * prod_abs
+    binom = np.array([1.0, 4.0, 6.0, 4.0, 1.0])
+    k = 2 * deg + 3 + len(quartic.monomials) + 2
+    gamma = k * _U / (1 - k * _U)
+    err = (2 * gamma * total_abs + 4 * np.finfo(float).tiny) / binom
+    return total / binom, err
