@@ -12,7 +12,7 @@ from ._validate import as_float_array
 from .exceptions import InputError
 
 __all__ = ["plot_mechanism", "plot_assembly_modes", "plot_singularity_surface", "plot_constraint_quadrics",
-           "plot_conic_section"]
+           "plot_conic_section", "plot_path_singularity", "plot_joint_loop", "animate_path"]
 
 _LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green")
 _ASPECT_COLOURS = {1: "tab:red", -1: "tab:blue", 0: "k"}
@@ -347,3 +347,147 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
     ax.set_aspect("equal")
     ax.set_title(f"phi = {np.degrees(float(phi)):.2f} deg: {con.type}", fontsize=10)
     return fig
+
+
+def plot_path_singularity(target, path, ax=None, per_piece=200):
+    """``det J`` along a path and its distance estimate ``|S|/|grad S|`` (seed 002, Abb. 6).
+
+    Parameters
+    ----------
+    target : PlanarParallel or SingularitySurface
+    path : ImagePath
+    ax : matplotlib Axes, optional
+    per_piece : int
+        Samples per piece (the picture only; the certificate is :func:`imagespace.paths.check_path`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.paths import pose_segment
+    >>> from imagespace.plotting import plot_path_singularity
+    >>> m = isp.examples.stigger_husty()
+    >>> fig = plot_path_singularity(m, pose_segment([0, 0, 0.2], [3, 1, 0.5]))
+    >>> len(fig.axes)
+    2
+    """
+    plt = _pyplot()
+    S = target.singularity_surface() if hasattr(target, "singularity_surface") else target
+    X, s = path.sample(per_piece)
+    X = X / np.hypot(X[:, 0], X[:, 1])[:, None]
+    v, G = S.value_and_gradient(X)
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(7, 3.5))
+    else:
+        fig = ax.figure
+    ax.plot(s, v, color="k", lw=1.5, label="det J (normalised image point)")
+    ax.axhline(0, color="tab:red", lw=0.8)
+    for k in range(1, len(path)):
+        ax.axvline(k, color="0.7", lw=0.8, ls="--")
+    ax.set_xlabel("path parameter (one unit per piece)")
+    ax.set_ylabel("det J")
+    ax2 = ax.twinx()
+    ax2.plot(s, np.abs(v) / np.linalg.norm(G, axis=1), color="tab:blue", lw=1.2,
+             label="|det J| / |grad det J|")
+    ax2.set_ylabel("distance estimate", color="tab:blue")
+    ax2.set_ylim(bottom=0)
+    ax.set_title("det J along the path", fontsize=10)
+    ax.legend(loc="upper left", fontsize=8)
+    return fig
+
+
+def plot_joint_loop(plan, ax=None, q=None):
+    """The loop a mode change traces in joint space (3D), start/end marked.
+
+    Parameters
+    ----------
+    plan : ModeChangePlan
+        A found plan (``plan.joint_loop``).
+    ax : 3D matplotlib Axes, optional
+    q : (3,) float, optional
+        Joint values to mark (default: the loop's start).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.modechange import plan_mode_change
+    >>> from imagespace.plotting import plot_joint_loop
+    >>> m = isp.examples.stigger_husty()
+    >>> modes = m.direct_kinematics(m.q_example)
+    >>> fig = plot_joint_loop(plan_mode_change(m, m.q_example_float, modes[0], modes[3]))
+    >>> len(fig.axes)
+    1
+    """
+    if plan.joint_loop is None:
+        raise InputError(f"plan has no joint loop (found={plan.found}: {plan.reason})")
+    fig, ax = _axes3d(ax)
+    Q = plan.joint_loop
+    ax.plot(*Q.T, color="tab:purple", lw=2)
+    q0 = Q[0] if q is None else np.asarray(q, float)
+    ax.scatter(*q0, color="k", s=40, depthshade=False, label="q (start = end)")
+    ax.set_xlabel("q1")
+    ax.set_ylabel("q2")
+    ax.set_zlabel("q3")
+    ax.legend(fontsize=8)
+    ax.set_title("the mode change as a loop in joint space", fontsize=10)
+    return fig
+
+
+def animate_path(manipulator, poses, q_path=None, interval=60, xlim=None, ylim=None):
+    """A matplotlib animation of the mechanism moving through ``poses``.
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    poses : (n, 3) float
+    q_path : (n, 3) float, optional
+        Joint values along the way (pick the leg branches), e.g. ``plan.joint_loop``.
+    interval : int
+        Milliseconds per frame.
+    xlim, ylim : (2,) float, optional
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+        ``anim.to_jshtml()`` shows it in Jupyter without ffmpeg.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.plotting import animate_path
+    >>> m = isp.examples.general_3rpr()
+    >>> anim = animate_path(m, [[0, 0, 0], [0.5, 0, 0.1], [1, 0, 0.2]])
+    >>> "<script" in anim.to_jshtml()
+    True
+    """
+    plt = _pyplot()
+    from matplotlib.animation import FuncAnimation
+
+    P = as_float_array(poses, "poses", last=3)
+    P = np.atleast_2d(P)
+    Qp = None if q_path is None else np.atleast_2d(as_float_array(q_path, "q_path", last=3, finite=False))
+    fig, ax = plt.subplots(figsize=(5, 5))
+    pts = np.concatenate([np.concatenate(manipulator.leg_points(p)) for p in P[:: max(1, len(P) // 20)]])
+    pad = 0.1 * np.ptp(pts, axis=0).max()
+    xlim = xlim or (pts[:, 0].min() - pad, pts[:, 0].max() + pad)
+    ylim = ylim or (pts[:, 1].min() - pad, pts[:, 1].max() + pad)
+
+    def draw(k):
+        ax.clear()
+        plot_mechanism(manipulator, P[k], None if Qp is None else Qp[k], ax=ax,
+                       title=f"frame {k + 1}/{len(P)}: phi = {np.degrees(P[k, 2]):.1f} deg")
+        ax.plot(P[: k + 1, 0], P[: k + 1, 1], color="0.5", lw=1)
+        ax.set_xlim(*xlim)
+        ax.set_ylim(*ylim)
+        return []
+
+    anim = FuncAnimation(fig, draw, frames=len(P), interval=interval, blit=False)
+    plt.close(fig)
+    return anim
