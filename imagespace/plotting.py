@@ -12,7 +12,7 @@ from ._validate import as_float_array
 from .exceptions import InputError
 
 __all__ = ["plot_mechanism", "plot_assembly_modes", "plot_singularity_surface", "plot_constraint_quadrics",
-           "plot_conic_section", "plot_path_singularity", "plot_joint_loop", "animate_path"]
+           "plot_conic_section", "plot_path_singularity", "plot_joint_loop", "animate_path", "plot_backlash"]
 
 _LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green")
 _ASPECT_COLOURS = {1: "tab:red", -1: "tab:blue", 0: "k"}
@@ -491,3 +491,80 @@ def animate_path(manipulator, poses, q_path=None, interval=60, xlim=None, ylim=N
     anim = FuncAnimation(fig, draw, frames=len(P), interval=interval, blit=False)
     plt.close(fig)
     return anim
+
+
+def plot_backlash(manipulator, analysis, ax=None, n=300):
+    """Backlash in the workspace (seed 002, Abb. 3 and 7): the curve of the released leg's
+    platform point, its parts inside the band, the band, and the assembly modes.
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    analysis : BacklashAnalysis
+        From :func:`imagespace.clearance.backlash`.
+    ax : matplotlib Axes, optional
+    n : int
+        Grid size for drawing the band (legs ending in a platform revolute).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.clearance import backlash
+    >>> from imagespace.plotting import plot_backlash
+    >>> m = isp.examples.stigger_husty()
+    >>> fig = plot_backlash(m, backlash(m, m.q_example_float, 2, delta=0.5, samples=4000))
+    >>> len(fig.axes)
+    1
+    """
+    plt = _pyplot()
+    from .kinematic_map import pose_of
+
+    leg = manipulator.legs[analysis.leg]
+    p = np.asarray(leg.geometry(exact=False)["platform"], dtype=float)
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6.5, 6))
+    else:
+        fig = ax.figure
+    pts_all = []
+    for s in (0, 1):
+        X = analysis.points[:, s]
+        ok = np.all(np.isfinite(X), axis=1)
+        P = np.full((len(X), 3), np.nan)
+        P[ok] = pose_of(X[ok])
+        c = np.column_stack([P[:, 0] + np.cos(P[:, 2]) * p[0] - np.sin(P[:, 2]) * p[1],
+                             P[:, 1] + np.sin(P[:, 2]) * p[0] + np.cos(P[:, 2]) * p[1]])
+        jump = np.r_[False, np.linalg.norm(np.diff(c, axis=0), axis=1) > 1.0]
+        c_plot = c.copy()
+        c_plot[jump] = np.nan
+        ax.plot(c_plot[:, 0], c_plot[:, 1], color="0.55", lw=1, label="coupler curve" if s == 0 else None)
+        inside = analysis.deviation[:, s] <= analysis.delta
+        ci = np.where(inside[:, None], c_plot, np.nan)
+        ax.plot(ci[:, 0], ci[:, 1], color="tab:red", lw=2.5, label=f"inside the band (+-{analysis.delta:g})" if s == 0 else None)
+        pts_all.append(c[ok])
+    allp = np.concatenate(pts_all)
+    lo, hi = allp.min(axis=0), allp.max(axis=0)
+    pad = 0.1 * np.max(hi - lo)
+    if leg.joints[-1] == "R":
+        xs = np.linspace(lo[0] - pad, hi[0] + pad, n)
+        ys = np.linspace(lo[1] - pad, hi[1] + pad, n)
+        G = np.stack(np.meshgrid(xs, ys), -1).reshape(-1, 2)
+        vals = leg.actuated_values(np.column_stack([G - p, np.zeros(len(G))]))
+        q0 = analysis.q[analysis.leg]
+        best = np.take_along_axis(vals, np.nanargmin(np.where(np.isnan(vals), np.inf, np.abs(vals - q0)), axis=1)[:, None], 1)[:, 0]
+        ax.contour(xs, ys, best.reshape(n, n), levels=[q0 - analysis.delta, q0, q0 + analysis.delta],
+                   colors=["tab:orange", "tab:orange", "tab:orange"], linestyles=["--", "-", "--"], linewidths=1)
+    for k, mm in enumerate(analysis.modes):
+        x, y, phi = mm.pose
+        cx, cy = x + np.cos(phi) * p[0] - np.sin(phi) * p[1], y + np.sin(phi) * p[0] + np.cos(phi) * p[1]
+        ax.plot(cx, cy, "o", color=_ASPECT_COLOURS[mm.aspect], mec="k", ms=8)
+        ax.annotate(f"{k + 1}", (cx, cy), textcoords="offset points", xytext=(6, 6), fontsize=9)
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    ax.legend(fontsize=8, loc="best")
+    ax.set_title(f"{manipulator.name}: play +-{analysis.delta:g} in leg {analysis.leg + 1}", fontsize=10)
+    return fig
