@@ -12,7 +12,8 @@ from ._validate import as_float_array
 from .exceptions import InputError
 
 __all__ = ["plot_mechanism", "plot_assembly_modes", "plot_singularity_surface", "plot_constraint_quadrics",
-           "plot_conic_section", "plot_path_singularity", "plot_joint_loop", "animate_path", "plot_backlash"]
+           "plot_conic_section", "plot_path_singularity", "plot_joint_loop", "animate_path", "plot_backlash",
+           "plot_mode_count_map"]
 
 _LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green")
 _ASPECT_COLOURS = {1: "tab:red", -1: "tab:blue", 0: "k"}
@@ -404,8 +405,9 @@ def plot_joint_loop(plan, ax=None, q=None):
 
     Parameters
     ----------
-    plan : ModeChangePlan
-        A found plan (``plan.joint_loop``).
+    plan : ModeChangePlan or (n, 3) float
+        A found plan (``plan.joint_loop``), or any joint trajectory, e.g. from
+        :func:`imagespace.modechange.joint_trajectory`.
     ax : 3D matplotlib Axes, optional
     q : (3,) float, optional
         Joint values to mark (default: the loop's start).
@@ -425,10 +427,13 @@ def plot_joint_loop(plan, ax=None, q=None):
     >>> len(fig.axes)
     1
     """
-    if plan.joint_loop is None:
-        raise InputError(f"plan has no joint loop (found={plan.found}: {plan.reason})")
+    if hasattr(plan, "joint_loop"):
+        if plan.joint_loop is None:
+            raise InputError(f"plan has no joint loop (found={plan.found}: {plan.reason})")
+        Q = plan.joint_loop
+    else:
+        Q = np.atleast_2d(as_float_array(plan, "plan", last=3, finite=False))
     fig, ax = _axes3d(ax)
-    Q = plan.joint_loop
     ax.plot(*Q.T, color="tab:purple", lw=2)
     q0 = Q[0] if q is None else np.asarray(q, float)
     ax.scatter(*q0, color="k", s=40, depthshade=False, label="q (start = end)")
@@ -567,4 +572,52 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
     ax.set_aspect("equal")
     ax.legend(fontsize=8, loc="best")
     ax.set_title(f"{manipulator.name}: play +-{analysis.delta:g} in leg {analysis.leg + 1}", fontsize=10)
+    return fig
+
+
+def plot_mode_count_map(count_map, cusps=(), loops=(), ax=None):
+    """Real assembly modes over a joint-space section, the discriminant curve as the region
+    boundaries, cusps and loops around them.
+
+    Parameters
+    ----------
+    count_map : ModeCountMap
+        From :func:`imagespace.cusps.mode_count_map`.
+    cusps : sequence of Cusp
+    loops : sequence of CuspLoop
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.cusps import mode_count_map
+    >>> from imagespace.plotting import plot_mode_count_map
+    >>> m = isp.examples.general_3rpr()
+    >>> fig = plot_mode_count_map(mode_count_map(m, 2, 10.0, [(6, 16), (1, 9)], 30))
+    >>> len(fig.axes)
+    2
+    """
+    plt = _pyplot()
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6, 5))
+    else:
+        fig = ax.figure
+    a, b = count_map.axes
+    mesh = ax.pcolormesh(a, b, count_map.counts.T, shading="nearest", cmap="Blues", vmin=-1, vmax=6)
+    fig.colorbar(mesh, ax=ax, label="real assembly modes")
+    fa, fb = count_map.free
+    if len(cusps):
+        C = np.array([c.q for c in cusps])
+        ax.plot(C[:, fa], C[:, fb], "r*", ms=12, label="cusps")
+    for lp in loops:
+        ax.plot(lp.q[:, fa], lp.q[:, fb], color="tab:green" if lp.changed else "0.4", lw=1.5)
+    ax.set_xlabel(f"q{fa + 1}")
+    ax.set_ylabel(f"q{fb + 1}")
+    ax.set_title(f"section q{count_map.fixed + 1} = {count_map.value:g}", fontsize=10)
+    if len(cusps):
+        ax.legend(fontsize=8)
     return fig
