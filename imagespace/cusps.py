@@ -319,11 +319,16 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
     return sorted(out, key=lambda c: (c.q[fa], c.q[fb]))
 
 
+def _half_angle_gap(phi, theta):
+    """Distance of the half-angle ``phi/2`` from ``theta`` modulo ``pi`` (X and -X are one point)."""
+    return abs(np.remainder(phi / 2 - theta + np.pi / 2, np.pi) - np.pi / 2)
+
+
 def _pose_at(m, q, theta):
     modes = m.direct_kinematics(q)
     if not modes:
         return np.full(3, np.nan)
-    dist = [abs(np.remainder(mm.pose[2] / 2 - theta + np.pi / 2, np.pi) - np.pi / 2) for mm in modes]
+    dist = [_half_angle_gap(mm.pose[2], theta) for mm in modes]
     return modes[int(np.argmin(dist))].pose
 
 
@@ -452,7 +457,7 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     Qo = Q[order]
     modes0 = [(j, X, P, asp) for j, (X, P, asp, v) in enumerate(zip(res.image_points[k0], res.poses[k0],
                                                                      res.aspect[k0], res.valid[k0])) if v]
-    near = sorted(modes0, key=lambda mm: abs(np.remainder(mm[2][2] / 2 - cusp.theta + np.pi / 2, np.pi) - np.pi / 2))[:3]
+    near = sorted(modes0, key=lambda mm: _half_angle_gap(mm[2][2], cusp.theta))[:3]
     walks = []
     for j0, X0, P0, a0 in near:
         X, poses, aspects, jumps = X0, [P0], [int(a0)], []

@@ -115,7 +115,7 @@ def test_batched_test_equals_the_exact_one(m, rng):
     B = isp.image_point(P + np.column_stack([rng.normal(0, 2, (n, 2)), rng.normal(0, 0.5, n)]))
     free, how = segments_free(m, A, B)
     assert 0.2 < free.mean() < 0.98
-    for i in range(0, n, 10):
+    for i in range(0, n, 30):
         assert free[i] == check_path(m, segment(A[i], B[i])).singularity_free
     free2, how2 = segments_free(m, A, B, exact=False)
     assert np.all(free2[how2 == "bernstein"] == free[how2 == "bernstein"])
