@@ -34,7 +34,8 @@ from ._validate import as_float_array
 from .compile import compile_exprs
 from .exceptions import InputError
 
-__all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_loop", "CuspLoop"]
+__all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_loop", "CuspLoop", "cusp_edges",
+           "linking_number"]
 
 
 @dataclass(frozen=True)
@@ -486,3 +487,121 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     if not walks:
         raise InputError("the loop loses every real mode; choose a smaller radius")
     return walks[0]
+
+
+def cusp_edges(manipulator, fixed, values, window, resolution=60):
+    """The cusp points of many parallel sections, chained into curves of joint space (the cusp
+    edges of the discriminant surface).
+
+    Cusps of consecutive sections are joined when they are mutual nearest neighbours (in the free
+    joints and the half-angle) closer than a tenth of the window; a chain ends where a cusp has no
+    partner (a swallowtail point, or the window's edge).
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    fixed : int
+    values : (k,) float
+        Increasing values of the fixed joint (the sections).
+    window : (2, 2) float
+    resolution : int
+
+    Returns
+    -------
+    list of (n_i, 3) float
+        Polylines in joint space.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.cusps import cusp_edges
+    >>> m = isp.examples.general_3rpr()
+    >>> edges = cusp_edges(m, 2, [9.9, 10.0, 10.1], [(8, 14), (2, 8)], 40)
+    >>> all(e.shape[1] == 3 for e in edges)
+    True
+    """
+    vals = as_float_array(values, "values")
+    if vals.ndim != 1 or len(vals) < 2 or np.any(np.diff(vals) <= 0):
+        raise InputError(f"values must be at least two increasing numbers, got {np.asarray(values).tolist()}")
+    fa, fb = _free(fixed)
+    w = np.asarray(window, float)
+    reach = 0.1 * float(np.max(w[:, 1] - w[:, 0]))
+    sections = [cusps(manipulator, fixed, v, window, resolution) for v in vals]
+
+    def key(c):
+        return np.array([c.q[fa], c.q[fb], c.theta])
+
+    chains, open_chains = [], {}
+    for s, sec in enumerate(sections):
+        new_open = {}
+        prev = sections[s - 1] if s else []
+        for j, c in enumerate(sec):
+            partner = None
+            if prev:
+                d = [np.linalg.norm(key(c) - key(p)) for p in prev]
+                i = int(np.argmin(d))
+                back = [np.linalg.norm(key(prev[i]) - key(o)) for o in sec]
+                if d[i] < reach and int(np.argmin(back)) == j and i in open_chains:
+                    partner = i
+            chain = open_chains.pop(partner) if partner is not None else []
+            chain.append(c.q)
+            new_open[j] = chain
+        chains += list(open_chains.values())
+        open_chains = new_open
+    chains += list(open_chains.values())
+    return [np.array(c) for c in chains if len(c) >= 2]
+
+
+def linking_number(loop, curves):
+    """Signed crossings of open polylines through a cone spanning a closed loop (joint space).
+
+    For curves whose ends lie outside the loop's cone this is the linking number of the loop with
+    them: how many times the loop goes around them. Used to show that a mode-changing loop
+    encircles a cusp edge.
+
+    Parameters
+    ----------
+    loop : (n, 3) float
+        A closed loop (first point = last point, or closed implicitly).
+    curves : sequence of (k, 3) float
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.cusps import linking_number
+    >>> t = np.linspace(0, 2 * np.pi, 65)
+    >>> circle = np.column_stack([np.cos(t), np.sin(t), 0 * t])
+    >>> linking_number(circle, [np.array([[0.2, 0.1, -1.0], [0.2, 0.1, 1.0]])])
+    1
+    """
+    L = as_float_array(loop, "loop", last=3)
+    if not np.allclose(L[0], L[-1]):
+        L = np.vstack([L, L[:1]])
+    apex = L.mean(axis=0)
+    total = 0
+    for curve in curves:
+        C = as_float_array(curve, "curves[i]", last=3)
+        for P0, P1 in zip(C[:-1], C[1:]):
+            d = P1 - P0
+            for A, B in zip(L[:-1], L[1:]):
+                e1, e2 = A - apex, B - apex
+                h = np.cross(d, e2)
+                a = e1 @ h
+                if abs(a) < 1e-15:
+                    continue
+                s_ = P0 - apex
+                u = (s_ @ h) / a
+                if u < 0 or u > 1:
+                    continue
+                qv = np.cross(s_, e1)
+                v = (d @ qv) / a
+                if v < 0 or u + v > 1:
+                    continue
+                t = (e2 @ qv) / a
+                if 0 <= t < 1:
+                    total += int(np.sign(np.cross(e1, e2) @ d))
+    return total

@@ -76,3 +76,22 @@ def test_bad_input():
         mode_count_map(m, 2, 10.0, [(6, 16), (1, 9)], 4)
     with pytest.raises(isp.InputError, match="domain"):
         mode_count_map(m, 2, 10.0, [(-6, 16), (1, 9)], 10)
+
+
+def test_a_mode_changing_loop_links_the_cusp_edge_and_a_distant_one_does_not():
+    from imagespace.cusps import cusp_edges, linking_number
+    m = isp.examples.general_3rpr()
+    window = [(8, 14), (2, 8)]
+    c = cusps(m, 2, 10.0, window, 60)[0]
+    loop = cusp_loop(m, c, 2, 0.05)
+    assert loop.changed and loop.continuous
+    edges = cusp_edges(m, 2, np.linspace(9.8, 10.2, 9), window, 60)
+    assert abs(linking_number(loop.q, edges)) == 1
+    far = loop.q.copy()
+    far[:, 0] += 1.5
+    assert linking_number(far, edges) == 0
+    # an independent check of linking_number: a circle about the z-axis and the z-axis
+    t = np.linspace(0, 2 * np.pi, 101)
+    circle = np.column_stack([np.cos(t), np.sin(t), np.zeros_like(t)])
+    assert abs(linking_number(circle, [np.array([[0.0, 0.0, -2.0], [0.0, 0.0, 2.0]])])) == 1
+    assert linking_number(circle, [np.array([[3.0, 0.0, -2.0], [3.0, 0.0, 2.0]])]) == 0
