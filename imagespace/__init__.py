@@ -13,6 +13,11 @@ from .manipulator import AssemblyMode, CertifiedModes, DKBatchResult, PlanarPara
 from .singularities import (ConicSection, PoseJacobians, SingularitySurface, jacobians,
                             singularity_surface, singularity_surfaces)
 from .meshing import export_mesh, mesh_implicit, mesh_surface
+from .paths import (ImagePath, PathCheck, check_path, polyline, polynomial_curve, pose_segment,
+                    rational_curve, segment, segments_free)
+from .modechange import ModeChangePlan, joint_trajectory, plan_mode_change
+from .cusps import cusp_edges, cusp_loop, cusps, linking_number, mode_count_map
+from .clearance import backlash
 from .tolerances import TOLERANCES, Tolerances
 
 __version__ = "0.1.0"
@@ -25,6 +30,9 @@ __all__ = [
     "PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes",
     "SingularitySurface", "PoseJacobians", "ConicSection", "singularity_surface", "singularity_surfaces",
     "jacobians", "mesh_surface", "mesh_implicit", "export_mesh",
+    "ImagePath", "PathCheck", "check_path", "segments_free", "segment", "polyline", "polynomial_curve",
+    "rational_curve", "pose_segment", "ModeChangePlan", "plan_mode_change", "joint_trajectory",
+    "mode_count_map", "cusps", "cusp_loop", "cusp_edges", "linking_number", "backlash",
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError",
     "Tolerances", "TOLERANCES",
