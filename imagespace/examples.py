@@ -15,7 +15,8 @@ from ._validate import as_exact, check_positive
 from .legs import PPR, RPR
 from .manipulator import PlanarParallel
 
-__all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr"]
+__all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr", "collinear_3rpr_closed_form",
+           "choi_3ppr_closed_form", "choi_det_jh", "choi_rotation_limits", "choi_3ppr_indices"]
 
 
 def stigger_husty():
@@ -152,3 +153,185 @@ def general_3rpr():
                         RPR(base=(-2, 7), platform=(5, 4))], name="general 3-RPR")
     m.q_example = (sp.Integer(11), sp.Integer(5), sp.Integer(10))
     return m
+
+
+def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
+    """Seed 003's closed-form direct kinematics of the collinear 3-RPR (an independent check).
+
+    ``cos(theta) = [2 (d2^2 + R^2 + r^2) - d1^2 - d3^2] / (4 r R)``, then
+    ``y = a x + b`` with ``a = (R - r cos theta) / (r sin theta)``,
+    ``b = (d3^2 - d1^2) / (4 r sin theta)``, and ``x^2 + y^2 = d2^2``.
+
+    Parameters
+    ----------
+    d : (3,) float
+        Leg lengths ``d1, d2, d3``.
+    R, r : float
+
+    Returns
+    -------
+    (k, 3) float
+        Poses ``(x, y, theta)``, ``k`` in ``{0, 2, 4}``; ``sin(theta) = 0`` (the formula divides
+        by it) returns the poses found on that orientation by the line-and-circle step with the
+        legs' own equations, or none.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isp.examples.collinear_3rpr_closed_form([3.0, 2.0, 2.0]).shape
+    (4, 3)
+    """
+    d1, d2, d3 = (float(v) for v in d)
+    R, r = float(R), float(r)
+    c = (2 * (d2**2 + R**2 + r**2) - d1**2 - d3**2) / (4 * r * R)
+    if abs(c) > 1:
+        return np.zeros((0, 3))
+    out = []
+    for th in {np.arccos(c), -np.arccos(c)}:
+        s = np.sin(th)
+        if abs(s) < 1e-14:
+            continue
+        a = (R - r * np.cos(th)) / (r * s)
+        b = (d3**2 - d1**2) / (4 * r * s)
+        # x^2 + (a x + b)^2 = d2^2
+        for x in np.roots([1 + a * a, 2 * a * b, b * b - d2**2]):
+            if abs(x.imag) < 1e-12:
+                out.append([x.real, a * x.real + b, th])
+    return np.array(out).reshape(-1, 3)
+
+
+def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18):
+    """Closed-form direct kinematics of Choi's 3-PPR (seed 004), derived from its IK.
+
+    With ``k = cot(alpha)`` the IK is ``rho_i = a_i . (x, y) + r (sin phi + k cos phi) - R k`` and
+    the three vectors ``a_i = (cos theta_i + k sin theta_i, sin theta_i - k cos theta_i)`` sum to
+    zero, so summing the three equations leaves one in ``phi``: with ``psi = phi - (alpha - pi/2)``,
+    ``r sin(psi) / sin(alpha) = (rho_1 + rho_2 + rho_3)/3 + R k`` - the paper's
+    ``C1 + C2 cos + C3 sin = 0``. Its two solutions ``psi`` and ``pi - psi`` give the rotations
+    ``phi`` and ``2 alpha - phi``, and two of the linear equations give the same ``(x, y)`` for both.
+
+    Parameters
+    ----------
+    rho : (3,) float
+        Slider positions.
+    R, r, alpha : float
+
+    Returns
+    -------
+    (k, 3) float
+        ``k = 2`` (or 1 at the singular ``psi = pi/2``, 0 when ``|sin psi| > 1``).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> m = isp.examples.choi_3ppr()
+    >>> isp.examples.choi_3ppr_closed_form(m.q_example_float).round(6)[0]
+    array([ 0.1 , -0.05,  0.2 ])
+    """
+    rho = _as_rho(rho)
+    R, r, alpha = float(R), float(r), float(alpha)
+    k = np.cos(alpha) / np.sin(alpha)
+    sin_psi = np.sin(alpha) * (rho.sum() / 3 + R * k) / r
+    if abs(sin_psi) > 1:
+        return np.zeros((0, 3))
+    phi0 = alpha - np.pi / 2
+    psis = [np.arcsin(sin_psi)]
+    if abs(abs(sin_psi) - 1) > 1e-15:
+        psis.append(np.pi - psis[0])
+    th = np.array([0.0, 2 * np.pi / 3, 4 * np.pi / 3])
+    A = np.column_stack([np.cos(th) + k * np.sin(th), np.sin(th) - k * np.cos(th)])
+    out = []
+    for psi in psis:
+        phi = np.remainder(psi + phi0 + np.pi, 2 * np.pi) - np.pi
+        rhs = rho - r * (np.sin(phi) + k * np.cos(phi)) + R * k
+        xy = np.linalg.lstsq(A, rhs, rcond=None)[0]
+        out.append([xy[0], xy[1], phi])
+    return np.array(out)
+
+
+def choi_det_jh(psi, r_over_R, alpha):
+    """Seed 004's ``det J_h^-1 = (3 sqrt(3) / 2) (r / R) cos(psi) / sin(alpha)**3``.
+
+    Independent of ``(x, y)``; zero (a singularity) at ``psi = +-pi/2``. ``J_h^-1`` in the seed's
+    notation is :meth:`PoseJacobians.homogeneous` here.
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> round(float(isp.examples.choi_det_jh(0.0, 0.5, np.pi / 2)), 6)
+    1.299038
+    """
+    return 1.5 * np.sqrt(3.0) * r_over_R * np.cos(psi) / np.sin(alpha) ** 3
+
+
+def choi_rotation_limits(alpha):
+    """The rotation range of Choi's 3-PPR: ``psi = phi - (alpha - pi/2)`` in ``[-5 pi/6, 5 pi/6]``.
+
+    The link of leg ``i`` leaves the plate vertex ``B_i`` towards its slider along ``-w_i``,
+    ``w_i = (cos(theta_i + alpha), sin(theta_i + alpha))``; the plate's inward bisector at ``B_i``
+    points along ``theta_i + phi + pi/2``, so the link makes the angle ``pi - |psi|`` with it and
+    stays out of the plate's 60-degree corner exactly while ``|psi| <= 5 pi/6``.
+
+    Parameters
+    ----------
+    alpha : float
+
+    Returns
+    -------
+    (float, float)
+        The limits of ``phi``.
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> [round(v, 6) for v in isp.examples.choi_rotation_limits(np.pi / 2)]
+    [-2.617994, 2.617994]
+    """
+    phi0 = float(alpha) - np.pi / 2
+    return (phi0 - 5 * np.pi / 6, phi0 + 5 * np.pi / 6)
+
+
+def _as_rho(v):
+    from ._validate import as_float_array
+
+    return as_float_array(v, "rho", last=3, allow_batch=False)
+
+
+def choi_3ppr_indices(alpha, r_over_R, psi_max=17 * np.pi / 36, n_psi=73):
+    """The five design indices of seed 004 for one design (``R = 1``, strokes ``+-sqrt(3) R``).
+
+    ``D``: dexterous area, ``S``: reachable minus dexterous area (both over
+    ``psi in [-psi_max, psi_max]``, exact polygons), and the global (mean over the same ``psi``
+    range) manipulability ``M``, resistivity ``R`` and isotropy ``I`` (``sigma_min/sigma_max`` of
+    ``J_h``, characteristic length ``R``; they do not depend on the position for this design).
+
+    Parameters
+    ----------
+    alpha : float
+        Link angle.
+    r_over_R : float
+    psi_max : float
+    n_psi : int
+
+    Returns
+    -------
+    dict
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> ind = isp.examples.choi_3ppr_indices(7 * np.pi / 18, 0.5)
+    >>> sorted(ind), ind["D"] > 0
+    (['D', 'I', 'M', 'R', 'S'], True)
+    """
+    from .indices import global_indices
+    from .workspace import dexterous_workspace, reachable_workspace
+
+    m = choi_3ppr(1, sp.nsimplify(float(r_over_R), rational=True), sp.nsimplify(float(alpha) / np.pi, rational=True) * sp.pi)
+    phi0 = float(alpha) - np.pi / 2
+    rng = (phi0 - psi_max, phi0 + psi_max)
+    lim = [[-np.sqrt(3), np.sqrt(3)]] * 3
+    D = dexterous_workspace(m, rng, lim).area
+    Rw = reachable_workspace(m, rng, lim).area
+    g = global_indices(m, (0.0, 0.0), rng, 1.0, n=n_psi)
+    return {"D": D, "S": Rw - D, "M": g["manipulability"], "R": g["resistivity"], "I": g["isotropy"]}

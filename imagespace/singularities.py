@@ -125,7 +125,10 @@ def _constraint_functions(m):
         exprs = []
         for leg, qi in zip(m.legs, qs):
             Q = sp.expand(leg.dyad(qi).expr())
-            exprs += [Q] + [sp.diff(Q, v) for v in x] + [sp.diff(Q, qi)]
+            if any(not c.is_Rational for c in sp.Poly(Q, *x).coeffs() if c.is_number):
+                Q = sp.expand(sp.N(Q, 20))          # exact trig/radical constants: evaluate once
+            P = sp.Poly(Q, *x)
+            exprs += [Q] + [P.diff(v).as_expr() for v in x] + [sp.diff(Q, qi)]
         m._symbolic_cache[key] = compile_exprs(exprs, list(x) + list(qs))
     return m._symbolic_cache[key]
 
@@ -595,6 +598,60 @@ class PoseJacobians:
     kind: np.ndarray
     valid: np.ndarray
     tol: float
+
+    def homogeneous(self, length):
+        """The dimensionless Jacobian ``J_h = J diag(1, 1, 1/L)`` (seed 004, eq. 24).
+
+        ``J = dq/d(x, y, phi)`` mixes lengths and an angle; with the characteristic length
+        ``L`` the platform velocity is measured as ``(xdot, ydot, L phidot)``, all lengths, and
+        ``qdot = J_h (xdot, ydot, L phidot)``. Seed 004 writes it ``J_h^-1 = J^-1 diag(1, 1, 1/R)``
+        (its ``J^-1`` is our ``J``).
+
+        Parameters
+        ----------
+        length : float
+            The characteristic length ``L > 0`` (seed 004: the base's inscribed radius ``R``).
+
+        Returns
+        -------
+        (n, 3, 3) float
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> jac = isp.jacobians(isp.examples.choi_3ppr(), [0.1, 0.0, 0.2])
+        >>> jac.homogeneous(1.0).shape
+        (1, 3, 3)
+        """
+        L = float(length)
+        if not np.isfinite(L) or L <= 0:
+            raise InputError(f"length must be a positive characteristic length, got {length!r}")
+        return self.J * np.array([1.0, 1.0, 1.0 / L])
+
+    def wrench(self, tau):
+        """Statics: the platform wrench ``F_ext = J^T tau`` balanced by actuator efforts ``tau``.
+
+        Virtual power: ``tau . qdot = F . (xdot, ydot, phidot)`` for every motion, so
+        ``F = J^T tau`` (forces along x, y and the moment about the moving frame's origin).
+
+        Parameters
+        ----------
+        tau : (3,) or (n, 3) float
+            Actuator forces (prismatic) or torques (revolute).
+
+        Returns
+        -------
+        (n, 3) float
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> jac = isp.jacobians(isp.examples.general_3rpr(), [0.5, 1.0, 0.2])
+        >>> jac.wrench([1.0, 0.0, 0.0]).shape
+        (1, 3)
+        """
+        t = np.broadcast_to(as_float_array(tau, "tau", last=3), (len(self.J), 3))
+        return np.einsum("nji,nj->ni", self.J, t)
 
 
 def jacobians(manipulator, pose, q=None, working_modes=None):
