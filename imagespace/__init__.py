@@ -18,6 +18,8 @@ from .paths import (ImagePath, PathCheck, check_path, polyline, polynomial_curve
 from .modechange import ModeChangePlan, joint_trajectory, plan_mode_change
 from .cusps import cusp_edges, cusp_loop, cusps, linking_number, mode_count_map
 from .clearance import backlash
+from .mobility import gruebler, manipulator_mobility, mechanism_mobility
+from .design import fuzzy_minmax, sweep
 from .tolerances import TOLERANCES, Tolerances
 
 __version__ = "0.1.0"
@@ -33,6 +35,7 @@ __all__ = [
     "ImagePath", "PathCheck", "check_path", "segments_free", "segment", "polyline", "polynomial_curve",
     "rational_curve", "pose_segment", "ModeChangePlan", "plan_mode_change", "joint_trajectory",
     "mode_count_map", "cusps", "cusp_loop", "cusp_edges", "linking_number", "backlash",
+    "gruebler", "manipulator_mobility", "mechanism_mobility", "sweep", "fuzzy_minmax",
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError",
     "Tolerances", "TOLERANCES",

@@ -13,7 +13,7 @@ from .exceptions import InputError
 
 __all__ = ["plot_mechanism", "plot_assembly_modes", "plot_singularity_surface", "plot_constraint_quadrics",
            "plot_conic_section", "plot_path_singularity", "plot_joint_loop", "animate_path", "plot_backlash",
-           "plot_mode_count_map"]
+           "plot_mode_count_map", "plot_workspaces", "plot_design_map"]
 
 _LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green")
 _ASPECT_COLOURS = {1: "tab:red", -1: "tab:blue", 0: "k"}
@@ -620,4 +620,99 @@ def plot_mode_count_map(count_map, cusps=(), loops=(), ax=None):
     ax.set_title(f"section q{count_map.fixed + 1} = {count_map.value:g}", fontsize=10)
     if len(cusps):
         ax.legend(fontsize=8)
+    return fig
+
+
+def plot_workspaces(workspaces, labels=None, ax=None):
+    """Workspace regions drawn over each other (seed 004, Fig. 5).
+
+    Parameters
+    ----------
+    workspaces : sequence of Workspace
+    labels : sequence of str, optional
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> from imagespace.workspace import reachable_workspace, dexterous_workspace
+    >>> from imagespace.plotting import plot_workspaces
+    >>> m = isp.examples.choi_3ppr()
+    >>> lim = [[-np.sqrt(3), np.sqrt(3)]] * 3
+    >>> fig = plot_workspaces([reachable_workspace(m, (-1, 1), lim), dexterous_workspace(m, (-1, 1), lim)])
+    >>> len(fig.axes)
+    1
+    """
+    plt = _pyplot()
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(5.5, 5.5))
+    else:
+        fig = ax.figure
+    cmap = plt.get_cmap("tab10")
+    for k, ws in enumerate(workspaces):
+        lab = labels[k] if labels is not None else f"{ws.kind} ({ws.area:.3g})"
+        col = cmap(k % 10)
+        for j, curve in enumerate(ws.boundary):
+            ax.plot(curve[:, 0], curve[:, 1], color=col, lw=1.8, label=lab if j == 0 else None)
+            if ws.polygon is not None:
+                ax.fill(curve[:, 0], curve[:, 1], color=col, alpha=0.12)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
+    """A design index (or the composite) over a two-parameter grid (seed 004, Figs. 7-9).
+
+    Parameters
+    ----------
+    table : DesignTable
+    value : str or (n,) float
+        An index of the table, or values per row (e.g. ``FuzzyResult.composite``).
+    x, y : str
+        The two grid parameters (in the table's grid order: ``x`` first).
+    best : sequence of int, optional
+        Rows to mark (e.g. ``FuzzyResult.best``).
+    ax : matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> from imagespace.design import sweep, _demo_index
+    >>> from imagespace.plotting import plot_design_map
+    >>> t = sweep(_demo_index, {"a": [1.0, 2.0, 3.0], "b": [0.0, 1.0]}, processes=0)
+    >>> len(plot_design_map(t, "sum", "a", "b").axes)
+    2
+    """
+    plt = _pyplot()
+    names = list(table.params)
+    if [x, y] != names[:2] or len(names) != 2:
+        raise InputError(f"x, y must be the table's two grid parameters in order {names}, got {[x, y]}")
+    Z = table.grid(value) if isinstance(value, str) else np.asarray(value, float).reshape(table.shape)
+    xs = table.params[x].reshape(table.shape)[:, 0]
+    ys = table.params[y].reshape(table.shape)[0, :]
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+    else:
+        fig = ax.figure
+    mesh = ax.pcolormesh(xs, ys, Z.T, shading="nearest", cmap="viridis")
+    fig.colorbar(mesh, ax=ax, label=value if isinstance(value, str) else "value")
+    if best is not None:
+        ax.plot(table.params[x][list(best)], table.params[y][list(best)], "r*", ms=14, label="optimum")
+        ax.legend(fontsize=8)
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    if title:
+        ax.set_title(title, fontsize=10)
     return fig
