@@ -49,7 +49,7 @@ from .exceptions import InputError
 from .kinematic_map import pose_of
 
 __all__ = ["SingularitySurface", "PoseJacobians", "ConicSection", "singularity_surface",
-           "singularity_surfaces", "jacobians", "pose_chart_point", "image_chart_point"]
+           "singularity_surfaces", "jacobians", "symbolic_jacobians", "pose_chart_point", "image_chart_point"]
 
 _KINDS = ("joint-free", "given-joints", "working-mode")
 
@@ -707,6 +707,41 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
                                                np.where(ik, "inverse-kinematic", "regular")))
     kind = np.where(valid, kind, "unreachable")
     return PoseJacobians(P, Q, Jx, Jq, J, det_Jx, det_Jq, ratio_x, ratio_q, dk, ik, kind, valid, tol)
+
+
+def symbolic_jacobians(manipulator):
+    """``Jx``, ``Jq`` as sympy matrices in ``(x, y, phi)`` and the joint symbols.
+
+    ``F_i = Q_i(image_point(x, y, phi), q_i)`` with ``x0 = cos(phi/2)``, ``x1 = sin(phi/2)`` (the
+    normalised image point), the same definition as :func:`jacobians`.
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+
+    Returns
+    -------
+    Jx, Jq : sympy.Matrix (3, 3)
+    symbols : tuple
+        ``(x, y, phi)``.
+
+    Examples
+    --------
+    >>> import sympy as sp, imagespace as isp
+    >>> from imagespace.singularities import symbolic_jacobians
+    >>> Jx, Jq, (x, y, phi) = symbolic_jacobians(isp.examples.collinear_3rpr(2, 1))
+    >>> sp.simplify(Jx.det() - 16 * 2 * sp.sin(phi) * (2 * y + x * sp.sin(phi) - y * sp.cos(phi)))
+    0
+    """
+    x, y, phi = sp.symbols("x y phi", real=True)
+    x0, x1, x2, x3 = image_symbols()
+    c, s = sp.cos(phi / 2), sp.sin(phi / 2)
+    sub = {x0: c, x1: s, x2: (s * x - c * y) / 2, x3: (c * x + s * y) / 2}
+    qs = manipulator.joint_symbols
+    F = [sp.expand(leg.dyad(qi).expr().xreplace(sub)) for leg, qi in zip(manipulator.legs, qs)]
+    Jx = sp.Matrix(F).jacobian([x, y, phi]).applyfunc(lambda e: sp.simplify(sp.expand_trig(e)))
+    Jq = sp.diag(*[-sp.diff(f, qi) for f, qi in zip(F, qs)]).applyfunc(sp.simplify)
+    return Jx, Jq, (x, y, phi)
 
 
 # -- fixed-orientation sections -----------------------------------------------------------------

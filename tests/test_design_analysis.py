@@ -228,3 +228,18 @@ def test_design_bad_input():
         reachable_workspace(isp.examples.choi_3ppr(), (0.5, 0.5), STROKE)
     with pytest.raises(isp.InputError, match="b must have"):
         halfplane_polygon([[1, 0]], [1, 2])
+
+
+def test_symbolic_jacobians_equal_the_numeric_ones(rng):
+    import sympy as sp
+    from imagespace.singularities import symbolic_jacobians
+    for m in (isp.examples.stigger_husty(), isp.examples.collinear_3rpr(2, 1)):
+        Jx, Jq, syms = symbolic_jacobians(m)
+        f = sp.lambdify(list(syms) + list(m.joint_symbols), [Jx, Jq], "numpy")
+        for _ in range(5):
+            pose = np.array([rng.uniform(-3, 3), rng.uniform(0.5, 3), rng.uniform(-1, 1)])
+            q = m.inverse_kinematics(pose)
+            jac = m.jacobians(pose)
+            Jxn, Jqn = (np.array(a, dtype=float) for a in f(*pose, *q))
+            assert np.allclose(Jxn, jac.Jx[0], rtol=1e-10, atol=1e-10)
+            assert np.allclose(Jqn, jac.Jq[0], rtol=1e-10, atol=1e-10)
