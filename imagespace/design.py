@@ -199,9 +199,9 @@ def fuzzy_minmax(table, criteria):
     --------
     >>> from imagespace.design import sweep, fuzzy_minmax, _demo_index
     >>> t = sweep(_demo_index, {"a": [1.0, 2.0, 3.0], "b": [1.0, 2.0]}, processes=0)
-    >>> res = fuzzy_minmax(t, {"sum": (1.0, "max"), "product": (0.5, "min")})
-    >>> [t.params["a"][i] for i in res.best], [t.params["b"][i] for i in res.best]
-    ([3.0], [1.0])
+    >>> res = fuzzy_minmax(t, {"sum": (1.0, "max"), "product": (1.0, "min")})
+    >>> [(float(t.params["a"][i]), float(t.params["b"][i])) for i in res.best]
+    [(3.0, 1.0)]
     """
     if not isinstance(criteria, dict) or not criteria:
         raise InputError("criteria must be a non-empty dict name -> (weight, 'max'|'min')")
