@@ -189,6 +189,11 @@ def _extreme(manipulator, i, lo, hi, phis, c, sign):
     return max(sign * c[k, i], -r.fun)
 
 
+def _limit_polygon(a, L, cmax, cmin):
+    """``{p : L_lo_i <= a_i . p + c_i <= L_hi_i}`` for offsets ``c_i`` between ``cmin`` and ``cmax``."""
+    return halfplane_polygon(np.vstack([a, -a]), np.concatenate([L[:, 1] - cmax, -(L[:, 0] - cmin)]))
+
+
 def _exact_result(kind, P, method):
     return Workspace(kind, polygon_area(P), P, method, boundary=[np.vstack([P, P[:1]])] if len(P) else [])
 
@@ -223,9 +228,7 @@ def constant_orientation_workspace(manipulator, phi, limits, box=None, resolutio
     aff = _affine(manipulator, np.array([phi]))
     if aff is not None:
         a, c = aff
-        A = np.vstack([a, -a])
-        b = np.concatenate([L[:, 1] - c[0], -(L[:, 0] - c[0])])
-        return _exact_result("constant-orientation", halfplane_polygon(A, b), "exact: half-planes")
+        return _exact_result("constant-orientation", _limit_polygon(a, L, c[0], c[0]), "exact: half-planes")
     return sampled_workspace(manipulator, L, (phi, phi), box, resolution, n_phi=1, kind="constant-orientation")
 
 
@@ -248,9 +251,7 @@ def dexterous_workspace(manipulator, phi_range, limits, box=None, resolution=400
         a, c = aff
         cmax = np.array([_extreme(manipulator, i, lo, hi, phis, c, 1.0) for i in range(3)])
         cmin = -np.array([_extreme(manipulator, i, lo, hi, phis, c, -1.0) for i in range(3)])
-        A = np.vstack([a, -a])
-        b = np.concatenate([L[:, 1] - cmax, -(L[:, 0] - cmin)])
-        return _exact_result("dexterous", halfplane_polygon(A, b), "exact: half-planes")
+        return _exact_result("dexterous", _limit_polygon(a, L, cmax, cmin), "exact: half-planes")
     return sampled_workspace(manipulator, L, (lo, hi), box, resolution, n_phi, kind="dexterous")
 
 
