@@ -252,9 +252,9 @@ class ConstraintAnalysis:
     constraint_singular : bool
         ``constraint_rank < expected_rank``.
     gained_twists : (g, 6) float
-        Twists reciprocal to the constraints beyond ``dof`` of them: the platform's extra
-        freedoms at a constraint singularity (all platform twists reciprocal to the stacked
-        constraints are returned in ``platform_twists``).
+        The platform's extra freedoms at a constraint singularity: twists reciprocal to the
+        stacked constraints and outside the span of ``intended`` (without ``intended``: the
+        basis vectors beyond the first ``dof``). All platform twists are in ``platform_twists``.
     platform_twists : (6 - constraint_rank, 6) float
     actuation_rank : int
         Rank of constraints + actuation wrenches (6 when the locked mechanism is rigid).
@@ -279,6 +279,20 @@ class ConstraintAnalysis:
     leg_singular: list
     measures: dict
     kind: str
+
+
+def _beyond(P, intended, dof, tol):
+    """Platform twists outside the span of the intended ones (an orthonormal basis)."""
+    if len(P) <= dof:
+        return np.zeros((0, 6))
+    if intended is None:
+        return P[dof:]
+    I = np.atleast_2d(np.asarray(intended, float))
+    Q, _ = np.linalg.qr(I.T)                       # (6, dof) orthonormal basis of the intended span
+    R = P - (P @ Q) @ Q.T
+    u, s, vt = np.linalg.svd(R)
+    k = int(np.sum(s > tol * max(1.0, s[0] if len(s) else 1.0)))
+    return vt[:k]
 
 
 def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
@@ -331,7 +345,7 @@ def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
     # platform twists: reciprocal to every constraint wrench
     # platform twists: reciprocal to every constraint wrench (the product is symmetric in its roles)
     P = reciprocal_system(C, tol) if len(C) else np.eye(6)
-    gained = P[dof:] if len(P) > dof else np.zeros((0, 6))
+    gained = _beyond(P, intended, dof, tol)
     sc = np.linalg.svd(C, compute_uv=False) if len(C) else np.zeros(0)
     c_meas = float(sc[expected - 1] / sc[0]) if len(sc) >= expected and expected > 0 and sc[0] > 0 else 0.0
     act_rank, a_meas, io_meas = 6, 1.0, None

@@ -84,9 +84,9 @@ def test_rank_drops_exactly_on_the_closed_form_condition(rng):
         # the free rotation: the null vector of the three couples
         M = a.constraint_wrenches[:, 3:]
         omega = np.linalg.svd(M)[2][-1]
-        g = a.platform_twists
-        rot = g[np.argmax(np.linalg.norm(g[:, :3], axis=1))]
-        assert np.isclose(abs(rot[:3] @ omega), np.linalg.norm(rot[:3]), rtol=1e-6)
+        assert a.gained_twists.shape == (1, 6)
+        rot = a.gained_twists[0]                      # orthogonal to the translations: a pure rotation
+        assert np.isclose(abs(rot[:3] @ omega), 1.0, rtol=1e-6) and np.allclose(rot[3:], 0, atol=1e-6)
         # near but not on the condition: regular
         grad = np.array([(mech.couple_condition(mech.thetas(P + 1e-6 * e))[0] -
                           mech.couple_condition(mech.thetas(P - 1e-6 * e))[0]) / 2e-6 for e in np.eye(3)])
