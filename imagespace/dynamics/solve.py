@@ -1,0 +1,459 @@
+"""Kinematics along a task trajectory, drive singularities, the consistency condition, inverse
+dynamics through the singularity (seed 000 eqs. 5, 8, 10-13, corrected), and the independent checks
+(power balance, forward simulation).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..exceptions import InputError
+from .timelaw import TimeLaw, sextic_through
+
+__all__ = ["LinePath", "TrajectoryState", "state", "drive_singularity", "DriveSingularity",
+           "consistent_acceleration", "plan_consistent_law", "InverseDynamicsResult", "inverse_dynamics",
+           "power_balance", "simulate"]
+
+
+@dataclass(frozen=True)
+class LinePath:
+    """A straight task path ``x(s) = x0 + s e`` (``n``-vectors)."""
+
+    x0: np.ndarray
+    e: np.ndarray
+
+
+@dataclass(frozen=True)
+class TrajectoryState:
+    """``eta`` and its first three time derivatives at one instant."""
+
+    t: float
+    eta: np.ndarray
+    d1: np.ndarray
+    d2: np.ndarray
+    d3: np.ndarray
+
+
+def _newton(model, x, guess, tol=1e-13, steps=50):
+    eta = np.array(guess, float)
+    k = model.m - model.n
+    for _ in range(steps):
+        F = np.concatenate([model.loop(eta), model.task(eta) - x])
+        if np.max(np.abs(F)) < tol:
+            return eta
+        eta = eta - np.linalg.solve(model.Gamma(eta), F)
+    F = np.concatenate([model.loop(eta), model.task(eta) - x])
+    if np.max(np.abs(F)) > 1e-9:
+        raise InputError(f"the kinematics did not converge at x = {np.round(x, 6).tolist()} "
+                         f"(residual {np.max(np.abs(F)):.1e}); out of reach or at an inverse-kinematic singularity")
+    return eta
+
+
+def state(model, path, s, sd=0.0, sdd=0.0, sddd=0.0, guess=None, t=0.0):
+    """``eta, etadot, etaddot, etadddot`` for the path parameter and its time derivatives.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics.seed000 import seed000_model, seed000_path, SEED000
+    >>> from imagespace.dynamics.solve import LinePath, state
+    >>> model = seed000_model(); x0, e = seed000_path()
+    >>> st = state(model, LinePath(x0, e), 0.0, guess=[0.69, 2.2, 2.46, 0.36, 0.0])
+    >>> bool(abs(model.task(st.eta) - x0).max() < 1e-12)
+    True
+    """
+    x = path.x0 + s * path.e
+    eta = _newton(model, x, guess if guess is not None else np.zeros(model.m))
+    k = model.m - model.n
+    G = model.Gamma(eta)
+    rhs1 = np.concatenate([np.zeros(k), path.e * sd])
+    d1 = np.linalg.solve(G, rhs1)
+    Gd = model.Gamma_dot(eta, d1)
+    d2 = np.linalg.solve(G, np.concatenate([np.zeros(k), path.e * sdd]) - Gd @ d1)
+    Gdd = model.Gamma_ddot(eta, d1, d2)
+    d3 = np.linalg.solve(G, np.concatenate([np.zeros(k), path.e * sddd]) - 2 * Gd @ d2 - Gdd @ d1)
+    return TrajectoryState(t, eta, d1, d2, d3)
+
+
+def _left_null(AT):
+    u, s, vt = np.linalg.svd(AT.T)
+    return vt[-1], s[-1] / s[0]
+
+
+@dataclass(frozen=True)
+class DriveSingularity:
+    """Where a path meets ``|A| = 0``.
+
+    Attributes
+    ----------
+    s : float
+        Path parameter (bisection to 1e-13).
+    eta : (m,) float
+    nu : (m,) float
+        Left null vector of ``A^T`` (``nu^T A^T = 0``): row ``s_row`` of ``A^T`` equals
+        ``sum_p alpha_p row_p`` with ``alpha_p = -nu_p / nu_s``.
+    s_row : int
+    alpha : (m,) float
+        ``alpha_p`` (zero for ``p = s_row`` and rows not involved).
+    """
+
+    s: float
+    eta: np.ndarray
+    nu: np.ndarray
+    s_row: int
+    alpha: np.ndarray
+
+
+def drive_singularity(model, path, s_range, guess, samples=400):
+    """Locate the drive singularity ``det A = 0`` on the path (sign change, then bisection).
+
+    Raises
+    ------
+    InputError
+        If ``det A`` does not change sign on ``s_range`` (the path never crosses a drive
+        singularity), or the rank of ``A`` drops by more than one there.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics import *
+    >>> model = seed000_model(); x0, e = seed000_path(); path = LinePath(x0, e)
+    >>> eta0 = state(model, path, 0.0, guess=[0.69, 2.2, 2.46, 0.36, 0.0]).eta
+    >>> sing = drive_singularity(model, path, (0.0, 1.5), eta0)
+    >>> round(float(sing.s), 6), sing.s_row
+    (0.662, 4)
+    """
+    ss = np.linspace(s_range[0], s_range[1], samples)
+    eta = np.array(guess, float)
+    prev = None
+    for s in ss:
+        eta = state(model, path, s, guess=eta).eta
+        d = np.linalg.det(model.A_T(eta))
+        if prev is not None and np.sign(d) != np.sign(prev[1]):
+            a, b, ea = prev[0], s, prev[2]
+            da = prev[1]
+            for _ in range(100):
+                mid = 0.5 * (a + b)
+                em = state(model, path, mid, guess=ea).eta
+                dm = np.linalg.det(model.A_T(em))
+                if np.sign(dm) == np.sign(da):
+                    a, ea, da = mid, em, dm
+                else:
+                    b = mid
+                if b - a < 1e-13:
+                    break
+            s_star = 0.5 * (a + b)
+            e_star = state(model, path, s_star, guess=ea).eta
+            AT = model.A_T(e_star)
+            sv = np.linalg.svd(AT, compute_uv=False)
+            if sv[-2] < 1e-8 * sv[0]:
+                raise InputError(f"rank(A) < m - 1 at the singularity (singular values {sv}); "
+                                 "the modified equation needs a rank drop of exactly one")
+            nu, _ = _left_null(AT)
+            k = int(np.argmax(np.abs(nu)))
+            alpha = -nu / nu[k]
+            alpha[k] = 0.0
+            alpha[np.abs(alpha) < 1e-12] = 0.0
+            return DriveSingularity(float(s_star), e_star, nu, k, alpha)
+        prev = (s, d, eta.copy())
+    raise InputError(f"the path never reaches a drive singularity on s in {list(s_range)}: det A keeps its sign")
+
+
+def consistent_acceleration(model, path, sing, v):
+    """The path acceleration ``a = s''(T_d)`` that satisfies the consistency condition at the
+    singularity with path speed ``v`` (seed 000 eq. 8/20): ``nu . (M etaddot - R) = 0`` with
+    ``etaddot = eta' a + (eta'' v^2)``; linear in ``a``.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics import *
+    >>> model = seed000_model(); x0, e = seed000_path(); path = LinePath(x0, e)
+    >>> eta0 = state(model, path, 0.0, guess=[0.69, 2.2, 2.46, 0.36, 0.0]).eta
+    >>> sing = drive_singularity(model, path, (0.0, 1.5), eta0)
+    >>> bool(abs(consistent_acceleration(model, path, sing, 1.7)) < 100)
+    True
+    """
+    st0 = state(model, path, sing.s, v, 0.0, guess=sing.eta)
+    st1 = state(model, path, sing.s, v, 1.0, guess=sing.eta)
+    M = model.M(st0.eta)
+    R = model.R(st0.eta, st0.d1)
+    base = sing.nu @ (M @ st0.d2 - R)
+    slope = sing.nu @ (M @ (st1.d2 - st0.d2))
+    if abs(slope) < 1e-14 * max(1.0, abs(base)):
+        raise InputError("the consistency condition does not involve the path acceleration here")
+    return -base / slope
+
+
+def plan_consistent_law(model, path, sing, T, L, Td=None, v=None):
+    """The sixth-degree time law through the singularity that satisfies the consistency condition.
+
+    With ``Td`` and ``v`` given, they are used (the result says whether ``s`` is monotone); with
+    either missing, a grid of candidates is searched and the first monotone law returned.
+
+    Returns
+    -------
+    (TimeLaw, dict)
+        The law and ``{"Td", "v", "a", "monotone"}``.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics import *
+    >>> model = seed000_model(); x0, e = seed000_path(); path = LinePath(x0, e)
+    >>> eta0 = state(model, path, 0.0, guess=[0.69, 2.2, 2.46, 0.36, 0.0]).eta
+    >>> sing = drive_singularity(model, path, (0.0, 1.5), eta0)
+    >>> law, info = plan_consistent_law(model, path, sing, 1.0, 1.5)
+    >>> info["monotone"]
+    True
+    """
+    Tds = [Td] if Td is not None else list(np.linspace(0.35, 0.75, 41) * T)
+    vs = [v] if v is not None else list(np.linspace(0.5, 3.0, 51) * L / T)
+    best = None
+    for td in Tds:
+        for vv in vs:
+            a = consistent_acceleration(model, path, sing, vv)
+            law = sextic_through(T, L, td, sing.s, vv, a)
+            info = {"Td": float(td), "v": float(vv), "a": float(a), "monotone": law.is_monotone()}
+            if info["monotone"]:
+                return law, info
+            best = best or (law, info)
+    return best
+
+
+@dataclass(frozen=True)
+class InverseDynamicsResult:
+    """Forces along a trajectory.
+
+    Attributes
+    ----------
+    t : (k,) float
+    mu : (k, m) float
+        ``[lambda; T]``: loop forces, then actuator efforts (in the order of ``actuated``).
+    branch : (k,) str
+        ``"eq5"`` (regular) or ``"eq11"`` (modified equation inside the band ``|g| < eps``).
+    condition : (k,) float
+        Condition number of the matrix solved.
+    g : (k,) float
+        ``det A / (product of the row norms of A^T)``, the dimensionless singularity measure.
+    states : list of TrajectoryState
+    consistent : bool
+        False when the trajectory crosses the singularity without satisfying the consistency
+        condition (forces there are then unbounded and set to NaN inside the band).
+    consistency_residual : float
+        ``|nu . (M etaddot - R)|`` at the crossing, relative to ``|M etaddot - R|``.
+    """
+
+    t: np.ndarray
+    mu: np.ndarray
+    branch: np.ndarray
+    condition: np.ndarray
+    g: np.ndarray
+    states: list
+    consistent: bool
+    consistency_residual: float
+
+
+def _measure(AT):
+    return float(np.linalg.det(AT) / np.prod(np.linalg.norm(AT, axis=1)))
+
+
+def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3):
+    """Actuator and loop forces along ``x(t) = x0 + s(t) e`` (seed 000's algorithm).
+
+    Outside the band ``|g| < eps`` eq. 5 ``A^T mu = M etaddot - R``; inside it the modified
+    equation: row ``s`` replaced by ``(Adot_s - alpha_p Adot_p - alphadot_p A_p) mu =
+    (M_s - alpha_p M_p) eta''' + (Mdot_s - alpha_p Mdot_p - alphadot_p M_p) eta'' - Rdot_s +
+    alpha_p Rdot_p + alphadot_p R_p`` (the seed's eqs. 9-13 with their lost derivative orders
+    restored), ``alpha`` from the row dependence (least squares on the involved rows) and
+    ``alphadot`` by central differences in time.
+
+    Parameters
+    ----------
+    model : OpenTreeModel
+    path : LinePath
+    law : TimeLaw
+    times : (k,) float
+    guess : (m,) float
+        ``eta`` near the start (picks the assembly branch).
+    sing : DriveSingularity, optional
+        Needed for the band.
+    eps : float
+        Band half-width in ``g``.
+
+    Returns
+    -------
+    InverseDynamicsResult
+
+    Examples
+    --------
+    >>> from imagespace.dynamics import *
+    >>> model = seed000_model(); x0, e = seed000_path(); path = LinePath(x0, e)
+    >>> eta0 = state(model, path, 0.0, guess=[0.69, 2.2, 2.46, 0.36, 0.0]).eta
+    >>> sing = drive_singularity(model, path, (0.0, 1.5), eta0)
+    >>> law, info = plan_consistent_law(model, path, sing, 1.0, 1.5)
+    >>> res = inverse_dynamics(model, path, law, [0.2, info["Td"], 0.8], eta0, sing)
+    >>> res.branch.tolist(), res.consistent
+    (['eq5', 'eq11', 'eq5'], True)
+    """
+    if not eps > 0:
+        raise InputError(f"eps must be positive, got {eps!r}")
+    times = np.asarray(times, float)
+    eta = np.array(guess, float)
+    mus, branches, conds, gs, states = [], [], [], [], []
+    crossed_residual = 0.0
+    consistent = True
+    for t in times:
+        st = state(model, path, law(t), law(t, 1), law(t, 2), law(t, 3), guess=eta, t=t)
+        eta = st.eta
+        AT = model.A_T(st.eta)
+        g = _measure(AT)
+        M = model.M(st.eta)
+        R = model.R(st.eta, st.d1)
+        b = M @ st.d2 - R
+        if sing is not None and abs(g) < eps:
+            if sing.nu is not None:
+                res = abs(sing.nu @ b) / max(1e-300, np.linalg.norm(b))
+                crossed_residual = max(crossed_residual, res if abs(g) < 1e-6 else 0.0)
+            D, S = _modified(model, path, law, t, st, sing)
+            mu = np.linalg.solve(D, S)
+            branches.append("eq11")
+            conds.append(np.linalg.cond(D))
+        else:
+            mu = np.linalg.solve(AT, b)
+            branches.append("eq5")
+            conds.append(np.linalg.cond(AT))
+        mus.append(mu)
+        gs.append(g)
+        states.append(st)
+    mus = np.array(mus)
+    if sing is not None:
+        # the consistency residual at the singular instant itself
+        stc = None
+        k = int(np.argmin(np.abs(gs)))
+        stc = states[k]
+        b = model.M(stc.eta) @ stc.d2 - model.R(stc.eta, stc.d1)
+        crossed_residual = abs(sing.nu @ b) / max(1e-300, np.linalg.norm(b))
+        consistent = crossed_residual < 1e-6 or abs(gs[k]) > eps
+        if not consistent:
+            inside = np.abs(np.array(gs)) < eps
+            mus[inside] = np.nan
+    return InverseDynamicsResult(times, mus, np.array(branches), np.array(conds), np.array(gs), states,
+                                 bool(consistent), float(crossed_residual))
+
+
+def _alpha(model, eta, sing):
+    AT = model.A_T(eta)
+    s = sing.s_row
+    P = np.flatnonzero(sing.alpha != 0)
+    coef, *_ = np.linalg.lstsq(AT[P].T, AT[s], rcond=None)
+    alpha = np.zeros(model.m)
+    alpha[P] = coef
+    return alpha
+
+
+def _modified(model, path, law, t, st, sing, h=1e-6):
+    s = sing.s_row
+    alpha = _alpha(model, st.eta, sing)
+    sp_ = state(model, path, law(t + h), guess=st.eta).eta
+    sm_ = state(model, path, law(t - h), guess=st.eta).eta
+    alphad = (_alpha(model, sp_, sing) - _alpha(model, sm_, sing)) / (2 * h)
+    AT = model.A_T(st.eta)
+    ATd = model.A_T_dot(st.eta, st.d1)
+    M = model.M(st.eta)
+    Md = model.M_dot(st.eta, st.d1)
+    R = model.R(st.eta, st.d1)
+    Rd = model.R_dot(st.eta, st.d1, st.d2)
+    D = AT.copy()
+    D[s] = ATd[s] - alpha @ ATd - alphad @ AT
+    S = M @ st.d2 - R
+    S[s] = (M[s] - alpha @ M) @ st.d3 + (Md[s] - alpha @ Md - alphad @ M) @ st.d2 - Rd[s] + alpha @ Rd + alphad @ R
+    return D, S
+
+
+def _energy(model, st):
+    return 0.5 * st.d1 @ model.M(st.eta) @ st.d1 + model.potential(st.eta)
+
+
+def power_balance(model, path, law, result, h=2e-4):
+    """Actuator power minus the rate of change of kinetic + potential energy, at each instant.
+
+    The energy ``1/2 etadot^T M etadot + V`` is differentiated in time by the five-point central
+    difference (step ``h``, error ``O(h^4)``), independently of ``R``; the loop forces do no work
+    (``Gamma_K etadot = 0``).
+
+    Returns
+    -------
+    (k,) float
+        Residuals relative to the largest actuator power along the trajectory.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics import *
+    >>> model = seed000_model(); x0, e = seed000_path(); path = LinePath(x0, e)
+    >>> eta0 = state(model, path, 0.0, guess=[0.69, 2.2, 2.46, 0.36, 0.0]).eta
+    >>> sing = drive_singularity(model, path, (0.0, 1.5), eta0)
+    >>> law, info = plan_consistent_law(model, path, sing, 1.0, 1.5)
+    >>> res = inverse_dynamics(model, path, law, [0.2, 0.8], eta0, sing)
+    >>> bool(abs(power_balance(model, path, law, res)).max() < 1e-9)
+    True
+    """
+    k = model.m - model.n
+    res, pw = [], []
+    for t, mu, st in zip(result.t, result.mu, result.states):
+        P = mu[k:] @ (model.Z @ st.d1)
+        E = [_energy(model, state(model, path, law(t + k_ * h), law(t + k_ * h, 1), law(t + k_ * h, 2),
+                                   guess=st.eta)) for k_ in (-2, -1, 1, 2)]
+        dE = (E[0] - 8 * E[1] + 8 * E[2] - E[3]) / (12 * h)
+        res.append(P - dE)
+        pw.append(abs(P))
+    scale = max(pw) if pw and max(pw) > 0 else 1.0
+    return np.array(res) / scale
+
+
+def simulate(model, path, law, result, guess, baumgarte=(20.0, 100.0), rtol=1e-10, atol=1e-12):
+    """Forward dynamics driven by the computed actuator efforts (interpolated in time), constrained
+    by the loop with Baumgarte stabilisation; returns the task-space deviation from the plan.
+
+    Returns
+    -------
+    (k,) float
+        ``|P_simulated - P_planned|`` at ``result.t``.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics import *
+    >>> model = seed000_model(); x0, e = seed000_path(); path = LinePath(x0, e)
+    >>> eta0 = state(model, path, 0.0, guess=[0.69, 2.2, 2.46, 0.36, 0.0]).eta
+    >>> sing = drive_singularity(model, path, (0.0, 1.5), eta0)
+    >>> law, info = plan_consistent_law(model, path, sing, 1.0, 1.5)
+    >>> res = inverse_dynamics(model, path, law, np.linspace(0, 0.3, 31), eta0, sing)
+    >>> bool(simulate(model, path, law, res, eta0).max() < 1e-4)
+    True
+    """
+    from scipy.integrate import solve_ivp
+    from scipy.interpolate import CubicSpline
+
+    k = model.m - model.n
+    T_of = CubicSpline(result.t, result.mu[:, k:], axis=0)
+    st0 = result.states[0]
+    y0 = np.concatenate([st0.eta, st0.d1])
+    a1, a0 = baumgarte
+
+    def rhs(t, y):
+        eta, d1 = y[: model.m], y[model.m:]
+        M = model.M(eta)
+        R = model.R(eta, d1)
+        G = model.Gamma(eta)[:k]
+        Gd = model.Gamma_dot(eta, d1)[:k]
+        phi = model.loop(eta)
+        K = np.block([[M, -G.T], [G, np.zeros((k, k))]])
+        rhs_ = np.concatenate([R + model.Z.T @ T_of(t), -Gd @ d1 - a1 * (G @ d1) - a0 * phi])
+        sol = np.linalg.solve(K, rhs_)
+        return np.concatenate([d1, sol[: model.m]])
+
+    out = solve_ivp(rhs, (result.t[0], result.t[-1]), y0, t_eval=result.t, rtol=rtol, atol=atol, method="DOP853")
+    dev = []
+    for j, st in enumerate(result.states):
+        x_sim = model.task(out.y[: model.m, j])
+        x_plan = model.task(st.eta)
+        dev.append(np.linalg.norm(x_sim[:2] - x_plan[:2]))
+    return np.array(dev)

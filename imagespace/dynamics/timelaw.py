@@ -1,0 +1,120 @@
+"""Polynomial time laws ``s(t)`` for a path parameter (seed 000, eq. 21)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..exceptions import InputError
+
+__all__ = ["TimeLaw", "cubic_rest_to_rest", "sextic_through"]
+
+
+@dataclass(frozen=True)
+class TimeLaw:
+    """``s(t) = sum_k c_k t**k`` on ``[0, T]``.
+
+    Attributes
+    ----------
+    coefficients : (k + 1,) float
+        ``c_0 .. c_k``.
+    T : float
+    """
+
+    coefficients: np.ndarray
+    T: float
+
+    def __call__(self, t, order=0):
+        """``s``, or its ``order``-th time derivative, at ``t``.
+
+        Examples
+        --------
+        >>> from imagespace.dynamics.timelaw import cubic_rest_to_rest
+        >>> law = cubic_rest_to_rest(1.5, 1.0)
+        >>> float(law(1.0)), float(law(1.0, 1))
+        (1.5, 0.0)
+        """
+        c = np.polynomial.polynomial.Polynomial(self.coefficients)
+        for _ in range(order):
+            c = c.deriv()
+        return c(np.asarray(t, dtype=float))
+
+    def is_monotone(self, n=2001):
+        """True if ``s`` never decreases on ``[0, T]`` (sampled with ``n`` points, plus the
+        derivative's real roots inside).
+
+        Examples
+        --------
+        >>> from imagespace.dynamics.timelaw import cubic_rest_to_rest
+        >>> cubic_rest_to_rest(1.5, 1.0).is_monotone()
+        True
+        """
+        d = np.polynomial.polynomial.Polynomial(self.coefficients).deriv()
+        r = d.roots()
+        r = r[(np.abs(r.imag) < 1e-12) & (r.real > 1e-12) & (r.real < self.T - 1e-12)].real
+        ts = np.concatenate([np.linspace(0, self.T, n), r])
+        vals = d(ts)
+        scale = max(1.0, float(np.max(np.abs(vals))))
+        # a root strictly inside where the derivative changes sign means a local extremum
+        for x in r:
+            h = 1e-7 * self.T
+            if d(x - h) * d(x + h) < 0:
+                return False
+        return bool(np.all(vals >= -1e-12 * scale))
+
+
+def cubic_rest_to_rest(L, T):
+    """``s(t) = 3 L t^2/T^2 - 2 L t^3/T^3`` (zero speed at both ends).
+
+    Examples
+    --------
+    >>> from imagespace.dynamics.timelaw import cubic_rest_to_rest
+    >>> cubic_rest_to_rest(1.5, 1.0).coefficients.tolist()
+    [0.0, 0.0, 4.5, -3.0]
+    """
+    L, T = float(L), float(T)
+    if not T > 0:
+        raise InputError(f"T must be positive, got {T}")
+    return TimeLaw(np.array([0.0, 0.0, 3 * L / T**2, -2 * L / T**3]), T)
+
+
+def sextic_through(T, L, Td, Ld, v, a):
+    """The sixth-degree law with ``s(0) = s'(0) = 0``, ``s(T) = L``, ``s'(T) = 0``,
+    ``s(Td) = Ld``, ``s'(Td) = v``, ``s''(Td) = a`` (seed 000, eq. 21).
+
+    Parameters
+    ----------
+    T, L, Td, Ld, v, a : float
+
+    Returns
+    -------
+    TimeLaw
+
+    Raises
+    ------
+    InputError
+        ``Td`` not inside ``(0, T)``.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics.timelaw import sextic_through
+    >>> law = sextic_through(1.0, 1.5, 0.62, 0.662, 1.7, 10.6)
+    >>> [round(float(c), 1) for c in law.coefficients[2:]]
+    [20.8, -88.0, 147.0, -104.0, 25.8]
+    """
+    T, L, Td, Ld, v, a = (float(x) for x in (T, L, Td, Ld, v, a))
+    if not 0 < Td < T:
+        raise InputError(f"Td must be inside (0, T) = (0, {T}), got {Td}")
+    rows, rhs = [], []
+
+    def row(t, order):
+        out = np.zeros(7)
+        for k in range(order, 7):
+            out[k] = np.prod(np.arange(k, k - order, -1)) * t ** (k - order)
+        return out
+    for t, order, val in ((0.0, 0, 0.0), (0.0, 1, 0.0), (T, 0, L), (T, 1, 0.0), (Td, 0, Ld), (Td, 1, v), (Td, 2, a)):
+        rows.append(row(t, order))
+        rhs.append(val)
+    c = np.linalg.solve(np.array(rows), np.array(rhs))
+    return TimeLaw(c, T)
