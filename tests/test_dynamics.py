@@ -102,3 +102,17 @@ def test_bad_input(setup):
         inverse_dynamics(model, path, law, [0.1], st.eta, sing, eps=0.0)
     with pytest.raises(isp.InputError, match="Td"):
         sextic_through(1.0, 1.5, 1.2, 0.6, 1.0, 0.0)
+
+
+def test_band_forces_join_eq_5_with_the_mu_dot_term_restored(setup):
+    model, path, st, sing, law, info = setup
+    ts = np.linspace(info["Td"] - 0.01, info["Td"] + 0.01, 41)
+    ref = inverse_dynamics(model, path, law, ts, st.eta, sing, eps=1e-14)        # eq. 5 except at T_d
+    ours = inverse_dynamics(model, path, law, ts, st.eta, sing, eps=1e-3)
+    seed = inverse_dynamics(model, path, law, ts, st.eta, sing, eps=1e-3, mu_dot_correction=False)
+    band = (ours.branch == "eq11") & (ref.branch == "eq5")
+    assert band.sum() > 10
+    scale = np.abs(ref.mu[band, 2:]).max()
+    assert np.abs(ours.mu[band, 2:] - ref.mu[band, 2:]).max() < 1e-6 * scale
+    # the seed's equation (mu-dot term dropped) is only first-order accurate in the band
+    assert np.abs(seed.mu[band, 2:] - ref.mu[band, 2:]).max() > 1e-3 * scale

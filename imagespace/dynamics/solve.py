@@ -256,7 +256,7 @@ def _measure(AT):
     return float(np.linalg.det(AT) / np.prod(np.linalg.norm(AT, axis=1)))
 
 
-def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3):
+def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot_correction=True):
     """Actuator and loop forces along ``x(t) = x0 + s(t) e`` (seed 000's algorithm).
 
     Outside the band ``|g| < eps`` eq. 5 ``A^T mu = M etaddot - R``; inside it the modified
@@ -278,6 +278,11 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3):
         Needed for the band.
     eps : float
         Band half-width in ``g``.
+    mu_dot_correction : bool
+        Inside the band, put back the term ``(A_s - alpha_p A_p) mudot`` that the seed drops
+        (its coefficient vanishes only at the singular instant): the forces then join those of
+        eq. 5 continuously at the band's
+        edges instead of jumping by the neglected term.
 
     Returns
     -------
@@ -315,6 +320,22 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3):
                 crossed_residual = max(crossed_residual, res if abs(g) < 1e-6 else 0.0)
             D, S = _modified(model, path, law, t, st, sing)
             mu = np.linalg.solve(D, S)
+            if mu_dot_correction and abs(g) > 1e-7:
+                # restore the dropped term (A_s - alpha_p A_p) mudot; mudot from eq. 5 at t +- h,
+                # still well conditioned there (cond ~ 1/|g|); closer than |g| = 1e-7 the term is
+                # below the rounding of eq. 5 itself and is left out
+                h = 1e-6
+                mus_ = []
+                for tt in (t - h, t + h):
+                    st2 = state(model, path, law(tt), law(tt, 1), law(tt, 2), guess=st.eta, t=tt)
+                    mus_.append(np.linalg.solve(model.A_T(st2.eta),
+                                                model.M(st2.eta) @ st2.d2 - model.R(st2.eta, st2.d1)))
+                mudot = (mus_[1] - mus_[0]) / (2 * h)
+                alpha = _alpha(model, st.eta, sing)
+                c = AT[sing.s_row] - alpha @ AT
+                S = S.copy()
+                S[sing.s_row] -= c @ mudot
+                mu = np.linalg.solve(D, S)
             branches.append("eq11")
             conds.append(np.linalg.cond(D))
         else:
