@@ -76,6 +76,11 @@ def state(model, path, s, sd=0.0, sdd=0.0, sddd=0.0, guess=None, t=0.0):
     return TrajectoryState(t, eta, d1, d2, d3)
 
 
+def _at(model, path, law, t, guess):
+    """The state at time ``t`` of the trajectory ``x0 + s(t) e``."""
+    return state(model, path, law(t), law(t, 1), law(t, 2), law(t, 3), guess=guess, t=t)
+
+
 def _left_null(AT):
     u, s, vt = np.linalg.svd(AT.T)
     return vt[-1], s[-1] / s[0]
@@ -307,7 +312,7 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
     crossed_residual = 0.0
     consistent = True
     for t in times:
-        st = state(model, path, law(t), law(t, 1), law(t, 2), law(t, 3), guess=eta, t=t)
+        st = _at(model, path, law, t, eta)
         eta = st.eta
         AT = model.A_T(st.eta)
         g = _measure(AT)
@@ -327,7 +332,7 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
                 h = 1e-6
                 mus_ = []
                 for tt in (t - h, t + h):
-                    st2 = state(model, path, law(tt), law(tt, 1), law(tt, 2), guess=st.eta, t=tt)
+                    st2 = _at(model, path, law, tt, st.eta)
                     mus_.append(np.linalg.solve(model.A_T(st2.eta),
                                                 model.M(st2.eta) @ st2.d2 - model.R(st2.eta, st2.d1)))
                 mudot = (mus_[1] - mus_[0]) / (2 * h)
@@ -421,8 +426,7 @@ def power_balance(model, path, law, result, h=2e-4):
     res, pw = [], []
     for t, mu, st in zip(result.t, result.mu, result.states):
         P = mu[k:] @ (model.Z @ st.d1)
-        E = [_energy(model, state(model, path, law(t + k_ * h), law(t + k_ * h, 1), law(t + k_ * h, 2),
-                                   guess=st.eta)) for k_ in (-2, -1, 1, 2)]
+        E = [_energy(model, _at(model, path, law, t + k_ * h, st.eta)) for k_ in (-2, -1, 1, 2)]
         dE = (E[0] - 8 * E[1] + 8 * E[2] - E[3]) / (12 * h)
         res.append(P - dE)
         pw.append(abs(P))
