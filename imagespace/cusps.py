@@ -456,8 +456,9 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
         k0 = (a + length // 2) % len(top)
     order = np.append(np.roll(np.arange(steps), -k0), k0)
     Qo = Q[order]
-    modes0 = [(j, X, P, asp) for j, (X, P, asp, v) in enumerate(zip(res.image_points[k0], res.poses[k0],
-                                                                     res.aspect[k0], res.valid[k0])) if v]
+    v0 = res.valid[k0]                          # modes numbered among the valid ones, as in ``end``
+    modes0 = list(enumerate(zip(res.image_points[k0][v0], res.poses[k0][v0], res.aspect[k0][v0])))
+    modes0 = [(j, X, P, asp) for j, (X, P, asp) in modes0]
     near = sorted(modes0, key=lambda mm: _half_angle_gap(mm[2][2], cusp.theta))[:3]
     walks = []
     for j0, X0, P0, a0 in near:
@@ -474,9 +475,9 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
             aspects.append(int(res.aspect[k][res.valid[k]][j]))
         if len(poses) < len(order):
             continue
-        d0 = [min(np.linalg.norm(Y - X), np.linalg.norm(Y + X)) for Y in res.image_points[k0][res.valid[k0]]]
+        d0 = [min(np.linalg.norm(Y - X), np.linalg.norm(Y + X)) for Y in res.image_points[k0][v0]]
         end = int(np.argmin(d0))
-        start_j = int(np.flatnonzero(res.valid[k0])[:].tolist().index(j0)) if j0 in np.flatnonzero(res.valid[k0]) else j0
+        start_j = j0
         jumps = np.array(jumps)
         continuous = bool(jumps.max() <= max(20 * np.median(jumps), 1e-9))
         loop = CuspLoop(Qo, np.array(poses), start_j, end, end != start_j, np.array(aspects),

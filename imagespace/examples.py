@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ._validate import as_exact, check_positive
+from ._validate import as_exact, as_float_array, check_positive
 from .legs import PPR, RPR
 from .manipulator import PlanarParallel
 
@@ -228,7 +228,7 @@ def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18):
     >>> isp.examples.choi_3ppr_closed_form(m.q_example_float).round(6)[0]
     array([ 0.1 , -0.05,  0.2 ])
     """
-    rho = _as_rho(rho)
+    rho = as_float_array(rho, "rho", last=3, allow_batch=False)
     R, r, alpha = float(R), float(r), float(alpha)
     k = np.cos(alpha) / np.sin(alpha)
     sin_psi = np.sin(alpha) * (rho.sum() / 3 + R * k) / r
@@ -289,12 +289,6 @@ def choi_rotation_limits(alpha):
     """
     phi0 = float(alpha) - np.pi / 2
     return (phi0 - 5 * np.pi / 6, phi0 + 5 * np.pi / 6)
-
-
-def _as_rho(v):
-    from ._validate import as_float_array
-
-    return as_float_array(v, "rho", last=3, allow_batch=False)
 
 
 def choi_3ppr_indices(alpha, r_over_R, psi_max=17 * np.pi / 36, n_psi=73):

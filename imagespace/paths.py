@@ -456,10 +456,10 @@ def _sympy_roots(quartic, C):
                 out.append((float(a), float(b), mult))
                 continue
             m = (a + b) / 2
+            while f.eval(m) == 0:               # split at a non-root, so every count is unambiguous
+                m = (m + b) / 2
             k1 = f.count_roots(a, m)
-            stack += [(a, m, k1), (m, b, k - k1)] if f.eval(m) != 0 else [(a, m, k1 - 1), (m, b, k - k1)]
-            if f.eval(m) == 0:
-                out.append((float(m), float(m), mult))
+            stack += [(a, m, k1), (m, b, k - k1)]
     out.sort()
     return out
 

@@ -270,13 +270,14 @@ def plot_constraint_quadrics(manipulator, q, box, resolution=40, modes=None, ax=
     fig, ax = _axes3d(ax)
     x0, x1, x2, x3 = image_symbols()
     u, v, w = sp.symbols("u v w", real=True)
+    kinds = [qd.kind for qd in manipulator.quadrics(q)]
     for i, e in enumerate(manipulator.constraint_equations(q)):
         expr = sp.expand(e.xreplace({x0: 1, x1: w, x2: u, x3: v}))
         mesh = mesh_implicit(PolynomialImplicit(expr, (u, v, w)), box, resolution=resolution)
         if len(mesh.faces):
             _draw_mesh(ax, mesh, _LEG_COLOURS[i % 3], alpha)
         ax.plot([], [], color=_LEG_COLOURS[i % 3], lw=6, alpha=0.5,
-                label=f"H{i + 1}: {manipulator.legs[i].joints} ({manipulator.quadrics(q)[i].kind} dyad)")
+                label=f"H{i + 1}: {manipulator.legs[i].joints} ({kinds[i]} dyad)")
     ms = _modes_for(manipulator, q, modes)
     if ms:
         P = _chart_coords(ms, "image")

@@ -455,6 +455,12 @@ class SingularitySurface:
         return sp.expand(self.expr().xreplace(sub)), (u, v, w)
 
 
+def _dependent_legs(manipulator):
+    """Indices of the legs whose joint value stays in the singularity quartic."""
+    free = manipulator.singularity_polynomial().free_symbols
+    return tuple(i for i, s in enumerate(manipulator.joint_symbols) if s in free)
+
+
 def singularity_surface(manipulator, q=None, working_modes=None):
     """The singularity surface of a manipulator, labelled by what it is.
 
@@ -488,7 +494,7 @@ def singularity_surface(manipulator, q=None, working_modes=None):
     """
     P = manipulator.singularity_polynomial()
     joint_syms = manipulator.joint_symbols
-    depends = tuple(i for i, s in enumerate(joint_syms) if s in P.free_symbols)
+    depends = _dependent_legs(manipulator)
     if not depends:
         return SingularitySurface(manipulator, P, "joint-free")
     if q is not None and working_modes is not None:
@@ -542,8 +548,7 @@ def singularity_surfaces(manipulator):
     >>> len(isp.singularity_surfaces(isp.examples.stigger_husty()))
     1
     """
-    P = manipulator.singularity_polynomial()
-    depends = [i for i, s in enumerate(manipulator.joint_symbols) if s in P.free_symbols]
+    depends = _dependent_legs(manipulator)
     if not depends:
         return [singularity_surface(manipulator)]
     ranges = [range(manipulator.legs[i].n_branches) if i in depends else [0] for i in range(3)]

@@ -38,7 +38,6 @@ class TrajectoryState:
 
 def _newton(model, x, guess, tol=1e-13, steps=50):
     eta = np.array(guess, float)
-    k = model.m - model.n
     for _ in range(steps):
         F = np.concatenate([model.loop(eta), model.task(eta) - x])
         if np.max(np.abs(F)) < tol:
@@ -309,8 +308,7 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
     times = np.asarray(times, float)
     eta = np.array(guess, float)
     mus, branches, conds, gs, states = [], [], [], [], []
-    crossed_residual = 0.0
-    consistent = True
+    crossed_residual, consistent = 0.0, True
     for t in times:
         st = _at(model, path, law, t, eta)
         eta = st.eta
@@ -320,9 +318,6 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
         R = model.R(st.eta, st.d1)
         b = M @ st.d2 - R
         if sing is not None and abs(g) < eps:
-            if sing.nu is not None:
-                res = abs(sing.nu @ b) / max(1e-300, np.linalg.norm(b))
-                crossed_residual = max(crossed_residual, res if abs(g) < 1e-6 else 0.0)
             D, S = _modified(model, path, law, t, st, sing)
             mu = np.linalg.solve(D, S)
             if mu_dot_correction and abs(g) > 1e-7:
@@ -352,8 +347,7 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
         states.append(st)
     mus = np.array(mus)
     if sing is not None:
-        # the consistency residual at the singular instant itself
-        stc = None
+        # the consistency residual at the instant closest to the singularity
         k = int(np.argmin(np.abs(gs)))
         stc = states[k]
         b = model.M(stc.eta) @ stc.d2 - model.R(stc.eta, stc.d1)
