@@ -5,7 +5,8 @@ The public API; see README.md for the feature table and DESIGN.md for the conven
 
 from . import examples
 from .constraints import Quadric, image_symbols, pp_quadric, pr_quadric, rp_quadric, rr_quadric
-from .exceptions import DegenerateDesignError, EliminationError, ImageSpaceError, InputError
+from .exceptions import (DegenerateDesignError, EliminationError, ImageSpaceError, InputError,
+                         NearSingularWarning)
 from .kinematic_map import compose, image_point, inverse, normalize, pose_of, transform_matrix, transform_points
 from .legs import PPR, PRP, PRR, RPP, RPR, RRP, RRR, Leg
 from .certify import RealRootCertificate, certify_real_roots, certify_real_roots_batch
@@ -37,6 +38,6 @@ __all__ = [
     "mode_count_map", "cusps", "cusp_loop", "cusp_edges", "linking_number", "backlash",
     "gruebler", "manipulator_mobility", "mechanism_mobility", "sweep", "fuzzy_minmax",
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
-    "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError",
+    "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError", "NearSingularWarning",
     "Tolerances", "TOLERANCES",
 ]

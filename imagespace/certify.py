@@ -23,14 +23,104 @@ The point at infinity ``x0 = 0`` (the half-turn) is a root exactly when the coef
 
 from __future__ import annotations
 
+import math
+import threading
+from contextlib import contextmanager
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 import sympy as sp
 
 from .exceptions import InputError
 
-__all__ = ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch"]
+__all__ = ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
+           "flint_precision", "arb_bounds", "outward_float_interval"]
+
+#: Relative width (in bits) to which every certified real root is refined: the isolating interval
+#: of a root ``r`` ends narrower than ``2**-REFINE_BITS * max(1, |r|)``, far below double precision,
+#: so two certified roots give two distinct float approximations whenever floats can tell them
+#: apart, and the modes are back-substituted from a point that is exact to double precision.
+REFINE_BITS = 200
+
+_FLINT_LOCK = threading.RLock()
+
+
+@contextmanager
+def flint_precision(bits):
+    """Run a block with python-flint's working precision set to ``bits``, thread-safely.
+
+    python-flint keeps one process-global context (``flint.ctx.prec``). Every arb computation of
+    imagespace runs inside this lock and restores the caller's setting afterwards, so two threads
+    certifying at once do not change each other's precision, and a user's ``flint.ctx.dps`` does
+    not reach a certificate. Correctness never depends on the precision anyway: arb balls enclose
+    the exact value at any precision and every decision is taken on exact rational bounds read
+    off them (:func:`arb_bounds`); the precision only decides how often a question can be settled.
+
+    Examples
+    --------
+    >>> import flint
+    >>> from imagespace.certify import flint_precision
+    >>> with flint_precision(200):
+    ...     flint.ctx.prec
+    200
+    """
+    import flint
+
+    with _FLINT_LOCK:
+        old = flint.ctx.prec
+        flint.ctx.prec = int(bits)
+        try:
+            yield
+        finally:
+            flint.ctx.prec = old
+
+
+def _arf_fraction(x):
+    """The exact value of an exact arb (radius zero, e.g. ``ball.mid()``) as a Fraction."""
+    m, e = x.man_exp()
+    m, e = int(m), int(e)
+    return Fraction(m * 2**e) if e >= 0 else Fraction(m, 2**-e)
+
+
+def arb_bounds(ball):
+    """Exact rational lower and upper bounds ``(lo, hi)`` of a python-flint ``arb`` ball.
+
+    The midpoint and radius of an arb ball are exact binary numbers; they are read exactly, so
+    ``lo <= x <= hi`` holds for every number ``x`` the ball encloses, whatever the working
+    precision. (``float(ball.lower())`` is not such a bound: it rounds to nearest.)
+
+    Examples
+    --------
+    >>> import flint
+    >>> from imagespace.certify import arb_bounds
+    >>> lo, hi = arb_bounds(flint.arb(2).sqrt())
+    >>> lo * lo <= 2 <= hi * hi
+    True
+    """
+    if not ball.is_finite():
+        raise InputError(f"ball must be finite, got {ball}")
+    mid, rad = _arf_fraction(ball.mid()), _arf_fraction(ball.rad())
+    return mid - rad, mid + rad
+
+
+def outward_float_interval(lo, hi):
+    """Floats ``(a, b)`` with ``a <= lo`` and ``b >= hi`` for exact rationals ``lo <= hi``.
+
+    Examples
+    --------
+    >>> from fractions import Fraction
+    >>> from imagespace.certify import outward_float_interval
+    >>> a, b = outward_float_interval(Fraction(1, 3), Fraction(1, 3))
+    >>> Fraction(a) < Fraction(1, 3) < Fraction(b)
+    True
+    """
+    a, b = float(lo), float(hi)
+    if Fraction(a) > lo:
+        a = math.nextafter(a, -math.inf)
+    if Fraction(b) < hi:
+        b = math.nextafter(b, math.inf)
+    return a, b
 
 
 @dataclass(frozen=True)
@@ -54,6 +144,12 @@ class RealRootCertificate:
         Multiplicity of the root ``x0 = 0`` (0 if none).
     method : str
         How the answer was obtained.
+    exact_intervals : tuple of (Fraction, Fraction)
+        The same isolating intervals with exact rational ends, refined so that each is narrower
+        than ``2**-REFINE_BITS * max(1, |t|)``; ``intervals`` are these rounded outwards.
+    exact : bool
+        True when the coefficients were rational and every statement (count, multiplicities)
+        was decided in exact arithmetic; False for the arb path (irrational coefficients).
     """
 
     certified: bool
@@ -62,6 +158,8 @@ class RealRootCertificate:
     multiplicities: tuple
     at_infinity: int
     method: str
+    exact_intervals: tuple = ()
+    exact: bool = False
 
     def contains(self, t):
         """True if the finite real root intervals contain ``t = x1/x0`` (a float).
@@ -85,18 +183,77 @@ def _is_zero(c):
     return bool(z)
 
 
-def _exact_path(coeffs):
+def _fmpq(c):
     import flint
 
-    poly = flint.fmpq_poly([flint.fmpq(int(c.p), int(c.q)) for c in coeffs])
-    intervals, mults = [], []
-    for root, mult in poly.complex_roots():
-        if root.imag.is_zero():
-            lo, hi = root.real.lower(), root.real.upper()
-            intervals.append((float(lo) - abs(float(lo)) * 2.3e-16 - 5e-324,
-                              float(hi) + abs(float(hi)) * 2.3e-16 + 5e-324))
-            mults.append(int(mult))
-    return intervals, mults
+    c = sp.Rational(c)
+    return flint.fmpq(int(c.p), int(c.q))
+
+
+def _sign_at(poly, x):
+    """Exact sign of a flint fmpq_poly at a Fraction."""
+    import flint
+
+    v = poly(flint.fmpq(x.numerator, x.denominator))
+    return (v > 0) - (v < 0)
+
+
+def _refine(poly, lo, hi, bits):
+    """Shrink ``[lo, hi]`` (exact, holding exactly one root of the square-free ``poly``, a simple
+    root) by exact bisection until its width is below ``2**-bits * max(1, |lo|, |hi|)``."""
+    slo, shi = _sign_at(poly, lo), _sign_at(poly, hi)
+    if slo == 0:
+        return lo, lo
+    if shi == 0:
+        return hi, hi
+    if slo == shi:
+        raise RuntimeError("isolating interval without a sign change of its square-free factor")
+    scale = max(Fraction(1), abs(lo), abs(hi))
+    target = scale / 2**bits
+    # bisect on dyadic points: their denominators grow by one bit per step
+    while hi - lo > target:
+        mid = (lo + hi) / 2
+        s = _sign_at(poly, mid)
+        if s == 0:
+            return mid, mid
+        if s == slo:
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
+
+
+def _exact_path(coeffs, bits=None):
+    """Real roots of a rational polynomial ``sum coeffs[k] t**k``: exact isolating intervals
+    (Fractions), refined; multiplicities from the square-free factorisation.
+
+    FLINT's ``complex_roots`` isolates the roots of each square-free factor in disjoint balls
+    whose real roots have an imaginary part exactly zero; the balls are valid at any working
+    precision. Their ends are read exactly (:func:`arb_bounds`), and each interval is refined by
+    exact bisection on the sign of its square-free factor, so nothing here depends on the
+    working precision or on rounding.
+    """
+    import flint
+
+    bits = REFINE_BITS if bits is None else bits
+    poly = flint.fmpq_poly([_fmpq(c) for c in coeffs])
+    num = flint.fmpz_poly([int(v) for v in (poly * poly.denom()).coeffs()])
+    _, factors = num.factor_squarefree()
+    found = []
+    with flint_precision(max(2 * bits, 128)):
+        for fac, mult in factors:
+            g = flint.fmpq_poly(fac.coeffs())
+            for root, _m in fac.complex_roots():
+                if not root.imag.is_zero():
+                    continue
+                lo, hi = arb_bounds(root.real)
+                found.append((g, lo, hi, int(mult)))
+    out = []
+    for g, lo, hi, mult in found:
+        lo, hi = _refine(g, lo, hi, bits)
+        out.append((lo, hi, mult))
+    out.sort(key=lambda r: r[0])
+    return out
 
 
 def _ball(c, prec):
@@ -113,35 +270,66 @@ def _ball(c, prec):
     return flint.arb(str(s)) + flint.arb(0, str(sp.Float(rad, 5)))
 
 
-def _arb_path(coeffs):
+def _arb_discs(coeffs, prec):
     import flint
 
-    old = flint.ctx.prec
+    poly = flint.acb_poly([flint.acb(_ball(c, prec)) for c in coeffs])
     try:
+        roots = poly.roots()
+    except ValueError:
+        return None
+    discs = []
+    for r in roots:
+        rlo, rhi = arb_bounds(r.real)
+        ilo, ihi = arb_bounds(r.imag)
+        discs.append((rlo, rhi, ilo, ihi))
+    return discs
+
+
+def _arb_decide(discs):
+    """Real roots among disjoint boxes: a box off the real axis holds a non-real root; a box that
+    meets the axis holds a real root when its mirror image meets no other box (the conjugate of
+    its root is then itself). Returns the real intervals, or None if some box is undecided."""
+    intervals = []
+    for i, (rlo, rhi, ilo, ihi) in enumerate(discs):
+        if ilo > 0 or ihi < 0:
+            continue
+        m = max(abs(ilo), abs(ihi))
+        for j, (slo, shi, jlo, jhi) in enumerate(discs):
+            if j != i and not (shi < rlo or slo > rhi or jlo > m or jhi < -m):
+                return None
+        intervals.append((rlo, rhi))
+    return intervals
+
+
+def _arb_path(coeffs, bits=None):
+    """Isolation of the real roots of a polynomial with irrational exact coefficients (arb)."""
+    bits = REFINE_BITS if bits is None else bits
+    with flint_precision(64):
         for prec in (64, 128, 256, 512, 1024):
-            flint.ctx.prec = prec
-            poly = flint.acb_poly([flint.acb(_ball(c, prec)) for c in coeffs])
-            try:
-                roots = poly.roots()
-            except ValueError:
+            discs = _arb_discs(coeffs, prec)
+            if discs is None:
                 continue
-            discs = [(complex(float(r.real.mid()), float(r.imag.mid())),
-                      float(r.real.rad()) + float(r.imag.rad())) for r in roots]
-            decided, intervals = True, []
-            for i, (c, rad) in enumerate(discs):
-                if abs(c.imag) > rad:
-                    continue                                   # non-real
-                hull = (complex(c.real, 0.0), abs(c.imag) + rad)
-                clash = any(abs(hull[0] - c2) <= hull[1] + r2 for j, (c2, r2) in enumerate(discs) if j != i)
-                if clash:
-                    decided = False
-                    break
-                intervals.append((c.real - hull[1], c.real + hull[1]))
-            if decided:
-                return intervals, [1] * len(intervals), prec
+            intervals = _arb_decide(discs)
+            if intervals is None:
+                continue
+            # refine: the roots once more at the precision the refinement asks for; the real
+            # boxes found there are matched to the isolated ones (each lies inside exactly one)
+            fine = None if prec >= bits + 64 else _arb_discs(coeffs, bits + 64)
+            if fine is not None:
+                fine_iv = _arb_decide(fine)
+                if fine_iv is not None and len(fine_iv) == len(intervals):
+                    matched = []
+                    for lo, hi in intervals:
+                        inside = [(a, b) for a, b in fine_iv if lo <= a and b <= hi]
+                        if len(inside) != 1:
+                            break
+                        matched.append(inside[0])
+                    else:
+                        intervals = matched
+            intervals.sort()
+            return intervals, [1] * len(intervals), prec
         return None, None, prec
-    finally:
-        flint.ctx.prec = old
 
 
 def certify_real_roots(form):
@@ -171,62 +359,186 @@ def certify_real_roots(form):
         d = form.total_degree()
         coeffs = [form.coeff_monomial(gens[0] ** (d - k) * gens[1] ** k) for k in range(d + 1)]
     else:
-        coeffs = [sp.Rational(c) if isinstance(c, (float, np.floating)) else sp.sympify(c) for c in form]
+        if isinstance(form, (str, bytes)):
+            raise TypeError(f"form must be a sympy Poly or a sequence of numbers, got {form!r}")
+        coeffs = []
+        for k, c in enumerate(form):
+            if isinstance(c, (str, bytes)):
+                raise TypeError(f"form[{k}] must be a number or a sympy expression, got the string {c!r}")
+            if isinstance(c, (float, np.floating)):
+                if not math.isfinite(float(c)):
+                    raise InputError(f"form[{k}] must be finite, got {float(c)}")
+                coeffs.append(sp.Rational(float(c)))
+            elif isinstance(c, (int, np.integer)):
+                coeffs.append(sp.Integer(int(c)))
+            elif isinstance(c, Fraction):
+                coeffs.append(sp.Rational(c.numerator, c.denominator))
+            elif isinstance(c, sp.Basic):
+                coeffs.append(c)
+            else:
+                raise TypeError(f"form[{k}] must be a number or a sympy expression, got "
+                                f"{type(c).__name__} {c!r}")
+    for k, c in enumerate(coeffs):
+        if c.has(sp.nan, sp.zoo, sp.oo, -sp.oo) or c.free_symbols:
+            raise InputError(f"coefficient {k} of the form must be a finite number, got {c}")
     if len(coeffs) == 0 or all(_is_zero(c) for c in coeffs):
         raise InputError("form must not vanish identically (every coefficient is zero)")
     at_inf = 0
     while _is_zero(coeffs[-1]):
         coeffs = coeffs[:-1]
         at_inf += 1
+    rational = all(sp.sympify(c).is_Rational for c in coeffs)
     if len(coeffs) == 1:
         return RealRootCertificate(True, int(at_inf > 0), (), (), at_inf,
-                                   "exact: the form is a constant times a power of x0")
-    if all(sp.sympify(c).is_Rational for c in coeffs):
-        intervals, mults = _exact_path(coeffs)
-        return RealRootCertificate(True, len(intervals) + int(at_inf > 0), tuple(intervals), tuple(mults),
-                                   at_inf, "exact: python-flint fmpq_poly.complex_roots "
-                                   "(arb_fmpz_poly_complex_roots on square-free factors)")
+                                   "exact: the form is a constant times a power of x0", (), rational)
+    if rational:
+        roots = _exact_path(coeffs)
+        exact_iv = tuple((lo, hi) for lo, hi, _ in roots)
+        return RealRootCertificate(True, len(roots) + int(at_inf > 0),
+                                   tuple(outward_float_interval(lo, hi) for lo, hi in exact_iv),
+                                   tuple(m for _, _, m in roots), at_inf,
+                                   "exact: python-flint complex_roots on the square-free factors "
+                                   "(arb_fmpz_poly_complex_roots), intervals refined by exact bisection",
+                                   exact_iv, True)
     intervals, mults, prec = _arb_path(coeffs)
     if intervals is None:
         return RealRootCertificate(False, None, (), (), at_inf,
                                    f"not certified: acb_poly.roots could not isolate every root up to "
-                                   f"{prec} bits (a multiple root with irrational coefficients?)")
-    return RealRootCertificate(True, len(intervals) + int(at_inf > 0), tuple(intervals), tuple(mults), at_inf,
+                                   f"{prec} bits (a multiple root with irrational coefficients?)", (), False)
+    return RealRootCertificate(True, len(intervals) + int(at_inf > 0),
+                               tuple(outward_float_interval(lo, hi) for lo, hi in intervals),
+                               tuple(mults), at_inf,
                                f"arb balls: python-flint acb_poly.roots isolation at {prec} bits, real "
-                               "roots by conjugate-symmetric discs")
+                               "roots by conjugate-symmetric discs", tuple(intervals), False)
 
 
 _U = 2.0**-53
 
 
-def certify_real_roots_batch(F):
-    """Certified real-root counts for a batch of float binary forms, vectorised, with a fallback.
+def inclusion_discs(F, E=None):
+    """Inclusion discs of the roots of float polynomials known up to ``E``, with rounding bounds.
 
-    The coefficients are taken as the exact binary rationals they are. For every row the roots
-    are approximated (companion eigenvalues) and enclosed in the discs of the Gerschgorin-type
-    theorem for polynomials (Braess-Hadeler, Carstensen): with ``z_1..z_d`` distinct
-    approximations of the roots of ``p`` (degree ``d``, leading coefficient ``a_d``), the discs
-    ``D(z_i, d |p(z_i)| / |a_d prod_{j != i} (z_i - z_j)|)`` cover all roots and a union of ``m``
-    discs disjoint from the others holds exactly ``m`` roots. Rounding is bounded rigorously:
-    ``|p(z_i)|`` is enlarged by the Horner error bound ``gamma_{2d+1} sum |a_k| |z_i|^k`` and the
-    denominator decreased by a relative ``(4d + 4) u``. A row is decided by the discs when they are
-    pairwise disjoint and each is either off the real axis (non-real root) or such that the disc
-    centred on the real axis that covers it and its mirror image meets no other disc (the root is
-    its own conjugate: real). Every other row (multiple or nearly multiple roots, a root at
-    ``x0 = 0``, non-finite entries) is decided exactly by :func:`certify_real_roots`.
+    The vectorised core of :func:`certify_real_roots_batch` (see there for the theorem and the
+    rounding bounds); also the near-singularity test of the floating-point paths.
+
+    Parameters
+    ----------
+    F : (n, d+1) float
+        ``F[:, k]`` multiplies ``t**k``; the leading coefficients must exceed ``E[:, d]``.
+    E : (n, d+1) float, optional
+        Coefficient uncertainty (default 0).
+
+    Returns
+    -------
+    good : (n,) bool
+        The discs are pairwise disjoint and each is decided (real or non-real).
+    real : (n, d) bool
+        Which discs hold a real (then simple) root, where ``good``.
+    z : (n, d) complex
+        Disc centres.
+    hull_r : (n, d) float
+        Radius of the disc centred on the real axis that covers a disc and its mirror image.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.certify import inclusion_discs
+    >>> good, real, z, r = inclusion_discs(np.array([[-2.0, 0.0, 1.0], [1.0, -2.0, 1.0]]))
+    >>> good.tolist(), real[0].tolist()
+    ([True, False], [True, True])
+    """
+    F = np.asarray(F, dtype=float)
+    E = np.zeros_like(F) if E is None else np.asarray(E, dtype=float)
+    n, d1 = F.shape
+    d = d1 - 1
+    comp = np.zeros((n, d, d))
+    if d > 1:
+        comp[:, np.arange(1, d), np.arange(d - 1)] = 1.0
+    with np.errstate(all="ignore"):
+        comp[:, :, d - 1] = -F[:, :d] / F[:, d][:, None]
+        if d > 1:
+            fin = np.all(np.isfinite(comp), axis=(1, 2))
+            z = np.full((n, d), np.nan + 0j)
+            if np.any(fin):
+                z[fin] = np.linalg.eigvals(comp[fin])
+        else:
+            z = -(F[:, 0] / F[:, 1])[:, None].astype(complex)
+        # Horner on the float coefficients, with its rounding bound and the coefficient box
+        val = np.zeros_like(z)
+        absum = np.zeros(z.shape)
+        errsum = np.zeros(z.shape)
+        az = np.abs(z)
+        for k in range(d, -1, -1):
+            val = val * z + F[:, k][:, None]
+            absum = absum * az + np.abs(F[:, k])[:, None]
+            errsum = errsum * az + E[:, k][:, None]
+        gamma = (4 * d + 4) * _U / (1 - (4 * d + 4) * _U)   # complex Horner, generous
+        pbound = (np.abs(val) * (1 + 4 * _U) + 2 * gamma * absum + errsum) * (1 + 4 * _U)
+        diff = z[:, :, None] - z[:, None, :]
+        diff[:, np.arange(d), np.arange(d)] = 1.0
+        lead = (np.abs(F[:, d]) - E[:, d]) * (1 - 2 * _U)
+        denom = lead[:, None] * np.prod(np.abs(diff), axis=2)
+        denom = denom * (1 - (4 * d + 4) * _U)
+        r = d * pbound / denom * (1 + (4 * d + 4) * _U)
+        ok = np.all(np.isfinite(r) & np.isfinite(z.real) & (denom > 0), axis=1)
+        dist = np.abs(diff)
+        dist[:, np.arange(d), np.arange(d)] = np.inf
+        disjoint = np.all(dist > r[:, :, None] + r[:, None, :], axis=(1, 2))
+        nonreal = np.abs(z.imag) > r
+        hull_r = np.abs(z.imag) + r
+        hull_dist = np.abs(z.real[:, :, None] - z[:, None, :])
+        hull_dist[:, np.arange(d), np.arange(d)] = np.inf
+        real = ~nonreal & np.all(hull_dist > hull_r[:, :, None] + r[:, None, :], axis=2)
+        good = ok & disjoint & np.all(nonreal | real, axis=1)
+    return good, real, z, hull_r
+
+
+def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):
+    """Certified real-root counts for a batch of binary forms, vectorised, with an exact fallback.
+
+    Each row is a binary form known either exactly (``err`` None: the floats are taken as the
+    exact binary rationals they are) or up to a rigorous bound per coefficient (the exact form
+    lies in ``F +- err``, e.g. coefficients evaluated in floating point with a rounding bound).
+    For every row the roots are approximated (companion eigenvalues) and enclosed in the discs of
+    the Gerschgorin-type theorem for polynomials (Braess-Hadeler, Carstensen): with ``z_1..z_d``
+    distinct approximations of the roots of ``p`` (degree ``d``, leading coefficient ``a_d``), the
+    discs ``D(z_i, d |p(z_i)| / |a_d prod_{j != i} (z_i - z_j)|)`` cover all roots and a union of
+    ``m`` discs disjoint from the others holds exactly ``m`` roots. Rounding is bounded rigorously:
+    ``|p(z_i)|`` is enlarged by the Horner error bound ``gamma_{2d+1} sum |a_k| |z_i|^k`` plus the
+    coefficient uncertainty ``sum err_k |z_i|^k``, ``|a_d|`` is decreased by ``err_d`` and the
+    denominator by a relative ``(4d + 4) u``; the bound then holds for every form in the box, the
+    exact one included. A row is decided by the discs when they are pairwise disjoint and each
+    is either off the real axis (non-real root) or such that the disc centred on the real axis
+    that covers it and its mirror image meets no other disc (the root is its own conjugate:
+    real; it is then also simple). Every other row (multiple or nearly multiple roots, a root at
+    ``x0 = 0``, coefficients too uncertain) is decided exactly by :func:`certify_real_roots` on
+    the exact coefficients.
 
     Parameters
     ----------
     F : (n, d+1) float
         ``F[:, k]`` multiplies ``x0**(d-k) x1**k``.
+    err : (n, d+1) float, optional
+        Rigorous bounds ``|exact - F| <= err`` per coefficient. Requires ``exact``.
+    exact : callable, optional
+        ``exact(i)`` returns the exact coefficients of row ``i`` (sympy numbers or Fractions)
+        for the rows the discs cannot decide. Default: the floats of ``F`` themselves.
+    return_intervals : bool
+        Also return the real-root intervals.
 
     Returns
     -------
     counts : (n,) int
-        Distinct real roots on the projective line; ``-1`` for rows that vanish identically or
-        are not finite.
+        Distinct real roots on the projective line; ``-1`` for rows that are not finite, that
+        vanish identically (``path == "zero"``) or could not be certified.
     path : (n,) str array
-        ``"discs"`` (vectorised inclusion discs), ``"flint"`` (exact fallback) or ``"invalid"``.
+        ``"discs"`` (vectorised inclusion discs), ``"flint"`` (exact fallback), ``"zero"`` (the
+        exact form vanishes identically), ``"uncertified"`` (the exact fallback could not decide,
+        irrational coefficients with a multiple root) or ``"invalid"``.
+    intervals : (n, d, 2) float, only with ``return_intervals``
+        For each certified real root, an interval of ``t = x1/x0`` that contains it and no other
+        root, rounded outwards, in ascending order; ``(inf, inf)`` for the root ``x0 = 0``; NaN
+        in unused slots. On the disc path the roots are simple.
 
     Examples
     --------
@@ -241,48 +553,58 @@ def certify_real_roots_batch(F):
         raise InputError(f"F must have shape (n, d+1) with d >= 1, got {F.shape}")
     n, d1 = F.shape
     d = d1 - 1
+    if err is None:
+        E = np.zeros_like(F)
+    else:
+        E = np.asarray(err, dtype=float)
+        if E.shape != F.shape:
+            raise InputError(f"err must have the shape of F {F.shape}, got {E.shape}")
+        if exact is None and np.any(E != 0):
+            raise InputError("err needs exact: the rows the discs cannot decide are decided on "
+                             "their exact coefficients")
+    if exact is None:
+        def exact(i):
+            return [sp.Rational(float(v)) for v in F[i]]
     counts = np.full(n, -1, dtype=int)
     path = np.full(n, "invalid", dtype=object)
-    finite = np.all(np.isfinite(F), axis=1) & np.any(F != 0, axis=1)
-    regular = finite & (F[:, d] != 0)
+    ivals = np.full((n, d, 2), np.nan)
+    finite = np.all(np.isfinite(F), axis=1) & np.all(np.isfinite(E), axis=1)
+    nonzero = finite & np.any(np.abs(F) > E, axis=1)
+    regular = nonzero & (np.abs(F[:, d]) > E[:, d])
     idx = np.flatnonzero(regular)
     decided = np.zeros(n, dtype=bool)
     if idx.size:
-        comp = np.zeros((idx.size, d, d))
-        if d > 1:
-            comp[:, np.arange(1, d), np.arange(d - 1)] = 1.0
-        comp[:, :, d - 1] = -F[idx, :d] / F[idx, d][:, None]
-        with np.errstate(all="ignore"):
-            z = np.linalg.eigvals(comp) if d > 1 else -(F[idx, 0] / F[idx, 1])[:, None].astype(complex)
-            # Horner on the original (exact) coefficients, with its rounding bound
-            val = np.zeros_like(z)
-            absum = np.zeros(z.shape)
-            az = np.abs(z)
-            for k in range(d, -1, -1):
-                val = val * z + F[idx, k][:, None]
-                absum = absum * az + np.abs(F[idx, k])[:, None]
-            gamma = (4 * d + 4) * _U / (1 - (4 * d + 4) * _U)   # complex Horner, generous
-            pbound = np.abs(val) * (1 + 4 * _U) + 2 * gamma * absum
-            diff = z[:, :, None] - z[:, None, :]
-            diff[:, np.arange(d), np.arange(d)] = 1.0
-            denom = np.abs(F[idx, d])[:, None] * np.prod(np.abs(diff), axis=2)
-            denom = denom * (1 - (4 * d + 4) * _U)
-            r = d * pbound / denom * (1 + (4 * d + 4) * _U)
-            ok = np.all(np.isfinite(r) & np.isfinite(z.real) & (denom > 0), axis=1)
-            dist = np.abs(diff)
-            dist[:, np.arange(d), np.arange(d)] = np.inf
-            disjoint = np.all(dist > r[:, :, None] + r[:, None, :], axis=(1, 2))
-            nonreal = np.abs(z.imag) > r
-            hull_r = np.abs(z.imag) + r
-            hull_dist = np.abs(z.real[:, :, None] - z[:, None, :])
-            hull_dist[:, np.arange(d), np.arange(d)] = np.inf
-            real = ~nonreal & np.all(hull_dist > hull_r[:, :, None] + r[:, None, :], axis=2)
-            good = ok & disjoint & np.all(nonreal | real, axis=1)
+        good, real, z, hull_r = inclusion_discs(F[idx], E[idx])
         counts[idx[good]] = np.sum(real[good], axis=1)
         path[idx[good]] = "discs"
         decided[idx[good]] = True
+        if return_intervals:
+            grow = 1 + 8 * _U                           # outward rounding of centre +- radius
+            lo = (z.real - hull_r * grow) - np.abs(z.real) * 4 * _U
+            hi = (z.real + hull_r * grow) + np.abs(z.real) * 4 * _U
+            lo = np.where(real, lo, np.inf)
+            order = np.argsort(lo, axis=1)
+            lo = np.take_along_axis(lo, order, axis=1)
+            hi = np.take_along_axis(np.where(real, hi, np.nan), order, axis=1)
+            gi = np.flatnonzero(good)
+            sub = np.stack([lo[gi], hi[gi]], axis=-1)
+            sub[~np.isfinite(sub[..., 0])] = np.nan
+            ivals[idx[gi]] = sub
     for i in np.flatnonzero(finite & ~decided):
-        cert = certify_real_roots([sp.Rational(float(v)) for v in F[i]])
+        try:
+            cert = certify_real_roots(exact(int(i)))
+        except InputError:
+            path[i] = "zero"
+            continue
+        if not cert.certified:
+            path[i] = "uncertified"
+            continue
         counts[i] = cert.count
         path[i] = "flint"
+        if return_intervals:
+            rows = list(cert.intervals) + ([(np.inf, np.inf)] if cert.at_infinity else [])
+            for j, (a, b) in enumerate(rows[:d]):
+                ivals[i, j] = (a, b)
+    if return_intervals:
+        return counts, path.astype(str), ivals
     return counts, path.astype(str)

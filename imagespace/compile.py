@@ -89,3 +89,173 @@ class CompiledPolynomial:
         Q2 = np.atleast_2d(Q)
         out = self._fn(Q2[:, 0], Q2[:, 1], Q2[:, 2])
         return out[0] if single else out
+
+
+_U = 2.0**-53
+
+
+class CoefficientEnclosure:
+    """Coefficients of a binary form that depend polynomially on the joint values, with a
+    rigorous bound on their floating-point error, and their exact values where they are rational.
+
+    The kinematic polynomial general in ``q`` has coefficients that are polynomials in the
+    *features* ``q_i``, ``cos q_i``, ``sin q_i`` (revolute actuators) with exact constant
+    coefficients. Expanded on those monomials (a few dozen for a 3-RPR), a batch is one matrix
+    product, and its error is bounded the classical way (Higham, *Accuracy and Stability of
+    Numerical Algorithms*, 2nd ed., eq. 3.5 for inner products; products of features with their
+    absolute errors propagated first order plus the second-order term): ``cos``/``sin`` come
+    from arb, the constants are rounded once (their error is bounded), the joint values are exact
+    binary rationals. So the exact coefficients lie in ``F +- E`` for every row.
+
+    Parameters
+    ----------
+    poly : sympy.Poly
+        In ``(x0, x1)``, coefficients polynomial in the features of ``symbols``.
+    symbols : sequence of three sympy symbols
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import imagespace as isp
+    >>> from imagespace.compile import CoefficientEnclosure
+    >>> m = isp.examples.general_3rpr()
+    >>> enc = CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols)
+    >>> F, E = enc.evaluate(np.array([[11.0, 5.0, 10.0]]))
+    >>> F.shape, bool(np.all(E < 1e-9 * np.abs(F).max()))
+    ((1, 7), True)
+    """
+
+    def __init__(self, poly, symbols):
+        self.degree = d = poly.total_degree()
+        self.symbols = tuple(symbols)
+        coeffs = [sp.expand(poly.coeff_monomial(poly.gens[0] ** (d - k) * poly.gens[1] ** k))
+                  for k in range(d + 1)]
+        gens = list(self.symbols)
+        trig = []
+        for i, s in enumerate(self.symbols):
+            for f in (sp.cos, sp.sin):
+                if any(c.has(f(s)) for c in coeffs):
+                    gens.append(f(s))
+                    trig.append((len(gens) - 1, i, f is sp.cos))
+        self._trig = trig
+        terms = {}
+        for k, c in enumerate(coeffs):
+            pc = sp.Poly(c, *gens)
+            for mono, val in pc.terms():
+                if val.free_symbols:
+                    raise ValueError(f"coefficient {k} is not polynomial in the joint features: {c}")
+                terms.setdefault(mono, [sp.Integer(0)] * (d + 1))[k] = val
+        monos = sorted(terms)
+        self._expo = np.array(monos, dtype=int).reshape(len(monos), len(gens))
+        exact = [[terms[m][k] for k in range(d + 1)] for m in monos]
+        self._exact = exact
+        self.rational = all(v.is_Rational for row in exact for v in row) and not trig
+        Cf = np.zeros((len(monos), d + 1))
+        Ce = np.zeros((len(monos), d + 1))
+        for a, row in enumerate(exact):
+            for k, v in enumerate(row):
+                if v == 0:
+                    continue
+                if v.is_Rational:
+                    Cf[a, k] = float(v)                   # correctly rounded
+                    Ce[a, k] = abs(Cf[a, k]) * _U + 2.0**-1074
+                else:
+                    Cf[a, k] = float(sp.N(v, 40))
+                    Ce[a, k] = abs(Cf[a, k]) * 2 * _U + 2.0**-1000
+        self._Cf, self._Ce = Cf, Ce
+        if self.rational:
+            from fractions import Fraction
+
+            self._Cq = [[Fraction(int(v.p), int(v.q)) for v in row] for row in exact]
+
+    def _features(self, Q):
+        """Feature values ``(n, G)`` and absolute error bounds ``(n, G)``."""
+        n = Q.shape[0]
+        G = self._expo.shape[1]
+        val = np.zeros((n, G))
+        err = np.zeros((n, G))
+        val[:, :3] = Q
+        if self._trig:
+            import flint
+
+            from .certify import flint_precision
+
+            with flint_precision(64):
+                for g, i, is_cos in self._trig:
+                    col = Q[:, i]
+                    for r in range(n):
+                        b = flint.arb(float(col[r]))
+                        b = b.cos() if is_cos else b.sin()
+                        v = float(b.mid())
+                        val[r, g] = v
+                        err[r, g] = float(b.rad()) * (1 + 4 * _U) + abs(v) * _U + 2.0**-1074
+        return val, err
+
+    def evaluate(self, Q):
+        """Coefficients ``F`` (n, d+1) and rigorous error bounds ``E`` (n, d+1) for joint
+        vectors ``Q`` (n, 3) (finite floats, taken as exact binary rationals).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import imagespace as isp
+        >>> from imagespace.compile import CoefficientEnclosure
+        >>> m = isp.examples.general_3rpr()
+        >>> enc = CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols)
+        >>> enc.evaluate(np.array([[11.0, 5.0, 10.0]]))[0].shape
+        (1, 7)
+        """
+        Q = np.asarray(Q, dtype=float)
+        fv, fe = self._features(Q)
+        n, M = Q.shape[0], self._expo.shape[0]
+        phi = np.ones((n, M))
+        perr = np.zeros((n, M))
+        nmul = np.zeros(M)
+        with np.errstate(over="ignore", invalid="ignore"):
+            for g in range(self._expo.shape[1]):
+                for a in np.flatnonzero(self._expo[:, g]):
+                    for _ in range(self._expo[a, g]):
+                        v, e = fv[:, g], fe[:, g]
+                        # (phi +- perr)(v +- e): first order, second order, and the rounding
+                        newp = phi[:, a] * v
+                        perr[:, a] = (np.abs(phi[:, a]) * e + np.abs(v) * perr[:, a] + perr[:, a] * e
+                                      + np.abs(newp) * _U)
+                        phi[:, a] = newp
+                        nmul[a] += 1
+            Cf, Ce = self._Cf, self._Ce
+            F = phi @ Cf
+            gamma = (M + 2) * _U / (1 - (M + 2) * _U)
+            E = (gamma * (np.abs(phi) @ np.abs(Cf)) + perr @ (np.abs(Cf) + Ce) + np.abs(phi) @ Ce)
+            E = E * (1 + 8 * _U) + M * 2.0**-1070
+        bad = ~np.isfinite(E) | ~np.isfinite(F)
+        E[bad] = np.inf
+        return F, E
+
+    def exact(self, q):
+        """Exact coefficients (Fractions) at exact joint values ``q`` (Fractions or floats), or
+        ``None`` when the constants or features are not rational (use the sympy derivation).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.compile import CoefficientEnclosure
+        >>> m = isp.examples.general_3rpr()
+        >>> enc = CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols)
+        >>> len(enc.exact([11.0, 5.0, 10.0]))
+        7
+        """
+        if not self.rational:
+            return None
+        from fractions import Fraction
+
+        qq = [Fraction(v) for v in q]
+        out = [Fraction(0)] * (self.degree + 1)
+        for a, row in enumerate(self._Cq):
+            mono = Fraction(1)
+            for g, e in enumerate(self._expo[a]):
+                if e:
+                    mono *= qq[g] ** int(e)
+            for k, c in enumerate(row):
+                if c:
+                    out[k] += c * mono
+        return out

@@ -10,6 +10,7 @@ __all__ = [
     "InputError",
     "DegenerateDesignError",
     "EliminationError",
+    "NearSingularWarning",
 ]
 
 
@@ -35,3 +36,14 @@ class DegenerateDesignError(ImageSpaceError, ValueError):
 
 class EliminationError(ImageSpaceError, RuntimeError):
     """The elimination or the root polishing failed for a reason that is not the user's input."""
+
+
+class NearSingularWarning(UserWarning):
+    """A floating-point answer whose count may be wrong: two roots could not be separated.
+
+    Emitted once per call by :meth:`PlanarParallel.direct_kinematics` (without ``certify``) when
+    the inclusion discs of the kinematic polynomial's roots overlap (modes closer than the float
+    resolution, a double root, a continuum nearby) or the modes found do not account for the
+    real roots. The batch path marks the same rows in ``DKBatchResult.near_singular`` instead.
+    ``direct_kinematics(q, certify=True)`` gives the proven answer.
+    """

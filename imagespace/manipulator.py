@@ -8,11 +8,14 @@ from typing import List, Optional
 import numpy as np
 import sympy as sp
 
+import warnings
+
 from ._validate import as_exact, as_float_array, check_positive, is_symbolic
 from .constraints import Quadric, image_symbols
-from .certify import certify_real_roots, certify_real_roots_batch
+from .certify import certify_real_roots, certify_real_roots_batch, inclusion_discs
+from .certified_dk import plan_roots
 from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
-from .exceptions import DegenerateDesignError, InputError
+from .exceptions import DegenerateDesignError, InputError, NearSingularWarning
 from .fastdk import HAVE_NUMBA, build_kernel
 from .kinematic_map import pose_of as _pose_of
 from .kinematic_map import representative_sign
@@ -38,15 +41,20 @@ class AssemblyMode:
     pose : (3,) float
         ``(x, y, phi)``, ``phi`` in ``(-pi, pi]`` (NaN for complex modes).
     residual : float
-        Largest deviation of a leg's inverse kinematics from the given joint value (joint
-        units, relative for prismatic joints with ``|q| > 1``).
+        Largest deviation of a leg's inverse kinematics from the given joint value: radians for
+        revolute joints, relative ``|dq| / max(|q|, L)`` for prismatic joints, ``L`` the length
+        scale of the design and joint values (so the same in any unit).
     aspect : int
         Sign of ``det J`` at the normalised image point, ``J`` the Jacobian of the three
         constraint quadrics and ``x0**2 + x1**2 - 1`` with respect to ``x0..x3`` (the
         determinant is a quartic form, even, so the sign does not depend on the representative).
         Modes of opposite aspect cannot be joined without crossing the singularity surface.
-        ``0`` at a singular pose or for complex modes.
+        ``0`` at a singular pose (``multiplicity > 1``) or for complex modes.
     is_real : bool
+    multiplicity : int
+        On the certified path: the multiplicity of the root of the kinematic polynomial that
+        this mode is (``> 1``: a singular mode where several modes have merged, reported once).
+        ``1`` on the floating-point paths, which cannot tell.
     """
 
     image_point: np.ndarray
@@ -54,35 +62,56 @@ class AssemblyMode:
     residual: float
     aspect: int
     is_real: bool = True
+    multiplicity: int = 1
+
+    @property
+    def singular(self):
+        """True for a mode of multiplicity > 1 (several modes merged: a singular pose)."""
+        return self.multiplicity > 1
 
     def __repr__(self):
         if not self.is_real:
             return f"AssemblyMode(complex, image_point={np.round(self.image_point, 6)})"
         x, y, phi = self.pose
+        mult = f", singular (multiplicity {self.multiplicity})" if self.multiplicity > 1 else ""
         return (f"AssemblyMode(x={x:.6g}, y={y:.6g}, phi={phi:.6g}, aspect={self.aspect:+d}, "
-                f"residual={self.residual:.1e})")
+                f"residual={self.residual:.1e}{mult})")
 
 
 class CertifiedModes(list):
     """The list of assembly modes with the certificate of the real-root count.
 
+    The semantics, on every certified path (per call and batch rows re-solved by it): the
+    modes are computed *from* the certified roots (:mod:`imagespace.certified_dk`), never
+    matched to them afterwards.
+
+    * A root where the Cramer denominator is proven non-zero carries exactly one mode; if the
+      root has multiplicity ``k > 1`` that mode is singular and reported once with
+      ``.multiplicity == k`` (``aspect`` 0).
+    * The genuine exceptions: a root where the Cramer denominator vanishes (case (b)) or a
+      design where it vanishes identically (case (a), e.g. the collinear 3-RPR) fixes an
+      orientation that carries 0, 1 or 2 modes, solved at that orientation; the spurious
+      ``phi_c + pi`` root of a PP dyad carries none (the legs' inverse kinematics reject it).
+    * ``sum(modes_per_root) == len(modes)`` always.
+    * A continuum of modes raises :class:`DegenerateDesignError`.
+
     Attributes
     ----------
     certificate : RealRootCertificate
         Proven number of distinct real roots of :meth:`PlanarParallel.kinematic_polynomial`
-        at the (exact) joint values, with isolating intervals and the method.
+        at the (exact) joint values, with isolating intervals, multiplicities and the method.
     modes_per_root : tuple of int
         For each certified real root (finite ones in ascending ``t = x1/x0``, then the
-        half-turn root if any), how many reported modes have that orientation. A root
-        carries exactly one mode when the Cramer denominator does not vanish there; zero or two
-        in case (b), up to two per orientation in case (a), and zero for the spurious
-        ``phi_c + pi`` root of a PP dyad.
+        half-turn root if any), how many reported modes it carries.
+    root_of_mode : tuple of int
+        For each mode (in list order), the index of its root in the certificate.
     """
 
-    def __init__(self, modes, certificate, modes_per_root):
+    def __init__(self, modes, certificate, modes_per_root, root_of_mode=()):
         super().__init__(modes)
         self.certificate = certificate
         self.modes_per_root = tuple(modes_per_root)
+        self.root_of_mode = tuple(root_of_mode)
 
     def __repr__(self):
         return (f"CertifiedModes({list.__repr__(self)}, real roots={self.certificate.count}, "
@@ -123,10 +152,21 @@ class DKBatchResult:
     certificate_path : (n,) str, only with ``certify=True``
         ``"discs"`` (vectorised inclusion discs), ``"flint"`` (exact isolation) or ``"invalid"``.
     consistent : (n,) bool, only with ``certify=True``
-        The modes' distinct orientations are exactly the certified real roots. Rows where the
-        float path disagreed were solved again by ``direct_kinematics(q, certify=True)``, which
-        re-solves every certified root; a row can stay False only for a root that carries no
-        mode (the spurious root of a PP dyad, or case (b) with no real position).
+        The row's modes are accounted for by its certificate: either every certified real root
+        (all simple, inclusion discs) holds exactly one float mode and no mode lies outside
+        them, or the row was solved again root by root by ``direct_kinematics(q, certify=True)``
+        (``solver == "certified"``). False only where no certificate could be had (masked rows,
+        irrational coefficients with a multiple root).
+    near_singular : (n,) bool
+        The floating-point answer of this row may have the wrong count: the roots of its
+        kinematic polynomial could not be separated by inclusion discs, or the modes found do
+        not account for the real roots (compiled kernel: a root pair closer than
+        ``Tolerances.near_singular_gap``, or an odd count). Rows answered by the certified path
+        are never near-singular (their count is proven).
+    multiplicity : (n, 6) int
+        Multiplicity of each mode's root (1 except on rows solved by the certified path).
+
+    Certified semantics (``certify=True``): as for :class:`CertifiedModes`, on every row.
     """
 
     image_points: np.ndarray
@@ -142,6 +182,8 @@ class DKBatchResult:
     certified_roots: Optional[np.ndarray] = None
     certificate_path: Optional[np.ndarray] = None
     consistent: Optional[np.ndarray] = None
+    near_singular: Optional[np.ndarray] = None
+    multiplicity: Optional[np.ndarray] = None
 
     def modes(self, i):
         """The modes of row ``i`` as a list of :class:`AssemblyMode`.
@@ -153,8 +195,10 @@ class DKBatchResult:
         >>> len(m.direct_kinematics_batch([m.q_example_float]).modes(0))
         6
         """
+        mult = self.multiplicity
         return [AssemblyMode(self.image_points[i, j], self.poses[i, j], float(self.residual[i, j]),
-                             int(self.aspect[i, j])) for j in np.flatnonzero(self.valid[i])]
+                             int(self.aspect[i, j]), True, 1 if mult is None else int(mult[i, j]))
+                for j in np.flatnonzero(self.valid[i])]
 
 
 # --------------------------------------------------------------------------- numeric helpers
@@ -189,12 +233,13 @@ def _system(C, X):
     return Fv, J
 
 
-def _newton(C, X, steps):
+def _newton(C, X, tol):
     """Newton on [Q1, Q2, Q3, x0^2 + x1^2 - 1]; each candidate stops once its step is below
-    1e-15 of its size (or its Jacobian is singular), so converged rows cost nothing more."""
+    ``tol.newton_stop`` of its size (or its Jacobian is singular), so converged rows cost nothing
+    more. C are balanced coefficients (see :func:`_balance`), so the sizes are comparable."""
     X = X.copy()
     active = np.all(np.isfinite(X), axis=-1)
-    for _ in range(steps):
+    for _ in range(int(tol.newton_steps)):
         idx = np.nonzero(active)
         if idx[0].size == 0:
             break
@@ -203,16 +248,42 @@ def _newton(C, X, steps):
         Fv, J = Fv[:, 0], J[:, 0]
         det = np.linalg.det(J)
         scale = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-        solvable = np.abs(det) > 1e-14 * scale
+        solvable = np.abs(det) > tol.newton_stop * scale
         step = np.zeros((idx[0].size, 4))
         if np.any(solvable):
             step[solvable] = np.linalg.solve(J[solvable], -Fv[solvable][..., None])[..., 0]
         X[idx] = X[idx] + step
         size = np.maximum(1.0, np.max(np.abs(X[idx]), axis=-1))
-        done = ~solvable | (np.max(np.abs(step), axis=-1) <= 1e-15 * size)
+        done = ~solvable | (np.max(np.abs(step), axis=-1) <= 0.1 * tol.newton_stop * size)
         # one more step after the first tiny one is pointless: retire converged candidates
         active[idx[0][done], idx[1][done]] = False
     return X
+
+
+def _balance(C):
+    """Balance raw quadric coefficients to the row's length scale.
+
+    ``C`` (n, 3, 8) are coefficients ``(c, a0, a1, b0, b1, k0, k1, k2)`` in ``x0..x3``. With the
+    length scale ``L`` of each row (from the quadrics themselves: ``sqrt(|k|/|c|)`` and
+    ``|a, b|/|c|`` of circles, ``|k|/|a, b|`` of lines), the substitution ``x2 = L x2'``,
+    ``x3 = L x3'`` gives coefficients ``(c L^2, a L, b L, k)``, each quadric then scaled to max
+    coefficient 1. Solving in the primed coordinates makes every threshold relative: the same
+    robot in millimetres or kilometres meets the same decisions. Returns ``(C', L)``.
+    """
+    c = np.abs(C[..., 0])
+    ab = np.max(np.abs(C[..., 1:5]), axis=-1)
+    k = np.max(np.abs(C[..., 5:8]), axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        cands = np.stack([np.where(c > 0, np.sqrt(k / c), 0.0), np.where(c > 0, ab / c, 0.0),
+                          np.where((c == 0) & (ab > 0), k / ab, 0.0)], axis=-1)
+    cands = np.where(np.isfinite(cands), cands, 0.0)
+    L = np.max(cands, axis=(-1, -2))
+    L = np.where(L > 0, L, 1.0)
+    B = C.copy()
+    B[..., 0] *= (L * L)[:, None]
+    B[..., 1:5] *= L[:, None, None]
+    B = B / np.maximum(np.max(np.abs(B), axis=2, keepdims=True), 1e-300)
+    return B, L
 
 
 def _normalize_rows(X):
@@ -398,6 +469,12 @@ class PlanarParallel:
         >>> m.kinematic_polynomial(m.q_example).total_degree()
         6
         """
+        return self._exact_forms(q)[0]
+
+    def _exact_forms(self, q):
+        """``(P, elimination, case_a)`` for exact/symbolic ``q`` (None: general), cached by the
+        exact value of ``q``: the kinematic polynomial, the sympy elimination it came from, and
+        whether the Cramer denominator vanishes identically."""
         key = _cache_key(q)
         if key in self._symbolic_cache:
             return self._symbolic_cache[key]
@@ -406,7 +483,8 @@ class PlanarParallel:
         x0, x1 = image_symbols()[:2]
         el = eliminate(eqs, self._plan)
         D = [sp.expand(v) for v in el.D]
-        if all(v == 0 for v in D):
+        case_a = all(v == 0 for v in D)
+        if case_a:
             form = orientation_form(el.rows)
         else:
             form = [sp.expand(v) for v in el.F]
@@ -423,8 +501,9 @@ class PlanarParallel:
                 break
             expr = sp.expand(quo)
         poly = sp.Poly(expr, x0, x1)
-        self._symbolic_cache[key] = poly
-        return poly
+        out = (poly, el, case_a)
+        self._symbolic_cache[key] = out
+        return out
 
     def compiled(self):
         """The kinematic polynomial general in the joint values, derived once and compiled (cached).
@@ -589,15 +668,20 @@ class PlanarParallel:
                              f"(working_modes={wm})")
         return q
 
-    def joint_residual(self, pose, q):
+    def joint_residual(self, pose, q, length=1.0):
         """Largest deviation of the legs' inverse kinematics (best branch) from ``q``.
 
-        Prismatic joints with ``|q| > 1`` are compared relatively; angles modulo ``2 pi``.
+        Angles are compared modulo ``2 pi`` (radians); prismatic joints relatively,
+        ``|dq| / max(|q|, length)``.
 
         Parameters
         ----------
         pose : (3,) or (n, 3) float
         q : (3,) or (n, 3) float
+        length : float or (n,) float
+            The length scale below which prismatic deviations count absolutely (default 1; the
+            direct kinematics passes the design's length scale, so its checks do not depend on
+            units).
 
         Returns
         -------
@@ -612,6 +696,9 @@ class PlanarParallel:
         """
         p = as_float_array(pose, "pose", last=3)
         qa = as_float_array(q, "q", last=3)
+        length = np.asarray(length, dtype=float)
+        if length.ndim:
+            length = length[..., None]
         errs = []
         for i, leg in enumerate(self.legs):
             vals = leg.actuated_values(p)                  # (..., nb)
@@ -619,7 +706,7 @@ class PlanarParallel:
             if leg.actuated_is_angle:
                 d = np.abs(np.remainder(vals - qi + np.pi, 2 * np.pi) - np.pi)
             else:
-                d = np.abs(vals - qi) / np.maximum(1.0, np.abs(qi))
+                d = np.abs(vals - qi) / np.maximum(length, np.abs(qi))
             errs.append(np.nanmin(np.where(np.isnan(d), np.inf, d), axis=-1))
         return np.max(np.stack(errs, axis=-1), axis=-1)
 
@@ -638,11 +725,13 @@ class PlanarParallel:
         include_complex : bool
             Also return the complex solutions (back-substituted, not polished; ``is_real`` False).
         certify : bool
-            Also prove the number of real roots of the kinematic polynomial at the exact joint
-            values (floats taken as binary rationals, sympy values as given) with python-flint
-            (:func:`imagespace.certify.certify_real_roots`). Every certified root interval that
-            no numeric mode falls into is solved again on its own, so a mode lost by the floating
-            point path is recovered, and the result says how many modes each root carries.
+            Prove the answer at the exact joint values (floats taken as the binary rationals
+            they are, sympy values as given): the real roots of the exact kinematic polynomial
+            are isolated and refined (:func:`imagespace.certify.certify_real_roots`) and every
+            mode is computed from its root (:mod:`imagespace.certified_dk`): one mode per
+            simple root, a multiple root once as a singular mode with ``.multiplicity``, two
+            modes even where they are closer than double precision can show. See
+            :class:`CertifiedModes` for the semantics and their exceptions.
 
         Returns
         -------
@@ -652,7 +741,13 @@ class PlanarParallel:
         Raises
         ------
         DegenerateDesignError
-            When the design at these joint values has infinitely many modes.
+            When the design at these joint values has infinitely many modes (a continuum).
+
+        Warns
+        -----
+        NearSingularWarning
+            Without ``certify``: the floating-point count may be wrong (roots closer than the
+            float path can separate, or modes that do not account for the real roots).
 
         Examples
         --------
@@ -660,67 +755,76 @@ class PlanarParallel:
         >>> m = isp.examples.stigger_husty()
         >>> len(m.direct_kinematics(m.q_example))
         6
+        >>> cm = m.direct_kinematics(m.q_example, certify=True)
+        >>> cm.certificate.count, sum(cm.modes_per_root)
+        (6, 6)
         """
         qf = self._check_q([float(v) for v in np.ravel(np.asarray(q, dtype=object))]
                            if is_symbolic(q) else q)
         if qf.ndim != 1:
             raise InputError(f"q must have shape (3,), got {qf.shape}; use direct_kinematics_batch")
-        res = self._solve(qf[None, :], raise_degenerate=True)
-        modes = res.modes(0)
         if certify:
-            modes = self._certified(q, qf, modes)
+            modes = self._certified(q, qf)
+        else:
+            res = self._solve(qf[None, :], raise_degenerate=True)
+            modes = res.modes(0)
+            if res.near_singular[0]:
+                warnings.warn(
+                    f"{self.name} at q = {qf.tolist()}: the floating-point direct kinematics could "
+                    f"not separate the roots of the kinematic polynomial (a singular or nearly "
+                    f"singular configuration); the {len(modes)} mode(s) returned may not be all. "
+                    "Use direct_kinematics(q, certify=True) for the proven answer.",
+                    NearSingularWarning, stacklevel=2)
         if include_complex:
             modes += self._complex_modes(qf)
         return modes
 
-    def _certified(self, q, qf, modes):
-        items = list(q) if is_symbolic(q) else [float(v) for v in np.ravel(q)]
+    def _certified(self, q, qf):
+        """The certified per-call path: modes computed root by root from the exact certificate."""
+        items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
         q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
-        cert = certify_real_roots(self.kinematic_polynomial(q_exact))
+        P, el, case_a = self._exact_forms(q_exact)
+        cert = certify_real_roots(P)
         if not cert.certified:
-            return CertifiedModes(modes, cert, ())
-
-        def t_of(mode):
-            x0, x1 = mode.image_point[:2]
-            return np.inf if abs(x0) <= 1e-14 * abs(x1) else x1 / x0
-
-        def root_of(mode):
-            """Index of the certified root a mode's orientation belongs to (nearest interval)."""
-            t = t_of(mode)
-            if not np.isfinite(t) or abs(t) > 1e12:
-                return len(cert.intervals) if cert.at_infinity else None
-            dist = [max(lo - t, t - hi, 0.0) for lo, hi in cert.intervals]
-            if not dist:
-                return None
-            k = int(np.argmin(dist))
-            return k if dist[k] <= 1e-8 * (1 + abs(t)) else None
-
-        def carried(k):
-            return [mm for mm in modes if root_of(mm) == k]
-
-        n_roots = len(cert.intervals) + int(cert.at_infinity > 0)
-        missing = [k for k in range(n_roots) if not carried(k)]
-        if missing:
-            C, _ = self._scaled_quadrics(qf[None, :])
-            quads = self._row_quadrics(C[0])
-            cand = []
-            for k in missing:
-                if k < len(cert.intervals):
-                    t = 0.5 * (cert.intervals[k][0] + cert.intervals[k][1])
-                    x0, x1 = 1.0 / np.hypot(1.0, t), t / np.hypot(1.0, t)
+            res = self._solve(qf[None, :], raise_degenerate=True)
+            warnings.warn(f"{self.name} at q = {qf.tolist()}: the real roots could not be "
+                          f"certified ({cert.method}); the floating-point modes are returned",
+                          NearSingularWarning, stacklevel=3)
+            return CertifiedModes(res.modes(0), cert, (), ())
+        form = _form_coeffs(P)
+        plans = plan_roots(form, list(el.D), list(el.X2), list(el.X3), cert, case_a)
+        C, quads, L = self._scaled_quadrics(qf[None, :])
+        tol = self.tolerances
+        per_root = []
+        for plan in plans:
+            if plan.kind == "cramer":
+                X = plan.image_point.copy()
+                Xs = X.copy()
+                Xs[2:] /= L[0]
+                pose = _pose_of(X)
+                resid = float(self.joint_residual(pose, qf, length=L[0]))
+                if not resid <= tol.joint_residual:
+                    per_root.append([])                 # e.g. the spurious root of a PP dyad
+                    continue
+                if plan.multiplicity > 1:
+                    aspect = 0
                 else:
-                    x0, x1 = 0.0, 1.0
-                cand += self._solve_orientation(qf, quads, x0, x1)
-            if cand:
-                arr = np.full((1, max(len(cand), _MAX_MODES), 4), np.nan)
-                arr[0, :len(cand)] = cand
-                extra = self._finish(qf[None, :], C, arr, np.array([True]), {}, np.array([True])).modes(0)
-                known = [mm.image_point for mm in modes]
-                for mm in extra:
-                    if not any(np.max(np.abs(mm.image_point - k)) < 1e-9 for k in known):
-                        modes.append(mm)
-                modes.sort(key=lambda mm: mm.pose[2])
-        return CertifiedModes(modes, cert, [len(carried(k)) for k in range(n_roots)])
+                    _, J = _system(C, Xs[None, None, :])
+                    aspect = int(np.sign(np.linalg.det(J[0, 0])))
+                per_root.append([AssemblyMode(X, pose, resid, aspect, True, plan.multiplicity)])
+                continue
+            cand = self._solve_orientation(qf, quads, plan.x0, plan.x1, L[0])
+            if not cand:
+                per_root.append([])
+                continue
+            arr = np.full((1, max(len(cand), _MAX_MODES), 4), np.nan)
+            arr[0, :len(cand)] = cand
+            sub = self._finish(qf[None, :], C, arr, np.array([True]), {}, np.array([True]), L)
+            per_root.append(sub.modes(0))
+        tagged = [(mm, k) for k, lst in enumerate(per_root) for mm in lst]
+        tagged.sort(key=lambda item: item[0].pose[2])
+        return CertifiedModes([mm for mm, _ in tagged], cert, [len(lst) for lst in per_root],
+                              [k for _, k in tagged])
 
     def direct_kinematics_batch(self, Q, certify=False, method="auto"):
         """Direct kinematics of many joint vectors at once.
@@ -833,6 +937,7 @@ class PlanarParallel:
 
     def _solve_kernel(self, Q, kernel):
         n = Q.shape[0]
+        tol = self.tolerances
         row_ok, errors = self._row_check(Q)
         ok = np.flatnonzero(row_ok)
         if ok.size == n:                       # the usual case: the kernel's arrays are the result
@@ -849,15 +954,28 @@ class PlanarParallel:
         A = A8.astype(int)
         solver = np.where(row_ok, "kernel", "invalid").astype("<U9")
         special = row_ok & (flag != 0)
-        res = DKBatchResult(X, P, np.arange(_MAX_MODES) < cnt[:, None], cnt, R, A, row_ok, errors,
-                            special)
+        valid = np.arange(_MAX_MODES) < cnt[:, None]
+        # cheap indicators of a count the kernel may have got wrong: a real root pair closer
+        # than near_singular_gap (in the half-angle), or an odd count (the kinematic polynomial
+        # has even degree and real coefficients: an odd number of distinct real roots means a
+        # multiple root)
+        half = np.where(valid, np.arctan2(X[..., 1], X[..., 0]), np.nan)
+        hs = np.sort(np.where(valid, half, np.inf), axis=1)
+        gaps = np.diff(hs, axis=1)
+        wrap = hs[:, 0] + np.pi - np.max(np.where(np.isfinite(hs), hs, -np.inf), axis=1)
+        close = np.any(np.where(np.isfinite(gaps), gaps, np.inf) < tol.near_singular_gap, axis=1)
+        close |= (cnt > 1) & (wrap < tol.near_singular_gap)
+        near = row_ok & ((cnt % 2 == 1) | close)
+        res = DKBatchResult(X, P, valid, cnt, R, A, row_ok, errors, special,
+                            near_singular=near, multiplicity=np.ones((n, _MAX_MODES), dtype=np.int8))
         # rows the kernel could not decide in floating point (flag 1: Cramer denominator small
         # at a root, Newton not converging; flag 2: a root touching the axis) take the numpy path,
-        # which solves case (b) per row; certify=True then holds them to the proven count
+        # which solves case (b) per row and computes its own near_singular mask
         careful = np.flatnonzero(row_ok & (flag != 0))
         if careful.size:
             sub = self._solve(Q[careful], raise_degenerate=False)
-            for name in ("image_points", "poses", "valid", "count", "residual", "aspect", "row_ok"):
+            for name in ("image_points", "poses", "valid", "count", "residual", "aspect", "row_ok",
+                         "near_singular"):
                 getattr(res, name)[careful] = getattr(sub, name)
             for k, msg in sub.errors.items():   # only DegenerateDesignError messages (q stated)
                 errors[int(careful[k])] = msg
@@ -872,41 +990,84 @@ class PlanarParallel:
         k = min(len(modes), res.valid.shape[1])
         res.image_points[i], res.poses[i], res.residual[i] = np.nan, np.nan, np.nan
         res.valid[i], res.aspect[i] = False, 0
+        if res.multiplicity is not None:
+            res.multiplicity[i] = 1
         for j, mm in enumerate(modes[:k]):
             res.image_points[i, j], res.poses[i, j] = mm.image_point, mm.pose
             res.residual[i, j], res.aspect[i, j], res.valid[i, j] = mm.residual, mm.aspect, True
+            if res.multiplicity is not None:
+                res.multiplicity[i, j] = mm.multiplicity
         res.count[i] = k
 
+    def _enclosure(self):
+        """The kinematic polynomial general in q, expanded for rigorous batch evaluation (cached)."""
+        if "enclosure" not in self._symbolic_cache:
+            from .compile import CoefficientEnclosure
+
+            self.compiled()                     # checks the design is numeric
+            self._symbolic_cache["enclosure"] = CoefficientEnclosure(self.kinematic_polynomial(),
+                                                                     self.joint_symbols)
+        return self._symbolic_cache["enclosure"]
+
     def _certify_batch(self, Q, res):
+        """Certified counts per row on the exact input, and modes held to them (see DKBatchResult)."""
         n = Q.shape[0]
-        F = self.compiled().coefficients(np.where(res.row_ok[:, None], Q, 0.0))
+        enc = self._enclosure()
+        Qs = np.where(res.row_ok[:, None], Q, 0.0)
+        F, E = enc.evaluate(Qs)
         F = np.where(res.row_ok[:, None], F, np.nan)
-        counts, path = certify_real_roots_batch(F) if n else (np.zeros(0, int), np.zeros(0, str))
-        half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])  # in (-pi/2, pi/2]
+
+        def exact(i):
+            vals = enc.exact(Q[i])
+            if vals is not None:
+                return [sp.Rational(v.numerator, v.denominator) for v in vals]
+            return _general_at(self.kinematic_polynomial(), self.joint_symbols,
+                               [as_exact(float(v), "q") for v in Q[i]])
+
+        if n:
+            counts, path, ivals = certify_real_roots_batch(F, E, exact, return_intervals=True)
+        else:
+            counts, path, ivals = np.zeros(0, int), np.zeros(0, str), np.zeros((0, enc.degree, 2))
         consistent = np.zeros(n, dtype=bool)
-        for i in range(n):
-            if not res.row_ok[i]:
-                continue
-            consistent[i] = _distinct_orientations(half[i][res.valid[i]]) == counts[i]
+        # disc-certified rows: every real root simple; each must hold exactly one float mode, and
+        # no float mode may lie outside them (t = x1/x0 of the normalised image point)
+        disc = np.flatnonzero(res.row_ok & (path == "discs"))
+        if disc.size:
+            X = res.image_points[disc]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = X[..., 1] / X[..., 0]
+            lo, hi = ivals[disc, :, 0], ivals[disc, :, 1]            # (m, d)
+            inside = (t[:, :, None] >= lo[:, None, :]) & (t[:, :, None] <= hi[:, None, :])
+            inside &= res.valid[disc][:, :, None]
+            per_root = inside.sum(axis=1)                              # (m, d)
+            per_mode = inside.sum(axis=2)                              # (m, 6)
+            real_slot = np.isfinite(lo)
+            ok_rows = (np.all(np.where(real_slot, per_root == 1, per_root == 0), axis=1)
+                       & np.all(np.where(res.valid[disc], per_mode == 1, True), axis=1)
+                       & (res.count[disc] == counts[disc]))
+            consistent[disc[ok_rows]] = True
         for i in np.flatnonzero(res.row_ok & ~consistent):
             try:
                 modes = self.direct_kinematics(Q[i], certify=True)
             except DegenerateDesignError as e:
                 res.row_ok[i] = False
                 res.errors[int(i)] = str(e)
+                counts[i] = -1
+                path[i] = "continuum"
+                self._store_modes(res, i, [])
                 if res.solver is not None:
                     res.solver[i] = "invalid"
                 continue
             self._store_modes(res, i, modes)
-            k = res.count[i]
             if res.solver is not None:
                 res.solver[i] = "certified"
             cert = modes.certificate
             counts[i] = cert.count if cert.certified else -1
-            path[i] = "flint" if cert.certified else "invalid"
-            # the same test as above, on the re-solved modes
-            half_i = [np.arctan2(mm.image_point[1], mm.image_point[0]) for mm in modes[:k]]
-            consistent[i] = cert.certified and _distinct_orientations(half_i) == counts[i]
+            if path[i] != "flint":
+                path[i] = "flint" if cert.certified and cert.exact else (
+                    "arb" if cert.certified else "uncertified")
+            consistent[i] = bool(cert.certified)
+            res.near_singular[i] = not cert.certified
         res.certified_roots, res.certificate_path, res.consistent = counts, path, consistent
 
     # .. internals ..............................................................
@@ -915,7 +1076,7 @@ class PlanarParallel:
         tol = self.tolerances
         row_ok, errors = self._row_check(Q)
         Qs = np.where(row_ok[:, None], Q, 0.0)
-        C, cq = self._scaled_quadrics(Qs)
+        C, cq, L = self._scaled_quadrics(Qs)
         el = eliminate(cq, self._plan)
         Darr = np.stack(np.broadcast_arrays(*el.D), axis=1)
         Farr = np.stack(np.broadcast_arrays(*el.F), axis=1)
@@ -923,12 +1084,13 @@ class PlanarParallel:
         X3 = np.stack(np.broadcast_arrays(*el.X3), axis=1)
         dnorm = np.max(np.abs(Darr), axis=1)
         fnorm = np.max(np.abs(Farr), axis=1)
-        special = row_ok & ((dnorm <= 1e-9) | (fnorm <= tol.degenerate))
+        special = row_ok & ((dnorm <= tol.cramer_identically_zero) | (fnorm <= tol.degenerate))
+        Fn = Farr / np.where(fnorm > 0, fnorm, 1.0)[:, None]
         with np.errstate(invalid="ignore", divide="ignore"):
-            theta, ok = real_half_angles(Farr / np.where(fnorm > 0, fnorm, 1.0)[:, None])
+            theta, ok = real_half_angles(Fn, tol.real_root_imag)
         x0, x1 = np.cos(theta), np.sin(theta)
         Dv = bf_eval([c[:, None] for c in Darr.T], x0, x1)
-        small_d = np.isfinite(theta) & (np.abs(Dv) <= 1e-7 * dnorm[:, None])
+        small_d = np.isfinite(theta) & (np.abs(Dv) <= tol.cramer_small * dnorm[:, None])
         special |= row_ok & np.any(small_d, axis=1)
         with np.errstate(invalid="ignore", divide="ignore"):
             x2 = bf_eval([c[:, None] for c in X2.T], x0, x1) / Dv
@@ -939,11 +1101,15 @@ class PlanarParallel:
         if cand.shape[1] < width:
             pad = np.full((n, width - cand.shape[1], 4), np.nan)
             cand = np.concatenate([cand, pad], axis=1)
+        # separation of the roots (inclusion discs on the normalised float polynomial, in the
+        # chart of its largest leading coefficient): where they overlap the count is not trusted
+        separated, n_real = _separated(Fn)
         # careful path for special rows
         extra = {}
+        near_special = {}
         for i in np.flatnonzero(special):
             try:
-                extra[i] = self._special_candidates(Q[i], C[i])
+                extra[i], near_special[i] = self._special_candidates(Q[i], C[i], L[i])
             except DegenerateDesignError as e:
                 if raise_degenerate:
                     raise
@@ -957,23 +1123,33 @@ class PlanarParallel:
                 cand[i] = np.nan
                 for j, x in enumerate(lst):
                     cand[i, j] = x
-        return self._finish(Q, C, cand, row_ok, errors, special)
+        res = self._finish(Q, C, cand, row_ok, errors, special, L)
+        half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])
+        distinct = np.array([_distinct_orientations(half[i][res.valid[i]]) for i in range(n)], dtype=int)
+        near = row_ok & ~special & (~separated | (distinct != n_real))
+        for i, flag in near_special.items():
+            near[i] = row_ok[i] and flag
+        res.near_singular = near
+        return res
 
-    def _finish(self, Q, C, cand, row_ok, errors, special):
+    def _finish(self, Q, C, cand, row_ok, errors, special, L):
+        """Polish candidates (balanced coordinates), check them with the legs, sort; ``L`` (n,)
+        is the length scale the candidates' ``x2, x3`` are divided by (see :func:`_balance`)."""
         tol = self.tolerances
         n, k, _ = cand.shape
-        X = _newton(C, _normalize_rows(cand), tol.newton_steps)
+        X = _newton(C, _normalize_rows(cand), tol)
         X = _normalize_rows(X)
         finite = np.all(np.isfinite(X), axis=-1)
+        # duplicates (balanced coordinates): a later candidate close to an earlier valid one
+        Xw = X * np.concatenate([np.ones((n, 1, 2)), np.repeat(L[:, None, None], 2, axis=2)], axis=2)
         poses = np.full((n, k, 3), np.nan)
         if np.any(finite):
-            poses[finite] = _pose_of(X[finite])
+            poses[finite] = _pose_of(Xw[finite])
         resid = np.full((n, k), np.inf)
         if np.any(finite):
             rows = np.nonzero(finite)[0]
-            resid[finite] = self.joint_residual(poses[finite], Q[rows])
+            resid[finite] = self.joint_residual(poses[finite], Q[rows], length=L[rows])
         valid = finite & (resid <= tol.joint_residual)
-        # duplicates: a later candidate close to an earlier valid one
         for j in range(1, k):
             for i0 in range(j):
                 dist = np.minimum(np.max(np.abs(X[:, j] - X[:, i0]), axis=-1),
@@ -981,6 +1157,7 @@ class PlanarParallel:
                 valid[:, j] &= ~(valid[:, i0] & (dist <= tol.duplicate * (1 + np.max(np.abs(X[:, j]), axis=-1))))
         _, J = _system(C, np.where(finite[..., None], X, 0.0))
         aspect = np.where(finite, np.sign(np.linalg.det(J)), 0).astype(int)
+        X = Xw
         # sort valid first, by phi
         key = np.where(valid, poses[..., 2], np.inf)
         order = np.argsort(key, axis=1, kind="stable")
@@ -997,57 +1174,63 @@ class PlanarParallel:
         aspect = np.where(valid, aspect, 0)
         solver = np.where(row_ok, "numpy", "invalid").astype("<U9")
         return DKBatchResult(X, poses, valid, count, resid, aspect, row_ok, errors, special,
-                             solver=solver)
+                             solver=solver, near_singular=np.zeros(n, dtype=bool),
+                             multiplicity=np.ones((n, w), dtype=np.int8))
 
     def _scaled_quadrics(self, Q):
-        """Float quadrics for joint vectors Q (n, 3), each scaled to max |coefficient| = 1.
+        """Balanced float quadrics for joint vectors Q (n, 3): see :func:`_balance`.
 
-        Returns the (n, 3, 8) coefficient array and the matching list of three Quadric (rows as
-        arrays); scaling a quadric does not change its zero set, and it makes the tolerances of the
-        elimination relative.
+        Returns the (n, 3, 8) coefficient array in the balanced coordinates, the matching list of
+        three Quadric (rows as arrays) and the length scale ``L`` (n,) of each row.
         """
         quads = [leg.dyad(Q[:, j]) for j, leg in enumerate(self.legs)]
-        C = _coef_array(quads, Q.shape[0])
-        C = C / np.maximum(np.max(np.abs(C), axis=2, keepdims=True), 1e-300)
-        return C, [Quadric(self._kinds[j], *(C[:, j, k] for k in range(8))) for j in range(3)]
+        C, L = _balance(_coef_array(quads, Q.shape[0]))
+        return C, [Quadric(self._kinds[j], *(C[:, j, k] for k in range(8))) for j in range(3)], L
 
     def _row_quadrics(self, c_row):
         """The three scalar quadrics of one row of a (n, 3, 8) coefficient array."""
         return [Quadric(self._kinds[j], *(c_row[j, k] for k in range(8))) for j in range(3)]
 
-    def _special_candidates(self, q, C):
-        """Candidates for one row whose Cramer denominator vanishes (identically or at a root)."""
+    def _special_candidates(self, q, C, L):
+        """Candidates (balanced coordinates) for one row whose Cramer denominator vanishes
+        (identically or at a root), and whether the orientations could not be separated."""
+        tol = self.tolerances
         quads = self._row_quadrics(C)
         el = eliminate(quads, self._plan)
         D = np.array(el.D, dtype=float)
         F = np.array(el.F, dtype=float)
         thetas = []
-        if np.max(np.abs(D)) <= 1e-9:
+        near = False
+        if np.max(np.abs(D)) <= tol.cramer_identically_zero:
             E1, E2 = el.rows[0], el.rows[1]
             M = np.array([[*E1.A, *E1.B], [*E2.A, *E2.B]], dtype=float)
             U, S, _ = np.linalg.svd(M)
             forms = []
-            if S[0] <= 1e-9:
+            if S[0] <= tol.rank:
                 forms = [np.array(E1.K, float), np.array(E2.K, float)]
             else:
                 lam = U[:, -1]
                 forms = [lam[0] * np.array(E1.K, float) + lam[1] * np.array(E2.K, float)]
-            forms = [g for g in forms if np.max(np.abs(g)) > 1e-10]
+            forms = [g for g in forms if np.max(np.abs(g)) > tol.rank]
             if not forms:
                 self._confirm_degenerate(q)
             for g in forms:
-                th, ok = real_half_angles((g / np.max(np.abs(g)))[None, :])
+                gn = (g / np.max(np.abs(g)))[None, :]
+                th, ok = real_half_angles(gn, tol.real_root_imag)
                 thetas += [t for t in th[0] if np.isfinite(t)]
+                near |= not bool(_separated(gn)[0][0])
         else:
-            if np.max(np.abs(F)) <= self.tolerances.degenerate:
+            if np.max(np.abs(F)) <= tol.degenerate:
                 poly = self._exact_polynomial(q)
                 F = np.array([float(c) for c in _form_coeffs(poly)], dtype=float)
-            th, ok = real_half_angles((F / np.max(np.abs(F)))[None, :])
+            Fn = (F / np.max(np.abs(F)))[None, :]
+            th, ok = real_half_angles(Fn, tol.real_root_imag)
             thetas = [t for t in th[0] if np.isfinite(t)]
+            near = not bool(_separated(Fn)[0][0])
         out = []
         for t in thetas:
-            out += self._solve_orientation(q, quads, np.cos(t), np.sin(t))
-        return out
+            out += self._solve_orientation(q, quads, np.cos(t), np.sin(t), L)
+        return out, near
 
     def _exact_polynomial(self, q):
         return self.kinematic_polynomial([sp.Rational(float(v)) for v in q])
@@ -1058,8 +1241,10 @@ class PlanarParallel:
             f"{self.name} at q = {np.asarray(q).tolist()}: the constraints leave a continuum of "
             "assembly modes (architecture singularity)")
 
-    def _solve_orientation(self, q, quads, x0, x1):
-        """Positions (x2, x3) for a fixed orientation (x0, x1): returns candidate image points."""
+    def _solve_orientation(self, q, quads, x0, x1, L):
+        """Positions (x2, x3) for a fixed orientation (x0, x1): candidate image points in the
+        balanced coordinates of ``quads`` (length scale ``L``)."""
+        tol = self.tolerances
         rows = []
         for qd in quads:
             c, a0, a1, b0, b1, k0, k1, k2 = (float(v) for v in qd.coefficients())
@@ -1069,30 +1254,30 @@ class PlanarParallel:
         if circles:
             c0 = circles[0]
             lin += [tuple(r[j] - c0[j] * r[0] / c0[0] for j in (1, 2, 3)) for r in circles[1:]]
-        L = np.array([[r[0], r[1]] for r in lin]) if lin else np.zeros((0, 2))
+        L2 = np.array([[r[0], r[1]] for r in lin]) if lin else np.zeros((0, 2))
         rhs = np.array([-r[2] for r in lin]) if lin else np.zeros(0)
-        S = np.linalg.svd(L, compute_uv=False) if len(lin) else np.zeros(0)
-        rank = int(np.sum(S > 1e-9 * max(1.0, S[0] if len(S) else 0.0)))
+        S = np.linalg.svd(L2, compute_uv=False) if len(lin) else np.zeros(0)
+        rank = int(np.sum(S > tol.rank * max(1.0, S[0] if len(S) else 0.0)))
         if rank == 2:
-            p = np.linalg.lstsq(L, rhs, rcond=None)[0]
+            p = np.linalg.lstsq(L2, rhs, rcond=None)[0]
             return [np.array([x0, x1, p[0], p[1]])]
         if rank == 1:
-            p0 = np.linalg.lstsq(L, rhs, rcond=None)[0]
-            if np.max(np.abs(L @ p0 - rhs), initial=0.0) > 1e-8 * max(1.0, np.max(np.abs(rhs), initial=0.0)):
+            p0 = np.linalg.lstsq(L2, rhs, rcond=None)[0]
+            if np.max(np.abs(L2 @ p0 - rhs), initial=0.0) > 10 * tol.rank * max(1.0, np.max(np.abs(rhs), initial=0.0)):
                 return []
-            d = np.linalg.svd(L)[2][1]
+            d = np.linalg.svd(L2)[2][1]
             if not circles:
-                return self._continuum(q, np.array([x0, x1, p0[0], p0[1]]))
+                return self._continuum(q, np.array([x0, x1, p0[0], p0[1]]), L)
             c, al, be, ka = circles[0]
             A2 = c * (d @ d)
             A1 = 2 * c * (p0 @ d) + al * d[0] + be * d[1]
             A0 = c * (p0 @ p0) + al * p0[0] + be * p0[1] + ka
             disc = A1 * A1 - 4 * A2 * A0
-            if disc < -1e-9 * max(1.0, A1 * A1):
+            if disc < -tol.rank * max(1.0, A1 * A1):
                 return []
             r = np.sqrt(max(disc, 0.0))
             return [np.array([x0, x1, *(p0 + s * d)]) for s in ((-A1 + r) / (2 * A2), (-A1 - r) / (2 * A2))]
-        consistent = all(abs(r) <= 1e-9 for r in rhs)
+        consistent = all(abs(r) <= tol.rank for r in rhs)
         if not consistent:
             return []
         if circles:
@@ -1101,12 +1286,13 @@ class PlanarParallel:
             r2 = centre @ centre - ka / c
             if r2 < 0:
                 return []
-            return self._continuum(q, np.array([x0, x1, centre[0] + np.sqrt(r2), centre[1]]))
-        return self._continuum(q, np.array([x0, x1, 0.0, 0.0]))
+            return self._continuum(q, np.array([x0, x1, centre[0] + np.sqrt(r2), centre[1]]), L)
+        return self._continuum(q, np.array([x0, x1, 0.0, 0.0]), L)
 
-    def _continuum(self, q, X):
-        pose = _pose_of(X)
-        if self.joint_residual(pose, q) <= self.tolerances.joint_residual:
+    def _continuum(self, q, X, L):
+        Xw = np.array([X[0], X[1], X[2] * L, X[3] * L])
+        pose = _pose_of(Xw)
+        if self.joint_residual(pose, q, length=L) <= self.tolerances.joint_residual:
             raise DegenerateDesignError(
                 f"{self.name} at q = {np.asarray(q).tolist()}: a continuum of assembly modes at "
                 f"phi = {pose[2]:.6g} (architecture singularity or singular joint values)")
@@ -1158,12 +1344,47 @@ class PlanarParallel:
 
 
 def _cache_key(q):
-    """Key of the symbolic caches for joint values ``q`` (None: general in the joint symbols)."""
+    """Key of the symbolic caches for joint values ``q`` (None: general in the joint symbols).
+
+    Exact: every entry becomes the exact sympy number it denotes (a float its binary rational,
+    an int or Fraction itself), so ``2**53 + 1`` and ``2**53``, or ``Fraction(1, 3)`` and
+    ``1/3``, are different keys.
+    """
     if q is None:
         return None
-    if is_symbolic(q):
-        return tuple(sp.sympify(v) for v in q)
-    return tuple(float(v) for v in np.ravel(q))
+    items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
+    return tuple(sp.sympify(v) if isinstance(v, sp.Basic) else as_exact(v, f"q[{i}]")
+                 for i, v in enumerate(items))
+
+
+def _separated(Fn):
+    """Inclusion-disc separation of the roots of float binary forms ``Fn`` (n, d+1), in the
+    chart where each form's leading coefficient is largest (the rotation of
+    :func:`imagespace.roots.projective_roots`). Returns ``(separated (n,), real roots (n,))``:
+    where ``separated`` is False, roots could not be told apart in floating point."""
+    from .roots import rotated_forms
+
+    n = Fn.shape[0]
+    sep = np.zeros(n, dtype=bool)
+    nreal = np.zeros(n, dtype=int)
+    G, ok = rotated_forms(Fn)
+    d = G.shape[1] - 1
+    if d < 1:
+        return ok, nreal
+    # the rotation itself rounds: a generous relative bound on each rotated coefficient
+    E = (4 * d + 8) * 2.0**-53 * np.max(np.abs(G), axis=1, keepdims=True) * np.ones_like(G)
+    use = ok & (np.abs(G[:, d]) > E[:, d])
+    if np.any(use):
+        good, real, _, _ = inclusion_discs(G[use], E[use])
+        sep[use] = good
+        nreal[use] = np.where(good, real.sum(axis=1), 0)
+    return sep, nreal
+
+
+def _general_at(P, symbols, q_exact):
+    """Exact coefficients of the general-q polynomial ``P`` at exact joint values."""
+    sub = dict(zip(symbols, q_exact))
+    return [sp.expand(c.subs(sub)) for c in _form_coeffs(P)]
 
 
 def _distinct_orientations(half_angles, tol=1e-9):

@@ -20,7 +20,7 @@ import numpy as np
 from .elimination import bf_add, bf_mul, bf_scale
 from .tolerances import TOLERANCES
 
-__all__ = ["projective_roots", "real_half_angles", "polish_half_angles", "bf_eval_angle"]
+__all__ = ["projective_roots", "rotated_forms", "real_half_angles", "polish_half_angles", "bf_eval_angle"]
 
 _GAMMAS = np.arange(8) * (np.pi / 8)
 
@@ -66,6 +66,47 @@ def _bf_derivative_angle(F, theta):
     return np.sum(F[..., None, :] * (b - a), axis=-1)
 
 
+def _rotated(F):
+    F = np.asarray(F, dtype=float)
+    n, d1 = F.shape
+    vals = np.abs(bf_eval_angle(F, (_GAMMAS + np.pi / 2)[None, :].repeat(n, 0)))
+    j = np.argmax(np.nan_to_num(vals, nan=-1.0), axis=1)
+    gamma = _GAMMAS[j]
+    scale = np.max(np.abs(F), axis=1)
+    best = vals[np.arange(n), j]
+    ok = np.isfinite(scale) & (best > 0) & np.all(np.isfinite(F), axis=1)
+    c, s = np.cos(gamma), np.sin(gamma)
+    G = np.stack(_rotate([F[:, k] for k in range(d1)], c, s), axis=1)  # (n, d+1)
+    return G, ok, gamma
+
+
+def rotated_forms(F):
+    """Each binary form rotated so that the direction of largest ``|F|`` among eight is ``t = oo``.
+
+    Parameters
+    ----------
+    F : (n, d+1) float
+
+    Returns
+    -------
+    G : (n, d+1) float
+        Coefficients of ``F(c y0 - s y1, s y0 + c y1)``; ``G[:, d]`` (the leading coefficient in
+        ``t = y1/y0``) is the largest of the eight values, so the roots are well scaled.
+    ok : (n,) bool
+        False where the form vanishes identically or is not finite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.roots import rotated_forms
+    >>> G, ok = rotated_forms(np.array([[0.0, 1.0, 0.0]]))     # x0 x1
+    >>> ok.tolist(), bool(abs(G[0, 2]) > 0)
+    ([True], True)
+    """
+    G, ok, _ = _rotated(F)
+    return G, ok
+
+
 def projective_roots(F):
     """All complex roots of a batch of binary forms in a well-conditioned rotated chart.
 
@@ -91,17 +132,9 @@ def projective_roots(F):
     >>> ok
     array([ True])
     """
-    F = np.asarray(F, dtype=float)
-    n, d1 = F.shape
+    G, ok, gamma = _rotated(F)
+    n, d1 = G.shape
     d = d1 - 1
-    vals = np.abs(bf_eval_angle(F, (_GAMMAS + np.pi / 2)[None, :].repeat(n, 0)))
-    j = np.argmax(np.nan_to_num(vals, nan=-1.0), axis=1)
-    gamma = _GAMMAS[j]
-    scale = np.max(np.abs(F), axis=1)
-    best = vals[np.arange(n), j]
-    ok = np.isfinite(scale) & (best > 0) & np.all(np.isfinite(F), axis=1)
-    c, s = np.cos(gamma), np.sin(gamma)
-    G = np.stack(_rotate([F[:, k] for k in range(d1)], c, s), axis=1)  # (n, d+1)
     lead = np.where(ok, G[:, d], 1.0)
     comp = np.zeros((n, d, d))
     if d > 1:

@@ -1,8 +1,16 @@
 """Named numerical tolerances, in one frozen dataclass.
 
-Every floating-point decision in imagespace reads its threshold from :data:`TOLERANCES` (or from
-a :class:`Tolerances` instance passed explicitly), so the thresholds are documented in one place
-and a test can tighten or loosen them deliberately.
+Scope of the promise (kept true by tests): every floating-point decision of the numpy
+direct-kinematics path and of the floating-point steps of the certified per-call path
+(:meth:`PlanarParallel.direct_kinematics` with or without ``certify``) reads its threshold from the
+manipulator's :class:`Tolerances` (``PlanarParallel(..., tolerances=...)``), as do the singularity
+classifications of :mod:`imagespace.singularities`. All of these thresholds are relative: the
+quadrics are balanced to the design's length scale before any decision, so answers do not depend
+on units. Certified answers (counts, multiplicities, root intervals) never read a tolerance.
+
+Not covered (each keeps its thresholds as named module-level constants, documented there): the
+compiled batch kernel (:mod:`imagespace.fastdk`, which flags a row for the numpy path rather than
+decide a close call), meshing, paths, cusps, backlash, workspaces and dynamics.
 """
 
 from dataclasses import dataclass
@@ -35,6 +43,21 @@ class Tolerances:
         A Jacobian is singular when ``|det| / prod(row norms) <= singular`` (dimensionless);
         a float conic invariant is zero when below ``singular`` times the coefficient scale to
         the invariant's degree.
+    cramer_identically_zero : float
+        The Cramer denominator ``D`` of a row is taken as identically zero (case (a)) when its
+        coefficients are below this, relative to the balanced quadrics (max coefficient 1).
+    cramer_small : float
+        ``D`` is small at a root (case (b), the orientation is solved on its own) when
+        ``|D(root)| <= cramer_small * max|D|``.
+    rank : float
+        Relative singular-value threshold for the rank of the linear part of a fixed-orientation
+        system, and for a continuum of positions.
+    newton_stop : float
+        Newton on the full system stops when a step is below this times the point's size;
+        a Jacobian with ``|det| <= newton_stop * prod(row norms)`` takes no step.
+    near_singular_gap : float
+        The compiled kernel's rows: two real roots of the kinematic polynomial closer than this
+        (in the half-angle) make the row ``near_singular``.
     """
 
     joint_residual: float = 1e-7
@@ -43,6 +66,19 @@ class Tolerances:
     degenerate: float = 1e-11
     newton_steps: int = 30
     singular: float = 1e-9
+    cramer_identically_zero: float = 1e-9
+    cramer_small: float = 1e-7
+    rank: float = 1e-9
+    newton_stop: float = 1e-14
+    near_singular_gap: float = 1e-6
+
+    def __post_init__(self):
+        for name, value in self.__dict__.items():
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0 \
+                    or value != value or value == float("inf"):
+                raise ValueError(f"Tolerances.{name} must be a positive finite number, got {value!r}")
+        if int(self.newton_steps) != self.newton_steps:
+            raise ValueError(f"Tolerances.newton_steps must be a whole number, got {self.newton_steps!r}")
 
 
 TOLERANCES = Tolerances()

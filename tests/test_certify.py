@@ -159,7 +159,7 @@ def test_batch_odd_inputs():
     from imagespace.certify import certify_real_roots_batch
 
     counts, path = certify_real_roots_batch(np.array([[np.nan, 1.0, 1.0], [0.0, 0.0, 0.0], [1.0, 0.0, -1.0]]))
-    assert counts.tolist() == [-1, -1, 2] and path.tolist() == ["invalid", "invalid", "discs"]
+    assert counts.tolist() == [-1, -1, 2] and path.tolist() == ["invalid", "zero", "discs"]
     counts, path = certify_real_roots_batch(np.zeros((0, 7)))
     assert counts.shape == (0,)
     with pytest.raises(isp.InputError, match="shape"):
