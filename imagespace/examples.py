@@ -12,6 +12,7 @@ import numpy as np
 import sympy as sp
 
 from ._validate import as_exact, as_float_array, check_positive
+from .exceptions import InputError
 from .legs import PPR, RPR
 from .manipulator import PlanarParallel
 
@@ -155,48 +156,105 @@ def general_3rpr():
     return m
 
 
+_BOUNDARY_ULPS = 16
+"""Rounding allowance of the closed forms below, in units of the machine epsilon times the magnitude
+of the terms summed: a quantity that decides a count (``1 - |cos theta|``, ``1 - |sin psi|``, a
+line-circle discriminant) and lies within ``_BOUNDARY_ULPS * eps * scale`` of zero is taken as
+exactly zero (the input is on the boundary within the rounding of the arithmetic and of the input's
+own computation, e.g. joint values obtained by inverse kinematics of a pose on the boundary)."""
+
+
+def _within_rounding(value, scale):
+    """``|value| <= _BOUNDARY_ULPS * eps * scale``: zero within the rounding of its terms."""
+    return abs(value) <= _BOUNDARY_ULPS * np.finfo(float).eps * scale
+
+
 def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
     """Seed 003's closed-form direct kinematics of the collinear 3-RPR (an independent check).
 
-    ``cos(theta) = [2 (d2^2 + R^2 + r^2) - d1^2 - d3^2] / (4 r R)``, then
+    The notes: ``cos(theta) = [2 (d2^2 + R^2 + r^2) - d1^2 - d3^2] / (4 r R)``, then the line
     ``y = a x + b`` with ``a = (R - r cos theta) / (r sin theta)``,
-    ``b = (d3^2 - d1^2) / (4 r sin theta)``, and ``x^2 + y^2 = d2^2``.
+    ``b = (d3^2 - d1^2) / (4 r sin theta)`` (leg 3 minus leg 1), and the circle
+    ``x^2 + y^2 = d2^2`` (leg 2). The line is used here multiplied by ``r sin(theta)``,
+    ``(R - r cos theta) x - r sin(theta) y = (d1^2 - d3^2) / 4``, whose normal
+    ``(R - r cos theta, -r sin theta)`` never vanishes for ``R != r``: the same step then holds at
+    ``sin(theta) = 0`` (concurrent legs, a direct-kinematic singularity), where the notes'
+    formula divides by zero and the line is ``x = (d1^2 - d3^2) / (4 (R -+ r))``.
+
+    Decisions. ``1 - cos(theta)`` and ``1 + cos(theta)`` are computed as
+    ``[d1^2 + d3^2 - 2 d2^2 - 2 (R - r)^2] / (4 r R)`` and
+    ``[2 d2^2 + 2 (R + r)^2 - d1^2 - d3^2] / (4 r R)`` (no cancellation near ``theta = 0, pi``),
+    and ``theta = +-2 atan2(sqrt(1 - cos), sqrt(1 + cos))``. A value within rounding of zero
+    (``_BOUNDARY_ULPS``) is zero: ``theta = 0`` (or ``pi``) is then the one orientation, a
+    double root of the orientation equation, and its two positions ``(x, +-y)`` are returned once
+    each (so orientations ``+-theta`` with ``|theta|`` below about 1e-7 are reported as
+    ``theta = 0``, with joint residuals of the order of the rounding); a negative value beyond
+    rounding means no real solution. The line-circle discriminant is decided the same way: within
+    rounding of zero, the one tangent position.
 
     Parameters
     ----------
     d : (3,) float
         Leg lengths ``d1, d2, d3``.
     R, r : float
+        Positive, ``R != r``.
 
     Returns
     -------
     (k, 3) float
-        Poses ``(x, y, theta)``, ``k`` in ``{0, 2, 4}``; ``sin(theta) = 0`` (the formula divides
-        by it) returns the poses found on that orientation by the line-and-circle step with the
-        legs' own equations, or none.
+        Poses ``(x, y, theta)``, ``theta`` in ``(-pi, pi]``; ``k = 4`` generically (mirror
+        pairs ``(x, y, theta)``, ``(x, -y, -theta)``), ``k = 2`` at ``sin(theta) = 0``
+        (``theta = 0`` or ``pi``, positions ``(x, +-y)``), ``k = 0`` when no real solution;
+        ``k = 1`` or ``2`` also where the line touches the circle.
+
+    Raises
+    ------
+    InputError
+        ``R`` or ``r`` not positive, or ``R == r``.
 
     Examples
     --------
     >>> import imagespace as isp
     >>> isp.examples.collinear_3rpr_closed_form([3.0, 2.0, 2.0]).shape
     (4, 3)
+    >>> isp.examples.collinear_3rpr_closed_form([1.25, 0.75, 1.25])    # theta = 0: concurrent legs
+    array([[ 0.  ,  0.75,  0.  ],
+           [ 0.  , -0.75,  0.  ]])
     """
-    d1, d2, d3 = (float(v) for v in d)
-    R, r = float(R), float(r)
-    c = (2 * (d2**2 + R**2 + r**2) - d1**2 - d3**2) / (4 * r * R)
-    if abs(c) > 1:
+    d1, d2, d3 = as_float_array(d, "d", last=3, allow_batch=False)
+    R, r = float(check_positive(R, "R")), float(check_positive(r, "r"))
+    if R == r:
+        raise InputError(f"R and r must differ (equal R = r = {R} make the legs' line equation vanish "
+                         "at theta = 0)")
+    terms = d1**2 + d3**2 + 2 * d2**2 + 2 * (R + r) ** 2          # magnitude of the sums below
+    u = d1**2 + d3**2 - 2 * d2**2 - 2 * (R - r) ** 2               # 4 r R (1 - cos theta)
+    w = 2 * d2**2 + 2 * (R + r) ** 2 - d1**2 - d3**2               # 4 r R (1 + cos theta)
+    if _within_rounding(u, terms):
+        thetas = [0.0]
+    elif _within_rounding(w, terms):
+        thetas = [np.pi]
+    elif u < 0 or w < 0:
         return np.zeros((0, 3))
+    else:
+        th = 2 * np.arctan2(np.sqrt(u), np.sqrt(w))
+        thetas = [th, -th]
+    h = (d1**2 - d3**2) / 4
     out = []
-    for th in {np.arccos(c), -np.arccos(c)}:
-        s = np.sin(th)
-        if abs(s) < 1e-14:
+    for th in thetas:
+        n = np.array([R - r * np.cos(th), -r * np.sin(th)])
+        nn = n @ n                                                  # >= (R - r)^2 > 0
+        p0 = h * n / nn                                             # foot of the line from the origin
+        disc = d2**2 - h**2 / nn                                    # (half chord)^2
+        if _within_rounding(disc, d2**2 + h**2 / nn):
+            ts = [0.0]
+        elif disc < 0:
             continue
-        a = (R - r * np.cos(th)) / (r * s)
-        b = (d3**2 - d1**2) / (4 * r * s)
-        # x^2 + (a x + b)^2 = d2^2
-        for x in np.roots([1 + a * a, 2 * a * b, b * b - d2**2]):
-            if abs(x.imag) < 1e-12:
-                out.append([x.real, a * x.real + b, th])
+        else:
+            ts = [np.sqrt(disc), -np.sqrt(disc)]
+        tangent = np.array([-n[1], n[0]]) / np.sqrt(nn)
+        for t in ts:
+            x, y = p0 + t * tangent
+            out.append([x, y, th])
     return np.array(out).reshape(-1, 3)
 
 
@@ -206,9 +264,20 @@ def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18):
     With ``k = cot(alpha)`` the IK is ``rho_i = a_i . (x, y) + r (sin phi + k cos phi) - R k`` and
     the three vectors ``a_i = (cos theta_i + k sin theta_i, sin theta_i - k cos theta_i)`` sum to
     zero, so summing the three equations leaves one in ``phi``: with ``psi = phi - (alpha - pi/2)``,
-    ``r sin(psi) / sin(alpha) = (rho_1 + rho_2 + rho_3)/3 + R k`` - the paper's
+    ``r sin(psi) = sin(alpha) (rho_1 + rho_2 + rho_3)/3 + R cos(alpha)`` - the paper's
     ``C1 + C2 cos + C3 sin = 0``. Its two solutions ``psi`` and ``pi - psi`` give the rotations
     ``phi`` and ``2 alpha - phi``, and two of the linear equations give the same ``(x, y)`` for both.
+
+    The boundary ``|sin psi| = 1`` (``psi = +-pi/2``, i.e. ``phi = alpha`` or ``alpha - pi``) is
+    the singularity ``det J_h^-1 = 0``: the two rotations coincide there, a double solution, and
+    one pose is returned. It is decided on ``r (1 -+ sin psi)`` computed as
+    ``r -+ (sin(alpha) sum(rho)/3 + R cos(alpha))``: within rounding of zero (``_BOUNDARY_ULPS``
+    times eps times the magnitude of the terms, which covers joint values obtained by the IK of a
+    pose on the boundary, whose ``sin psi`` evaluates to ``1.0000000000000002``) the input is on the
+    boundary; beyond it, no solution (``|sin psi| > 1``) or two. So two rotations closer than
+    ``2 sqrt(2 _BOUNDARY_ULPS eps scale / r)`` (about 2e-7 rad for the default design) are
+    reported as the one at the boundary; its joint residual is then of the order of the rounding. Away from the boundary
+    ``psi = pi/2 - 2 atan2(sqrt(1 - sin psi), sqrt(1 + sin psi))``, accurate near ``+-pi/2``.
 
     Parameters
     ----------
@@ -219,25 +288,36 @@ def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18):
     Returns
     -------
     (k, 3) float
-        ``k = 2`` (or 1 at the singular ``psi = pi/2``, 0 when ``|sin psi| > 1``).
+        Poses ``(x, y, phi)``, ``phi`` in ``[-pi, pi)``; ``k = 2``, or 1 at the singular
+        ``psi = +-pi/2``, or 0 when ``|sin psi| > 1``.
 
     Examples
     --------
-    >>> import imagespace as isp
+    >>> import numpy as np, imagespace as isp
     >>> m = isp.examples.choi_3ppr()
     >>> isp.examples.choi_3ppr_closed_form(m.q_example_float).round(6)[0]
     array([ 0.1 , -0.05,  0.2 ])
+    >>> q = m.inverse_kinematics(np.array([0.1, -0.05, 7 * np.pi / 18]))    # phi = alpha
+    >>> isp.examples.choi_3ppr_closed_form(q).round(6)
+    array([[ 0.1    , -0.05   ,  1.22173]])
     """
     rho = as_float_array(rho, "rho", last=3, allow_batch=False)
     R, r, alpha = float(R), float(r), float(alpha)
-    k = np.cos(alpha) / np.sin(alpha)
-    sin_psi = np.sin(alpha) * (rho.sum() / 3 + R * k) / r
-    if abs(sin_psi) > 1:
+    sa, ca = np.sin(alpha), np.cos(alpha)
+    k = ca / sa
+    v = sa * rho.sum() / 3 + R * ca                                 # r sin(psi)
+    terms = r + abs(sa) * np.abs(rho).sum() / 3 + R * abs(ca)
+    u, w = r - v, r + v                                             # r (1 - sin psi), r (1 + sin psi)
+    if _within_rounding(u, terms):
+        psis = [np.pi / 2]
+    elif _within_rounding(w, terms):
+        psis = [-np.pi / 2]
+    elif u < 0 or w < 0:
         return np.zeros((0, 3))
+    else:
+        psi = np.pi / 2 - 2 * np.arctan2(np.sqrt(u), np.sqrt(w))
+        psis = [psi, np.pi - psi]
     phi0 = alpha - np.pi / 2
-    psis = [np.arcsin(sin_psi)]
-    if abs(abs(sin_psi) - 1) > 1e-15:
-        psis.append(np.pi - psis[0])
     th = np.array([0.0, 2 * np.pi / 3, 4 * np.pi / 3])
     A = np.column_stack([np.cos(th) + k * np.sin(th), np.sin(th) - k * np.cos(th)])
     out = []

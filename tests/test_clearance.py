@@ -78,9 +78,14 @@ def analysis():
     return m, backlash(m, m.q_example_float, 2, delta=0.3)
 
 
-def test_thresholds_match_an_independent_four_bar_sweep(analysis):
+@pytest.fixture(scope="module")
+def sweep():
+    return fourbar_graph()
+
+
+def test_thresholds_match_an_independent_four_bar_sweep(analysis, sweep):
     m, res = analysis
-    poses, q3, edges = fourbar_graph()
+    poses, q3, edges = sweep
     q0 = m.q_example_float[2]
     nodes = [nearest(poses, mm.pose) for mm in res.modes]
     checked = 0
@@ -107,11 +112,30 @@ def test_released_curve_satisfies_the_locked_legs(analysis):
         assert np.allclose(q, m.q_example_float[j], rtol=1e-9)
 
 
-def test_connections_follow_the_play(analysis):
+def test_connections_follow_the_play(analysis, sweep):
+    """Which pairs of modes a play connects, against the independent four-bar sweep: for every pair
+    of distinct modes, ``connected`` must say what a flood fill of the band ``|q3 - q0| <= delta``
+    over the Cartesian sweep says (the plays 0.3, 0.8 and 1.0 lie between the thresholds, 0.247,
+    0.718, 0.915 and 5.05, far beyond the sweep's resolution)."""
     m, res = analysis
-    assert np.array_equal(res.connected, res.thresholds < 0.3) or np.all(np.diag(res.connected))
+    poses, q3, edges = sweep
+    q0 = m.q_example_float[2]
+    middle = backlash(m, m.q_example_float, 2, delta=0.8)
     bigger = backlash(m, m.q_example_float, 2, delta=1.0)
-    assert np.all(bigger.connected >= res.connected)
+    checked = 0
+    for r in (res, middle, bigger):
+        k = len(r.modes)
+        assert k == 6 and r.connected.shape == (k, k)
+        nodes = [nearest(poses, mm.pose) for mm in r.modes]
+        expected = np.array([[connected(poses, q3, edges, nodes[a], nodes[b], q0, r.delta) for b in range(k)]
+                             for a in range(k)])
+        off = ~np.eye(k, dtype=bool)
+        assert np.array_equal(r.connected[off], expected[off])
+        # both answers occur: the check distinguishes connected from separated pairs
+        assert expected[off].any() and not expected[off].all()
+        checked += int(off.sum())
+    assert checked == 3 * 30
+    assert np.all(middle.connected >= res.connected) and np.all(bigger.connected >= middle.connected)
     assert np.all(bigger.mobility >= res.mobility - 1e-12)
 
 

@@ -116,3 +116,53 @@ def test_band_forces_join_eq_5_with_the_mu_dot_term_restored(setup):
     assert np.abs(ours.mu[band, 2:] - ref.mu[band, 2:]).max() < 1e-6 * scale
     # the seed's equation (mu-dot term dropped) is only first-order accurate in the band
     assert np.abs(seed.mu[band, 2:] - ref.mu[band, 2:]).max() > 1e-3 * scale
+
+
+def _grids_without_Td(Td, seed):
+    """Time grids that straddle T_d without containing it: an even linspace, and seeded random grids
+    with one sample at a random distance 1e-4 .. 4e-3 (either side) from T_d, inside the band."""
+    rng = np.random.default_rng(seed)
+    grids = [np.linspace(0, 1, 100)]
+    for _ in range(3):
+        delta = rng.uniform(1e-4, 4e-3) * rng.choice([-1.0, 1.0])
+        grids.append(np.sort(np.r_[rng.uniform(0.0, 1.0, 25), Td + delta]))
+    return grids
+
+
+def test_consistency_is_judged_at_the_crossing_on_grids_without_T_d(setup):
+    model, path, st, sing, law, info = setup
+    from scipy.optimize import brentq
+    Td = brentq(lambda t: law(t) - sing.s, 0.05, 0.95, xtol=1e-15)      # the crossing, independently
+    assert Td == pytest.approx(info["Td"], abs=1e-9)
+    checked = 0
+    for ts in _grids_without_Td(Td, seed=13):
+        assert np.abs(ts - Td).min() > 5e-5                                # T_d itself is not sampled
+        res = inverse_dynamics(model, path, law, ts, st.eta, sing, eps=1e-3)
+        band = res.branch == "eq11"
+        assert band.any()                                                  # the band is sampled
+        assert res.consistent and np.all(np.isfinite(res.mu))
+        assert res.consistency_residual < 1e-9
+        assert res.crossings.shape == (1,) and abs(res.crossings[0] - Td) < 1e-9
+        # the band forces are the right ones: eq. 5 at the same instants (solvable off T_d)
+        ref = inverse_dynamics(model, path, law, ts[band], st.eta, None)
+        scale = np.abs(ref.mu[:, 2:]).max()
+        assert np.abs(res.mu[band, 2:] - ref.mu[:, 2:]).max() < 1e-6 * scale
+        checked += 1
+    assert checked == 4
+
+
+def test_the_cubic_law_is_flagged_on_any_grid(setup):
+    model, path, st, sing, law, info = setup
+    from scipy.optimize import brentq
+    cub = cubic_rest_to_rest(1.5, 1.0)
+    tc = brentq(lambda t: cub(t) - sing.s, 0.05, 0.95, xtol=1e-15)
+    sparse = np.array([0.1, 0.3, 0.45, 0.6, 0.9])                         # no sample in the band
+    checked = 0
+    for ts in [sparse] + _grids_without_Td(tc, seed=14):
+        res = inverse_dynamics(model, path, cub, ts, st.eta, sing, eps=1e-3)
+        inside = np.abs(res.g) < 1e-3
+        assert not res.consistent and res.consistency_residual > 1e-3
+        assert res.crossings.shape == (1,) and abs(res.crossings[0] - tc) < 1e-9
+        assert np.all(np.isnan(res.mu[inside])) and np.all(np.isfinite(res.mu[~inside]))
+        checked += 1
+    assert checked == 5

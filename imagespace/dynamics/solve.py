@@ -5,7 +5,7 @@ dynamics through the singularity (seed 000 eqs. 5, 8, 10-13, corrected), and the
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -15,6 +15,14 @@ from .timelaw import TimeLaw, sextic_through
 __all__ = ["LinePath", "TrajectoryState", "state", "drive_singularity", "DriveSingularity",
            "consistent_acceleration", "plan_consistent_law", "InverseDynamicsResult", "inverse_dynamics",
            "power_balance", "simulate"]
+
+CONSISTENCY_RTOL = 1e-6
+"""A crossing of the drive singularity satisfies the consistency condition when
+``|nu . (M etaddot - R)| <= CONSISTENCY_RTOL * |M etaddot - R|`` there (dimensionless)."""
+
+CROSSING_SAMPLES = 2049
+"""Samples of ``s(t) - s_sing`` over the trajectory's time domain that bracket its crossings of the
+drive singularity before bisection (independent of the caller's time grid)."""
 
 
 @dataclass(frozen=True)
@@ -241,9 +249,15 @@ class InverseDynamicsResult:
     states : list of TrajectoryState
     consistent : bool
         False when the trajectory crosses the singularity without satisfying the consistency
-        condition (forces there are then unbounded and set to NaN inside the band).
+        condition at a crossing (forces there are then unbounded and set to NaN at the samples
+        inside the band around that crossing). Judged at the crossings themselves, found by
+        bisection of ``s(t) = s_sing`` over the law's whole domain ``[0, T]`` (and the span of
+        ``t``), whatever the time grid; True when there is no crossing.
     consistency_residual : float
-        ``|nu . (M etaddot - R)|`` at the crossing, relative to ``|M etaddot - R|``.
+        ``|nu . (M etaddot - R)|`` at the crossing, relative to ``|M etaddot - R|`` (the largest
+        over the crossings; 0 when there is none).
+    crossings : (j,) float
+        The crossing instants (bisected, to rounding).
     """
 
     t: np.ndarray
@@ -254,6 +268,7 @@ class InverseDynamicsResult:
     states: list
     consistent: bool
     consistency_residual: float
+    crossings: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def _measure(AT):
@@ -269,6 +284,10 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
     alpha_p Rdot_p + alphadot_p R_p`` (the seed's eqs. 9-13 with their lost derivative orders
     restored), ``alpha`` from the row dependence (least squares on the involved rows) and
     ``alphadot`` by central differences in time.
+
+    The consistency condition is judged where the trajectory crosses the singularity, at the
+    instants where ``s(t) = sing.s`` (bisected over the law's domain), not at the sample of
+    ``times`` nearest to it: a grid need not contain ``T_d``.
 
     Parameters
     ----------
@@ -302,6 +321,9 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
     >>> res = inverse_dynamics(model, path, law, [0.2, info["Td"], 0.8], eta0, sing)
     >>> res.branch.tolist(), res.consistent
     (['eq5', 'eq11', 'eq5'], True)
+    >>> res = inverse_dynamics(model, path, law, info["Td"] + np.array([-3e-4, 2e-4]), eta0, sing)
+    >>> res.branch.tolist(), res.consistent, bool(np.isfinite(res.mu).all())    # T_d not sampled
+    (['eq11', 'eq11'], True, True)
     """
     if not eps > 0:
         raise InputError(f"eps must be positive, got {eps!r}")
@@ -346,18 +368,55 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
         gs.append(g)
         states.append(st)
     mus = np.array(mus)
+    crossings = np.zeros(0)
     if sing is not None:
-        # the consistency residual at the instant closest to the singularity
-        k = int(np.argmin(np.abs(gs)))
-        stc = states[k]
-        b = model.M(stc.eta) @ stc.d2 - model.R(stc.eta, stc.d1)
-        crossed_residual = abs(sing.nu @ b) / max(1e-300, np.linalg.norm(b))
-        consistent = crossed_residual < 1e-6 or abs(gs[k]) > eps
-        if not consistent:
-            inside = np.abs(np.array(gs)) < eps
-            mus[inside] = np.nan
+        # judge the consistency condition at the crossings themselves (bisected), not at the
+        # sample nearest to them: a grid that straddles T_d has no sample where it holds exactly
+        crossings = _crossings(law, sing.s, times)
+        residuals = []
+        for tc in crossings:
+            stc = _at(model, path, law, tc, sing.eta)
+            b = model.M(stc.eta) @ stc.d2 - model.R(stc.eta, stc.d1)
+            residuals.append(abs(sing.nu @ b) / max(np.finfo(float).tiny, np.linalg.norm(b)))
+        residuals = np.array(residuals)
+        bad = residuals > CONSISTENCY_RTOL
+        consistent = not bad.any()
+        crossed_residual = float(residuals.max()) if len(residuals) else 0.0
+        inside = np.flatnonzero(np.abs(np.array(gs)) < eps)
+        if len(crossings) and len(inside):
+            nearest = np.argmin(np.abs(times[inside, None] - crossings[None, :]), axis=1)
+            mus[inside[bad[nearest]]] = np.nan
     return InverseDynamicsResult(times, mus, np.array(branches), np.array(conds), np.array(gs), states,
-                                 bool(consistent), float(crossed_residual))
+                                 bool(consistent), float(crossed_residual), crossings)
+
+
+def _crossings(law, s_star, times):
+    """The instants where ``law(t) = s_star`` on ``[0, law.T]`` and the span of ``times``: sign
+    changes on ``CROSSING_SAMPLES`` samples plus ``times``, bisected to rounding; exact zeros kept.
+    A trajectory that only touches ``s_star`` between samples without crossing is not found."""
+    lo, hi = float(np.min(times)), float(np.max(times))
+    T = getattr(law, "T", None)
+    if T is not None:
+        lo, hi = min(lo, 0.0), max(hi, float(T))
+    ts = np.union1d(np.linspace(lo, hi, CROSSING_SAMPLES), times)
+    f = np.asarray(law(ts), float) - s_star
+    out = list(ts[f == 0])
+    for i in np.flatnonzero(f[:-1] * f[1:] < 0):
+        a, b, fa = ts[i], ts[i + 1], f[i]
+        while True:
+            mid = 0.5 * (a + b)
+            if not a < mid < b:
+                break
+            fm = float(law(mid)) - s_star
+            if fm == 0:
+                a = b = mid
+                break
+            if np.sign(fm) == np.sign(fa):
+                a, fa = mid, fm
+            else:
+                b = mid
+        out.append(0.5 * (a + b))
+    return np.sort(np.array(out, float))
 
 
 def _alpha(model, eta, sing):
