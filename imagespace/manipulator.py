@@ -793,7 +793,8 @@ class PlanarParallel:
             return CertifiedModes(res.modes(0), cert, (), ())
         form = _form_coeffs(P)
         plans = plan_roots(form, list(el.D), list(el.X2), list(el.X3), cert, case_a)
-        C, quads, L = self._scaled_quadrics(qf[None, :])
+        C, _, L = self._scaled_quadrics(qf[None, :])
+        quads = self._row_quadrics(C[0])
         tol = self.tolerances
         per_root = []
         for plan in plans:
@@ -820,7 +821,11 @@ class PlanarParallel:
             arr = np.full((1, max(len(cand), _MAX_MODES), 4), np.nan)
             arr[0, :len(cand)] = cand
             sub = self._finish(qf[None, :], C, arr, np.array([True]), {}, np.array([True]), L)
-            per_root.append(sub.modes(0))
+            found = sub.modes(0)
+            if plan.multiplicity > 1:       # a multiple orientation root: its modes are singular
+                found = [AssemblyMode(mm.image_point, mm.pose, mm.residual, 0, True, plan.multiplicity)
+                         for mm in found]
+            per_root.append(found)
         tagged = [(mm, k) for k, lst in enumerate(per_root) for mm in lst]
         tagged.sort(key=lambda item: item[0].pose[2])
         return CertifiedModes([mm for mm, _ in tagged], cert, [len(lst) for lst in per_root],
@@ -1126,11 +1131,46 @@ class PlanarParallel:
         res = self._finish(Q, C, cand, row_ok, errors, special, L)
         half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])
         distinct = np.array([_distinct_orientations(half[i][res.valid[i]]) for i in range(n)], dtype=int)
+        # the spurious orientation phi_c + pi of a PP dyad is a root that carries no mode
+        n_real = n_real - self._spurious_roots(C, theta)
         near = row_ok & ~special & (~separated | (distinct != n_real))
-        for i, flag in near_special.items():
-            near[i] = row_ok[i] and flag
+        for i, (flag, clusters) in near_special.items():
+            # a cluster of k roots the discs cannot separate must carry k modes (case (b): a
+            # double root with two positions); anything else is a count not to be trusted
+            hv = half[i][res.valid[i]]
+            for theta_c, rad, size in clusters:
+                dist = np.abs(np.remainder(hv - theta_c + np.pi / 2, np.pi) - np.pi / 2)
+                flag = flag or int(np.sum(dist <= rad + tol.near_singular_gap)) != size
+            near[i] = row_ok[i] and (flag or bool(res.near_singular[i]))
+            if near[i]:
+                # a continuum hides behind a Cramer case seen in floating point: decide exactly
+                try:
+                    self._certified(Q[i], Q[i])
+                except DegenerateDesignError as e:
+                    if raise_degenerate:
+                        raise
+                    row_ok[i] = False
+                    errors[int(i)] = str(e)
+                    self._store_modes(res, i, [])
+                    res.solver[i] = "invalid"
+                    near[i] = False
         res.near_singular = near
         return res
+
+    def _spurious_roots(self, C, theta):
+        """Per row, how many of the real half-angles ``theta`` (n, k) are the spurious
+        orientation ``phi_c + pi`` of a PP dyad (its quadric ``sin(2 theta - phi_c)`` up to scale
+        has the roots ``theta = phi_c / 2`` and ``phi_c / 2 + pi / 2``; the first is the one)."""
+        n = C.shape[0]
+        out = np.zeros(n, dtype=int)
+        for j, kind in enumerate(self._kinds):
+            if kind != "PP":
+                continue
+            phi_c = np.arctan2(-C[:, j, 5], C[:, j, 6] / 2)
+            spur = phi_c / 2 + np.pi / 2
+            d = np.abs(np.remainder(theta - spur[:, None] + np.pi / 2, np.pi) - np.pi / 2)
+            out += np.sum(np.isfinite(theta) & (d <= self.tolerances.near_singular_gap), axis=1)
+        return out
 
     def _finish(self, Q, C, cand, row_ok, errors, special, L):
         """Polish candidates (balanced coordinates), check them with the legs, sort; ``L`` (n,)
@@ -1156,13 +1196,17 @@ class PlanarParallel:
                                   np.max(np.abs(X[:, j] + X[:, i0]), axis=-1))
                 valid[:, j] &= ~(valid[:, i0] & (dist <= tol.duplicate * (1 + np.max(np.abs(X[:, j]), axis=-1))))
         _, J = _system(C, np.where(finite[..., None], X, 0.0))
-        aspect = np.where(finite, np.sign(np.linalg.det(J)), 0).astype(int)
+        detJ = np.linalg.det(J)
+        aspect = np.where(finite, np.sign(detJ), 0).astype(int)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.abs(detJ) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
         X = Xw
         # sort valid first, by phi
         key = np.where(valid, poses[..., 2], np.inf)
         order = np.argsort(key, axis=1, kind="stable")
         take = lambda a: np.take_along_axis(a, order.reshape(order.shape + (1,) * (a.ndim - 2)), axis=1)
         X, poses, valid, resid, aspect = take(X), take(poses), take(valid), take(resid), take(aspect)
+        ill = np.any(valid & ~(take(ratio) > tol.near_singular_condition), axis=1)
         count = valid.sum(axis=1)
         if np.any(count > _MAX_MODES):
             raise DegenerateDesignError(f"more than {_MAX_MODES} assembly modes found; the design is degenerate")
@@ -1174,7 +1218,7 @@ class PlanarParallel:
         aspect = np.where(valid, aspect, 0)
         solver = np.where(row_ok, "numpy", "invalid").astype("<U9")
         return DKBatchResult(X, poses, valid, count, resid, aspect, row_ok, errors, special,
-                             solver=solver, near_singular=np.zeros(n, dtype=bool),
+                             solver=solver, near_singular=ill & row_ok,
                              multiplicity=np.ones((n, w), dtype=np.int8))
 
     def _scaled_quadrics(self, Q):
@@ -1200,7 +1244,7 @@ class PlanarParallel:
         D = np.array(el.D, dtype=float)
         F = np.array(el.F, dtype=float)
         thetas = []
-        near = False
+        clusters = []
         if np.max(np.abs(D)) <= tol.cramer_identically_zero:
             E1, E2 = el.rows[0], el.rows[1]
             M = np.array([[*E1.A, *E1.B], [*E2.A, *E2.B]], dtype=float)
@@ -1218,7 +1262,6 @@ class PlanarParallel:
                 gn = (g / np.max(np.abs(g)))[None, :]
                 th, ok = real_half_angles(gn, tol.real_root_imag)
                 thetas += [t for t in th[0] if np.isfinite(t)]
-                near |= not bool(_separated(gn)[0][0])
         else:
             if np.max(np.abs(F)) <= tol.degenerate:
                 poly = self._exact_polynomial(q)
@@ -1226,11 +1269,12 @@ class PlanarParallel:
             Fn = (F / np.max(np.abs(F)))[None, :]
             th, ok = real_half_angles(Fn, tol.real_root_imag)
             thetas = [t for t in th[0] if np.isfinite(t)]
-            near = not bool(_separated(Fn)[0][0])
+            clusters = _root_clusters(Fn[0])
         out = []
+        flags = []
         for t in thetas:
-            out += self._solve_orientation(q, quads, np.cos(t), np.sin(t), L)
-        return out, near
+            out += self._solve_orientation(q, quads, np.cos(t), np.sin(t), L, flags)
+        return out, (bool(flags), clusters)
 
     def _exact_polynomial(self, q):
         return self.kinematic_polynomial([sp.Rational(float(v)) for v in q])
@@ -1241,9 +1285,10 @@ class PlanarParallel:
             f"{self.name} at q = {np.asarray(q).tolist()}: the constraints leave a continuum of "
             "assembly modes (architecture singularity)")
 
-    def _solve_orientation(self, q, quads, x0, x1, L):
+    def _solve_orientation(self, q, quads, x0, x1, L, flags=None):
         """Positions (x2, x3) for a fixed orientation (x0, x1): candidate image points in the
-        balanced coordinates of ``quads`` (length scale ``L``)."""
+        balanced coordinates of ``quads`` (length scale ``L``). ``flags`` (a list) receives an
+        entry when two positions are about to merge (a near-zero discriminant)."""
         tol = self.tolerances
         rows = []
         for qd in quads:
@@ -1273,6 +1318,9 @@ class PlanarParallel:
             A1 = 2 * c * (p0 @ d) + al * d[0] + be * d[1]
             A0 = c * (p0 @ p0) + al * p0[0] + be * p0[1] + ka
             disc = A1 * A1 - 4 * A2 * A0
+            if abs(disc) <= tol.near_singular_condition * (A1 * A1 + abs(4 * A2 * A0)):
+                if flags is not None:
+                    flags.append("merging positions")   # the count is not to be trusted
             if disc < -tol.rank * max(1.0, A1 * A1):
                 return []
             r = np.sqrt(max(disc, 0.0))
@@ -1379,6 +1427,52 @@ def _separated(Fn):
         sep[use] = good
         nreal[use] = np.where(good, real.sum(axis=1), 0)
     return sep, nreal
+
+
+def _root_clusters(Fn):
+    """Clusters of roots that inclusion discs cannot separate, for one float binary form ``Fn``
+    (d+1,): a list of ``(theta, radius, size)`` (half-angle centre, half-angle radius, number of
+    roots) for each group of two or more overlapping discs that meets the real axis."""
+    from .roots import rotated_forms
+
+    G, ok = rotated_forms(Fn[None, :])
+    d = G.shape[1] - 1
+    if not ok[0] or d < 2:
+        return []
+    gamma = _rotation_of(Fn)
+    E = (4 * d + 8) * 2.0**-53 * np.max(np.abs(G)) * np.ones_like(G)
+    good, real, z, hull_r = inclusion_discs(G, E)
+    if good[0]:
+        return []
+    z, h = z[0], hull_r[0]
+    if not np.all(np.isfinite(z)):
+        return [(0.0, np.pi, d)]
+    parent = list(range(d))
+
+    def find(a):
+        while parent[a] != a:
+            a = parent[a]
+        return a
+
+    for a in range(d):
+        for b in range(a + 1, d):
+            if abs(z[a] - z[b]) <= h[a] + h[b]:
+                parent[find(a)] = find(b)
+    out = []
+    for root in set(find(a) for a in range(d)):
+        members = [a for a in range(d) if find(a) == root]
+        if len(members) < 2 or min(abs(z[a].imag) - h[a] for a in members) > 0:
+            continue
+        c = float(np.mean([z[a].real for a in members]))
+        rad = max(abs(z[a].real - c) + h[a] for a in members)
+        out.append((gamma + float(np.arctan(c)), float(rad), len(members)))
+    return out
+
+
+def _rotation_of(Fn):
+    from .roots import projective_roots
+
+    return float(projective_roots(Fn[None, :])[1][0])
 
 
 def _general_at(P, symbols, q_exact):

@@ -57,7 +57,12 @@ class Tolerances:
         a Jacobian with ``|det| <= newton_stop * prod(row norms)`` takes no step.
     near_singular_gap : float
         The compiled kernel's rows: two real roots of the kinematic polynomial closer than this
-        (in the half-angle) make the row ``near_singular``.
+        (in the half-angle) make the row ``near_singular``; on the numpy path, a root this close
+        to the spurious orientation of a PP dyad is that root.
+    near_singular_condition : float
+        Rows solved orientation by orientation (Cramer cases): a mode whose
+        ``|det J| / prod(row norms)`` is below this, or a line-circle intersection whose
+        discriminant is below this relative to its terms, makes the row ``near_singular``.
     """
 
     joint_residual: float = 1e-7
@@ -71,6 +76,7 @@ class Tolerances:
     rank: float = 1e-9
     newton_stop: float = 1e-14
     near_singular_gap: float = 1e-6
+    near_singular_condition: float = 1e-8
 
     def __post_init__(self):
         for name, value in self.__dict__.items():

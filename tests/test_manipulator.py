@@ -160,13 +160,29 @@ def test_seed_003_closed_form_equals_elimination():
 
 def test_seed_003_sin_theta_zero_no_division_by_zero():
     m = isp.examples.collinear_3rpr(2, 1)
-    # theta = 0: all legs meet... poses with sin(theta) = 0 are singular but must not crash
-    q = m.inverse_kinematics([0.5, 1.5, 0.0])
-    modes = m.direct_kinematics(q)
-    assert any(same_pose(mm.pose, [0.5, 1.5, 0.0], 1e-6) for mm in modes)
-    q = m.inverse_kinematics([0.5, 1.5, np.pi])
-    modes = m.direct_kinematics(q)
-    assert any(same_pose(mm.pose, [0.5, 1.5, np.pi], 1e-6) for mm in modes)
+    # theta = 0: all legs meet... poses with sin(theta) = 0 are singular: the float path finds
+    # the pose but must say that its count is not to be trusted
+    for phi in (0.0, np.pi):
+        q = m.inverse_kinematics([0.5, 1.5, phi])
+        with pytest.warns(isp.NearSingularWarning):
+            modes = m.direct_kinematics(q)
+        assert any(same_pose(mm.pose, [0.5, 1.5, phi], 1e-6) for mm in modes)
+    # the exact singular input (squared leg lengths 9/2, 5/2, 5/2 from |P_i - A_i|^2 at the pose
+    # (1/2, 3/2, 0) with base (-2, 0), (0, 0), (2, 0)... computed here by hand): the orientation
+    # phi = 0 is a double root of the orientation quadratic; it carries the two mirror positions,
+    # both singular (multiplicity 2, aspect 0)
+    A = [(-2, 0), (0, 0), (2, 0)]
+    a = [(-1, 0), (0, 0), (1, 0)]
+    P = (sp.Rational(1, 2), sp.Rational(3, 2))
+    legs = [m.legs[i].geometry() for i in range(3)]
+    assert [tuple(g["base"]) for g in legs] == [tuple(map(sp.Integer, p)) for p in A]
+    assert [tuple(g["platform"]) for g in legs] == [tuple(map(sp.Integer, p)) for p in a]
+    q2 = [(P[0] + a[i][0] - A[i][0])**2 + (P[1] + a[i][1] - A[i][1])**2 for i in range(3)]
+    cm = m.direct_kinematics([sp.sqrt(v) for v in q2], certify=True)
+    assert cm.certificate.count == 1 and cm.certificate.multiplicities == (2,)
+    assert len(cm) == 2 and cm.modes_per_root == (2,)
+    assert all(mm.multiplicity == 2 and mm.aspect == 0 for mm in cm)
+    assert sorted(round(float(mm.pose[1]), 12) for mm in cm) == [-1.5, 1.5]
 
 
 def test_seed_004_two_modes_share_position():

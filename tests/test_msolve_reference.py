@@ -6,8 +6,8 @@ here uses the project's own elimination, kinematic polynomial or certificate as 
 
 * ordinary cases: seeded random designs of RPR/RRR/PRR/PPR legs (every actuated joint), the same
   modes on the float and the certified path;
-* issue 13's edge cases, written as the issue states the desired behaviour (acceptance tests;
-  ``xfail`` where the project does not meet them yet): an exact double root, two true modes
+* issue 13's edge cases, written as the issue states the desired behaviour (acceptance tests):
+  an exact double root, two true modes
   ~1e-7 apart, congruent 3-RPR continua (unrotated, rotated, and rotated-then-rounded-to-float),
   and units (designs scaled by 10^-6 ... 10^6).
 """
@@ -142,16 +142,11 @@ def random_case(seed):
 
 
 # seeds whose design has a PP dyad (PPR with its revolute actuated): the float path returns the
-# right mode but warns NearSingularWarning although the roots are far apart -- the spurious
-# phi + pi root of the PP dyad (no mode by design) is counted as an unseparated root
-# (manipulator._solve: distinct != n_real)
-FALSE_NEAR_SINGULAR = {4, 24}
+# seeds 4 and 24 (a PP dyad) once raised a false NearSingularWarning: the spurious phi + pi root
+# of the PP dyad, which carries no mode by design, was counted as a root the modes must explain
 
 
-@pytest.mark.parametrize("seed", [
-    pytest.param(s, marks=pytest.mark.xfail(
-        reason="false NearSingularWarning: spurious PP-dyad root counted (issue 13 item 5)", strict=False))
-    if s in FALSE_NEAR_SINGULAR else s for s in range(30)])
+@pytest.mark.parametrize("seed", range(30))
 def test_random_designs_match_msolve(seed):
     m, q, pose = random_case(seed)
     ref = planar_dk_reference(m, q)
@@ -203,7 +198,6 @@ def test_double_root_construction_is_an_exact_double_root():
     assert near(planar_dk_reference(m, [Fraction(5) - Fraction(1, 2**20), 26, 20])) == 0
 
 
-@pytest.mark.xfail(reason="issue 13 item 1, in progress", strict=False)
 def test_double_root_is_one_singular_mode_of_multiplicity_two():
     m = double_root_design()
     ref = planar_dk_reference(m, DOUBLE_Q)
@@ -239,7 +233,6 @@ def test_odd_count_referee():
     assert planar_dk_degrees(odd_design(), ODD_Q) == (6, 6)    # all simple
 
 
-@pytest.mark.xfail(reason="issue 13 item 3, in progress", strict=False)
 def test_odd_count_certified_modes_add_up():
     m = odd_design()
     ref = planar_dk_reference(m, ODD_Q)
@@ -253,7 +246,6 @@ def test_odd_count_certified_modes_add_up():
     assert res.consistent.all()
 
 
-@pytest.mark.xfail(reason="issue 13 item 5, in progress", strict=False)
 def test_odd_count_float_path_is_right_or_says_so():
     """The float path may miss one of the two close modes, but then it must warn / flag the row."""
     m = odd_design()
@@ -303,8 +295,7 @@ def assert_continuum_on_every_path(m, q):
 @pytest.mark.parametrize("rho", [1.0, 2.5])
 @pytest.mark.parametrize("variant", [
     "congruent",
-    pytest.param("congruent-rotated", marks=pytest.mark.xfail(reason="issue 13 item 4, in progress",
-                                                              strict=False)),
+    "congruent-rotated",
 ])
 def test_congruent_3rpr_continuum(variant, rho):
     m = isp.PlanarParallel([isp.RPR(base=A, platform=a) for A, a in zip(TRIANGLE, CONTINUA[variant])])
@@ -316,7 +307,6 @@ def test_congruent_3rpr_continuum(variant, rho):
 
 
 @pytest.mark.parametrize("rho", [1.0, 2.5])
-@pytest.mark.xfail(reason="issue 13 item 4, in progress", strict=False)
 def test_rounded_congruent_rotated_3rpr_is_not_a_continuum(rho):
     """The rotated triangle rounded to floats: the exact input is NOT a continuum.
 
