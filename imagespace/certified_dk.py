@@ -28,7 +28,6 @@ This module holds the exact arithmetic; :class:`imagespace.PlanarParallel` orche
 from __future__ import annotations
 
 from dataclasses import dataclass
-from fractions import Fraction
 from typing import Optional
 
 import numpy as np
@@ -75,24 +74,6 @@ def _is_rational(values):
     return all(sp.sympify(v).is_Rational for v in values)
 
 
-def _fr(v):
-    v = sp.Rational(v)
-    return Fraction(int(v.p), int(v.q))
-
-
-def _dehom(form):
-    """Coefficients of ``form(1, t)`` in ascending powers of ``t`` (the list is already so)."""
-    return list(form)
-
-
-def _poly_at(coeffs, t):
-    """Horner on exact Fractions."""
-    acc = Fraction(0)
-    for c in reversed(coeffs):
-        acc = acc * t + c
-    return acc
-
-
 def _orientation(t):
     """Normalised ``(x0, x1)`` floats for ``t = x1/x0`` (a Fraction) or ``None`` (``x0 = 0``)."""
     if t is None:
@@ -111,40 +92,54 @@ def _normalised_point(t, x2, x3):
     return np.array([1.0 / h, tf / h, float(x2) / h, float(x3) / h])
 
 
-def _exact_cramer(D, X2, X3, P, root, t):
-    """Exact case: D != 0 at the root? If so the point (x2, x3) in the chart. ``root`` is the
-    isolating interval ``(lo, hi)`` (Fractions) or None for ``x0 = 0``."""
-    import flint
+class _ExactCramer:
+    """Exact Cramer data of one row (rational coefficients), prepared once for all roots."""
 
-    Dq, X2q, X3q = ([_fr(c) for c in f] for f in (D, X2, X3))
-    if root is None:                                    # x0 = 0: evaluate at (0, 1)
-        d = Dq[-1]
-        if d == 0:
+    def __init__(self, D, X2, X3, P):
+        import flint
+
+        def q(c):
+            c = sp.Rational(c)
+            return flint.fmpq(int(c.p), int(c.q))
+
+        self.D, self.X2, self.X3 = (flint.fmpq_poly([q(c) for c in f]) for f in (D, X2, X3))
+        self.Dtop, self.X2top, self.X3top = q(D[-1]), q(X2[-1]), q(X3[-1])
+        Pp = flint.fmpq_poly([q(c) for c in P])
+        self.sqf = None
+        if self.D.degree() >= 0:
+            g = self.D.gcd(Pp)
+            if g.degree() >= 1:
+                num = flint.fmpz_poly([int(v) for v in (g * g.denom()).coeffs()])
+                _, facs = num.factor_squarefree()
+                sqf = flint.fmpq_poly([1])
+                for f, _m in facs:
+                    sqf = sqf * flint.fmpq_poly(f.coeffs())
+                self.sqf = sqf
+
+    def point(self, root, t):
+        """``(x2, x3)`` in the chart at the root, or None where ``D`` vanishes there. ``root`` is
+        the isolating interval ``(lo, hi)`` (Fractions), None for ``x0 = 0``."""
+        import flint
+
+        if self.D.degree() < 0:
             return None
-        return X2q[-1] / d, X3q[-1] / d
-    lo, hi = root
-    Dp = flint.fmpq_poly([flint.fmpq(c.numerator, c.denominator) for c in Dq])
-    Pp = flint.fmpq_poly([flint.fmpq(c.numerator, c.denominator) for c in (_fr(v) for v in P)])
-    if Dp.degree() >= 0:
-        g = Dp.gcd(Pp)
-        if g.degree() >= 1:
-            # the root of P in [lo, hi] is a root of g iff the square-free part of g changes
-            # sign (or vanishes) on [lo, hi]: [lo, hi] holds one distinct root of P only
-            num = flint.fmpz_poly([int(v) for v in (g * g.denom()).coeffs()])
-            _, facs = num.factor_squarefree()
-            sqf = flint.fmpq_poly([1])
-            for f, _m in facs:
-                sqf = sqf * flint.fmpq_poly(f.coeffs())
-            a = sqf(flint.fmpq(lo.numerator, lo.denominator))
-            b = sqf(flint.fmpq(hi.numerator, hi.denominator))
+        if root is None:                                # x0 = 0: evaluate at (0, 1)
+            if self.Dtop == 0:
+                return None
+            return self.X2top / self.Dtop, self.X3top / self.Dtop
+        lo, hi = root
+        if self.sqf is not None:
+            # the root of P in [lo, hi] is a root of gcd(D, P) iff the square-free part of the
+            # gcd changes sign (or vanishes) on [lo, hi]: [lo, hi] holds one distinct root of P
+            a = self.sqf(flint.fmpq(lo.numerator, lo.denominator))
+            b = self.sqf(flint.fmpq(hi.numerator, hi.denominator))
             if a * b <= 0:
                 return None
-    else:
-        return None                                     # D identically zero
-    d = _poly_at(Dq, t)
-    if d == 0:                                          # t itself a root of D (then not the root)
-        return None
-    return _poly_at(X2q, t) / d, _poly_at(X3q, t) / d
+        tq = flint.fmpq(t.numerator, t.denominator)
+        d = self.D(tq)
+        if d == 0:
+            return None
+        return self.X2(tq) / d, self.X3(tq) / d
 
 
 def _arb_cramer(D, X2, X3, root, t):
@@ -208,14 +203,15 @@ def plan_roots(P, D, X2, X3, certificate, case_a):
     if cert.at_infinity:
         roots.append((None, cert.at_infinity))
     rational = _is_rational(list(P) + list(D) + list(X2) + list(X3))
+    exact = _ExactCramer(D, X2, X3, P) if rational and cert.exact and not case_a else None
     plans = []
     for k, (iv, mult) in enumerate(roots):
         t = None if iv is None else (iv[0] + iv[1]) / 2
         x0, x1 = _orientation(t)
         pos = None
         if not case_a:
-            if rational and cert.exact:
-                pos = _exact_cramer(D, X2, X3, P, iv, t)
+            if exact is not None:
+                pos = exact.point(iv, t)
             else:
                 pos = _arb_cramer(D, X2, X3, iv, t)
         if pos is None:

@@ -240,7 +240,7 @@ def _exact_path(coeffs, bits=None):
     num = flint.fmpz_poly([int(v) for v in (poly * poly.denom()).coeffs()])
     _, factors = num.factor_squarefree()
     found = []
-    with flint_precision(max(2 * bits, 128)):
+    with flint_precision(bits + 32):
         for fac, mult in factors:
             g = flint.fmpq_poly(fac.coeffs())
             for root, _m in fac.complex_roots():

@@ -109,8 +109,9 @@ class CoefficientEnclosure:
 
     Parameters
     ----------
-    poly : sympy.Poly
-        In ``(x0, x1)``, coefficients polynomial in the features of ``symbols``.
+    poly : sympy.Poly or list of sympy expressions
+        A Poly in ``(x0, x1)`` whose coefficients are polynomial in the features of ``symbols``,
+        or directly a list of such coefficients (any number of them).
     symbols : sequence of three sympy symbols
 
     Examples
@@ -126,10 +127,15 @@ class CoefficientEnclosure:
     """
 
     def __init__(self, poly, symbols):
-        self.degree = d = poly.total_degree()
+        if isinstance(poly, sp.Poly):
+            d = poly.total_degree()
+            coeffs = [sp.expand(poly.coeff_monomial(poly.gens[0] ** (d - k) * poly.gens[1] ** k))
+                      for k in range(d + 1)]
+        else:                                   # a plain list of coefficient expressions
+            coeffs = [sp.expand(sp.sympify(c)) for c in poly]
+            d = len(coeffs) - 1
+        self.degree = d
         self.symbols = tuple(symbols)
-        coeffs = [sp.expand(poly.coeff_monomial(poly.gens[0] ** (d - k) * poly.gens[1] ** k))
-                  for k in range(d + 1)]
         gens = list(self.symbols)
         trig = []
         for i, s in enumerate(self.symbols):
@@ -164,9 +170,9 @@ class CoefficientEnclosure:
                     Ce[a, k] = abs(Cf[a, k]) * 2 * _U + 2.0**-1000
         self._Cf, self._Ce = Cf, Ce
         if self.rational:
-            from fractions import Fraction
+            import flint
 
-            self._Cq = [[Fraction(int(v.p), int(v.q)) for v in row] for row in exact]
+            self._Cq = [[flint.fmpq(int(v.p), int(v.q)) for v in row] for row in exact]
 
     def _features(self, Q):
         """Feature values ``(n, G)`` and absolute error bounds ``(n, G)``."""
@@ -232,7 +238,7 @@ class CoefficientEnclosure:
         return F, E
 
     def exact(self, q):
-        """Exact coefficients (Fractions) at exact joint values ``q`` (Fractions or floats), or
+        """Exact coefficients (Fractions) at exact joint values ``q`` (Fractions, fmpq or floats), or
         ``None`` when the constants or features are not rational (use the sympy derivation).
 
         Examples
@@ -246,16 +252,20 @@ class CoefficientEnclosure:
         """
         if not self.rational:
             return None
+        import flint
         from fractions import Fraction
 
-        qq = [Fraction(v) for v in q]
-        out = [Fraction(0)] * (self.degree + 1)
+        qq = []
+        for v in q:
+            f = v if isinstance(v, flint.fmpq) else Fraction(v)
+            qq.append(f if isinstance(f, flint.fmpq) else flint.fmpq(f.numerator, f.denominator))
+        out = [flint.fmpq(0)] * (self.degree + 1)
         for a, row in enumerate(self._Cq):
-            mono = Fraction(1)
+            mono = flint.fmpq(1)
             for g, e in enumerate(self._expo[a]):
                 if e:
                     mono *= qq[g] ** int(e)
             for k, c in enumerate(row):
-                if c:
+                if c != 0:
                     out[k] += c * mono
-        return out
+        return [Fraction(int(v.p), int(v.q)) for v in out]

@@ -779,44 +779,85 @@ class PlanarParallel:
             modes += self._complex_modes(qf)
         return modes
 
+    def _fast_exact_forms(self, q_exact):
+        """``(P, D, X2, X3)`` exact coefficient lists at rational ``q`` from the general-q
+        derivation (no sympy elimination per call), or None where that route does not apply
+        (symbolic or irrational input, trigonometric features, or a Cramer case at this ``q``
+        that the general formulas do not see: then ``_exact_forms`` decides)."""
+        if not all(v.is_Rational for v in q_exact):
+            return None
+        if "exact_evaluators" not in self._symbolic_cache:
+            ev = None
+            if not set().union(*(leg.free_symbols for leg in self.legs)):
+                from .compile import CoefficientEnclosure
+
+                _, el, case_a = self._exact_forms(None)
+                P = self.kinematic_polynomial()
+                if not case_a:
+                    encP = CoefficientEnclosure(P, self.joint_symbols)
+                    encC = CoefficientEnclosure(list(el.D) + list(el.X2) + list(el.X3), self.joint_symbols)
+                    if encP.rational and encC.rational:
+                        ev = (encP, encC)
+            self._symbolic_cache["exact_evaluators"] = ev
+        ev = self._symbolic_cache["exact_evaluators"]
+        if ev is None:
+            return None
+        from fractions import Fraction
+
+        qq = [Fraction(int(v.p), int(v.q)) for v in q_exact]
+        P = ev[0].exact(qq)
+        rest = ev[1].exact(qq)
+        D, X2, X3 = rest[:3], rest[3:7], rest[7:11]
+        if not any(D) or not any(P):
+            return None
+        return P, D, X2, X3
+
     def _certified(self, q, qf):
         """The certified per-call path: modes computed root by root from the exact certificate."""
         items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
         q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
-        P, el, case_a = self._exact_forms(q_exact)
-        cert = certify_real_roots(P)
+        fast = self._fast_exact_forms(q_exact)
+        if fast is not None:
+            P = [sp.Rational(v.numerator, v.denominator) for v in fast[0]]
+            D, X2, X3 = ([sp.Rational(v.numerator, v.denominator) for v in f] for f in fast[1:])
+            case_a = False
+            cert = certify_real_roots(P)
+        else:
+            Pp, el, case_a = self._exact_forms(q_exact)
+            P = _form_coeffs(Pp)
+            D, X2, X3 = list(el.D), list(el.X2), list(el.X3)
+            cert = certify_real_roots(Pp)
         if not cert.certified:
             res = self._solve(qf[None, :], raise_degenerate=True)
             warnings.warn(f"{self.name} at q = {qf.tolist()}: the real roots could not be "
                           f"certified ({cert.method}); the floating-point modes are returned",
                           NearSingularWarning, stacklevel=3)
             return CertifiedModes(res.modes(0), cert, (), ())
-        form = _form_coeffs(P)
-        plans = plan_roots(form, list(el.D), list(el.X2), list(el.X3), cert, case_a)
+        plans = plan_roots(P, D, X2, X3, cert, case_a)
         C, _, L = self._scaled_quadrics(qf[None, :])
         quads = self._row_quadrics(C[0])
         tol = self.tolerances
-        per_root = []
+        per_root = [[] for _ in plans]
+        cramer = [p for p in plans if p.kind == "cramer"]
+        if cramer:
+            X = np.array([p.image_point for p in cramer])
+            poses = _pose_of(X)
+            resid = np.atleast_1d(self.joint_residual(poses, np.tile(qf, (len(cramer), 1)), length=L[0]))
+            Xs = X.copy()
+            Xs[:, 2:] /= L[0]
+            _, J = _system(np.repeat(C, len(cramer), axis=0), Xs[:, None, :])
+            det = np.linalg.det(J[:, 0])
+            for j, plan in enumerate(cramer):
+                if not resid[j] <= tol.joint_residual:
+                    continue                            # e.g. the spurious root of a PP dyad
+                aspect = 0 if plan.multiplicity > 1 else int(np.sign(det[j]))
+                per_root[plan.index] = [AssemblyMode(X[j], poses[j], float(resid[j]), aspect, True,
+                                                     plan.multiplicity)]
         for plan in plans:
             if plan.kind == "cramer":
-                X = plan.image_point.copy()
-                Xs = X.copy()
-                Xs[2:] /= L[0]
-                pose = _pose_of(X)
-                resid = float(self.joint_residual(pose, qf, length=L[0]))
-                if not resid <= tol.joint_residual:
-                    per_root.append([])                 # e.g. the spurious root of a PP dyad
-                    continue
-                if plan.multiplicity > 1:
-                    aspect = 0
-                else:
-                    _, J = _system(C, Xs[None, None, :])
-                    aspect = int(np.sign(np.linalg.det(J[0, 0])))
-                per_root.append([AssemblyMode(X, pose, resid, aspect, True, plan.multiplicity)])
                 continue
             cand = self._solve_orientation(qf, quads, plan.x0, plan.x1, L[0])
             if not cand:
-                per_root.append([])
                 continue
             arr = np.full((1, max(len(cand), _MAX_MODES), 4), np.nan)
             arr[0, :len(cand)] = cand
@@ -825,7 +866,7 @@ class PlanarParallel:
             if plan.multiplicity > 1:       # a multiple orientation root: its modes are singular
                 found = [AssemblyMode(mm.image_point, mm.pose, mm.residual, 0, True, plan.multiplicity)
                          for mm in found]
-            per_root.append(found)
+            per_root[plan.index] = found
         tagged = [(mm, k) for k, lst in enumerate(per_root) for mm in lst]
         tagged.sort(key=lambda item: item[0].pose[2])
         return CertifiedModes([mm for mm, _ in tagged], cert, [len(lst) for lst in per_root],
