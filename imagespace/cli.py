@@ -144,40 +144,69 @@ def _box(m, args):
 def mesh_command(args, stream=None):
     """``imagespace mesh``: mesh the singularity surface of an example and export it.
 
+    Prints how many vertices are certified within ``tol`` of the box size (a sign change between
+    points of proven sign, see :mod:`imagespace.meshing`), how many could not be certified and
+    were removed (or kept, ``--keep-uncertified``), and the precision the export format stores
+    (PLY/OBJ float64; STL/GLB float32 by format). Returns 1 with ``--strict`` when any vertex
+    was removed or left uncertified, else 0.
+
     Examples
     --------
     >>> import io, tempfile, pathlib
     >>> from imagespace.cli import main
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "s.ply"
-    >>> main(["mesh", "--resolution", "24", "-o", str(out)], stream=io.StringIO())
+    >>> main(["mesh", "--resolution", "24", "--strict", "-o", str(out)], stream=io.StringIO())
     0
     >>> out.exists()
     True
     """
     import time
 
-    from .meshing import export_mesh, mesh_surface
-
-    from .meshing import EXPORT_FORMATS
+    from .meshing import EXPORT_FORMATS, EXPORT_PRECISION, export_mesh, mesh_surface
 
     stream = stream or sys.stdout
-    if Path(args.output).suffix.lower() not in EXPORT_FORMATS:
+    suffix = Path(args.output).suffix.lower()
+    if suffix not in EXPORT_FORMATS:
         raise InputError(f"-o/--output must end in one of {', '.join(EXPORT_FORMATS)} (the format is "
                          f"taken from the suffix), got {args.output!r}")
     m = _example(args.example)
     S = _surface(m, args)
     box = _box(m, args)
     t = time.perf_counter()
-    mesh = mesh_surface(S, box, chart=args.chart, resolution=args.resolution)
+    keep = getattr(args, "keep_uncertified", False)
+    mesh = mesh_surface(S, box, chart=args.chart, resolution=args.resolution, tol=getattr(args, "tol", 1e-9),
+                        on_uncertified="keep" if keep else "remove")
     path = export_mesh(mesh, args.output)
     t = time.perf_counter() - t
     md = mesh.metadata["imagespace"]
+    n_uncert, n_removed = md["uncertified"], md["removed"]
+    n_cert = len(mesh.vertices) - n_uncert
+    within = (f"within {md['max_distance']:.2e} of the surface ({md['max_distance'] / md['size']:.1e} of the box "
+              f"size; certified by a sign change or an exact zero; signs: {md['sign_test']})")
     print(f"{m.name}: {S!r}", file=stream)
     print(f"chart {args.chart}, box {[list(map(float, b)) for b in box]}, resolution {args.resolution}", file=stream)
-    print(f"{len(mesh.faces)} triangles, {len(mesh.vertices)} vertices; every vertex within "
-          f"{md['max_distance']:.2e} of the surface (sign change bracketed, {md['max_distance'] / md['size']:.1e} "
-          f"of the box size); {t:.2f} s", file=stream)
-    print(f"written: {path}", file=stream)
+    if n_uncert == 0 and n_removed == 0:
+        print(f"{len(mesh.faces)} triangles, {len(mesh.vertices)} vertices; every vertex {within}; {t:.2f} s",
+              file=stream)
+    else:
+        print(f"{len(mesh.faces)} triangles, {len(mesh.vertices)} vertices; {n_cert} certified {within}; "
+              f"{t:.2f} s", file=stream)
+        if n_removed:
+            print(f"{n_removed} vertices could not be certified and were removed with their "
+                  f"{md['removed_faces']} triangles", file=stream)
+        if n_uncert:
+            print(f"{n_uncert} vertices could not be certified and were kept (--keep-uncertified); "
+                  "their distance to the surface is unknown", file=stream)
+    if EXPORT_PRECISION[suffix] == "float64":
+        print(f"written: {path} (float64 vertices, exactly the certified ones)", file=stream)
+    else:
+        print(f"written: {path} (float32 vertices: {suffix[1:].upper()} stores single precision, so each "
+              "coordinate is rounded by up to 6e-8 of its size, more than the certified bound; "
+              "use .ply or .obj for float64)", file=stream)
+    if getattr(args, "strict", False) and (n_uncert or n_removed):
+        print(f"imagespace mesh: --strict: {n_removed + n_uncert} vertices without a certificate "
+              f"({n_removed} removed, {n_uncert} kept)", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -254,7 +283,16 @@ def main(argv=None, stream=None):
 
     me = sub.add_parser("mesh", help="mesh the singularity surface and export it (STL, PLY, OBJ, GLB)")
     common(me, 128)
-    me.add_argument("-o", "--output", default="surface.stl", help="output file; the format from the suffix")
+    me.add_argument("-o", "--output", default="surface.stl",
+                    help="output file; the format from the suffix (.ply/.obj: float64 vertices; "
+                         ".stl/.glb: float32 by format)")
+    me.add_argument("--tol", type=float, default=1e-9,
+                    help="certified distance of every vertex to the surface, relative to the box size "
+                         "(default: %(default)s)")
+    me.add_argument("--keep-uncertified", action="store_true", dest="keep_uncertified",
+                    help="keep vertices no sign change could be certified for (default: remove them)")
+    me.add_argument("--strict", action="store_true",
+                    help="exit with status 1 when any vertex is uncertified or was removed")
     pl = sub.add_parser("plot", help="figures: modes, quadrics (Abb. 2), surface (Abb. 4), conic")
     pl.add_argument("figure", choices=("modes", "quadrics", "surface", "conic"))
     common(pl, 40)

@@ -5,14 +5,43 @@ Pipeline (:func:`mesh_implicit`): the function is evaluated on a regular grid of
 monomials, the fast path for the quartic); scikit-image's marching cubes places one vertex on
 every grid edge where the sign changes; each vertex is then moved *along its edge* by a
 safeguarded Newton iteration (bisection whenever a step leaves the bracket) until the sign change
-is bracketed by an interval shorter than ``tol`` times the box size. Because the function has
-opposite signs at the two ends of that interval, the surface passes through it: the distance
-from the vertex to the surface is at most the half-width, a bound that does not rely on
-``|F| / |grad F|`` (which is only a first-order estimate and fails near singular points of the
-surface). Faces are then oriented so that normals point to the side where the function is
-positive (for the singularity surface: towards the aspect ``+1``), degenerate faces removed, and
-a :class:`trimesh.Trimesh` returned; ``mesh.metadata["imagespace"]`` records the chart, box,
-resolution, the certified distance bound, the worst ``|F|/|grad F|`` and the timings.
+is bracketed by an interval shorter than ``tol`` times the box size.
+
+**What "certified" means.** A vertex is certified when two points ``P-`` and ``P+`` within
+``tol * size`` of it are known to have opposite signs of the function (or one point at the vertex
+is known to be a zero): the surface then passes between them, so the distance from the vertex to
+the surface is at most ``max(|V - P-|, |V - P+|)``, a bound that does not rely on
+``|F| / |grad F|`` (only a first-order estimate, and wrong near singular points). How a sign is
+*known* depends on the implicit (``Implicit.sign_test``):
+
+* :class:`PolynomialImplicit` (every singularity surface of a polynomial kind): the sign of the
+  float value ``F`` counts only when ``|F|`` exceeds a rigorous bound on the rounding error of that
+  very evaluation (a monomial sum whose error is bounded a priori, Higham, *Accuracy and Stability
+  of Numerical Algorithms*, 2nd ed., SIAM 2002, ch. 3-5, doi:10.1137/1.9780898718027); below the
+  bound the sign is decided in arb ball arithmetic (python-flint) on the exact expression at the
+  exact binary point, and a point whose ball still contains 0 (unless the ball is exactly 0) is
+  undecided. The only assumption: numpy's float64 ``sin``/``cos`` are within
+  :data:`TRIG_ULPS` units in the last place (checked against arb at first use; if the check fails,
+  trigonometric charts fall back to float signs and say so);
+* any other :class:`Implicit` (e.g. the working-mode surfaces evaluated through the leg inverse
+  kinematics): the sign of the float value, as before; ``sign_test`` then starts with
+  ``"float signs"``.
+
+A vertex whose own edge brackets no proven sign change (marching cubes put it on a grid node, or
+inside a cube - the extra vertex of the ambiguous cases -, or the sign change came from rounding
+noise) is searched along the other grid directions, the gradient and the cube diagonals (points
+at 1/4, 1/2 and 1 cell on both sides), and the bracket found is bisected on proven signs. A vertex
+that still cannot be certified is **removed** with its faces (or kept and counted, with
+``on_uncertified="keep"``); ``metadata["imagespace"]`` records both counts. A surface component
+of even multiplicity (``F`` touches 0 without changing sign) has no sign change to bracket: the
+grid sees it only through rounding noise, whose marching-cubes faces collapse onto grid nodes and
+are dropped as degenerate; a vertex there survives only as a proven zero, any other is removed.
+
+Faces are then oriented so that normals point to the side where the function is positive (for the
+singularity surface: towards the aspect ``+1``), degenerate faces removed, and a
+:class:`trimesh.Trimesh` returned; ``mesh.metadata["imagespace"]`` records the chart, box,
+resolution, the certified distance bound, the worst ``|F|/|grad F|``, the counts and the timings,
+and ``mesh.vertex_attributes["distance_bound"]`` the bound per vertex (``inf`` if uncertified).
 
 Charts of image space (``chart=``):
 
@@ -20,12 +49,20 @@ Charts of image space (``chart=``):
 * ``"pose"`` - ``(x, y, phi)``; the quartic is even, so the function is ``2 pi`` periodic in
   ``phi`` and a box ``phi in [-pi, pi]`` gives a mesh whose two ends match.
 
+Exports (:func:`export_mesh`): PLY (binary, ``property double``) and OBJ (17 significant digits)
+keep the float64 vertices bit for bit; STL and GLB store float32 by format, so their vertices are
+rounded to about ``6e-8`` relative - far coarser than the certified ``tol``.
+
 Only this module (and :mod:`imagespace.plotting`) imports scikit-image and trimesh, lazily.
 """
 
 from __future__ import annotations
 
+import os
+import tempfile
+import threading
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -36,12 +73,370 @@ from .compile import compile_exprs
 from .exceptions import InputError
 
 __all__ = ["Implicit", "PolynomialImplicit", "FunctionImplicit", "mesh_implicit", "mesh_surface",
-           "export_mesh", "surface_implicit", "EXPORT_FORMATS", "MAX_MEMORY"]
+           "export_mesh", "surface_implicit", "EXPORT_FORMATS", "EXPORT_PRECISION", "MAX_MEMORY",
+           "TRIG_ULPS"]
 
 EXPORT_FORMATS = (".stl", ".ply", ".obj", ".glb")
+EXPORT_PRECISION = {".stl": "float32", ".ply": "float64", ".obj": "float64", ".glb": "float32"}
+"""Precision of the vertex coordinates each export format stores (STL and GLB: float32 by format)."""
 MAX_MEMORY = 2 * 1024**3
 """Default limit (bytes) for the estimated memory of a mesh's grid and marching cubes."""
+TRIG_ULPS = 2
+"""Assumed accuracy of numpy's float64 ``sin``/``cos``, in units in the last place (measured: at most
+0.52 ulp against arb on 140,000 arguments); the rounding-error bound of the pose chart relies on
+it, and a sample is checked against arb at first use (else that chart falls back to float signs)."""
 _BYTES_PER_CELL = 8 * 3           # float64 grid + the monomial block + marching-cubes work
+
+# thresholds of the meshing pipeline (index units are grid cells)
+_ON_GRID = 1e-12                  # a marching-cubes coordinate this close to an integer lies on a grid plane
+_NODE_MERGE = 1e-9                # vertices this close to the same grid node are merged by _clean
+_MIN_ALTITUDE = 1e-3              # faces lower than this times tol * size are dropped as degenerate
+_NEWTON_STEPS = 200               # safeguarded Newton / bisection steps along an edge
+_NEWTON_SMALL = 0.25              # a Newton step below this fraction of the wanted width has converged
+_SEARCH_STEPS = (0.25, 0.5, 1.0)  # neighbourhood search: points at these multiples of a cell on each side
+_BISECT_TRIES = (0.5, 0.375, 0.625, 0.25, 0.75)  # tried in turn while a bisection point's sign is undecided
+_BISECT_STEPS = 80                # bisection steps of the neighbourhood search (2 cells -> tol needs ~25)
+_FILTER_SAFETY = 2.0              # the rounding-error bound is doubled (second-order terms, rounding of the bound)
+_ARB_PRECISIONS = (128, 512)      # bits; arb decides a sign the float filter left open
+_ARB_MAX_POINTS = 20000           # arb evaluations per mesh at most; points beyond stay undecided
+_ORIENT_SAMPLE = 4096             # faces sampled to decide the orientation
+_EPS = np.finfo(float).eps / 2    # unit roundoff u = 2**-53
+_TINY = 2.0**-1074                # smallest subnormal: absolute error of an underflowing product
+
+
+def _gamma(k):
+    """Higham's ``gamma_k = k u / (1 - k u)``."""
+    return k * _EPS / (1 - k * _EPS)
+
+
+_FLINT_LOCK = threading.RLock()
+
+
+@contextmanager
+def _flint_precision(bits):
+    """python-flint's working precision set to ``bits`` for a block, under a lock, restored after.
+
+    Correctness never depends on it (arb balls enclose the exact value at any precision); it only
+    decides how often a sign can be settled."""
+    try:
+        from .certify import flint_precision
+    except ImportError:            # pragma: no cover - older certify without the shared helper
+        import flint
+
+        with _FLINT_LOCK:
+            old = flint.ctx.prec
+            flint.ctx.prec = int(bits)
+            try:
+                yield
+            finally:
+                flint.ctx.prec = old
+        return
+    with flint_precision(bits):
+        yield
+
+
+# -- proven signs ---------------------------------------------------------------------------------
+class _Unsupported(Exception):
+    """The expression has a shape the rounding-error bound does not cover."""
+
+
+def _arb_constant(expr):
+    """A sympy constant (no free symbols) as a python-flint arb ball at the current precision."""
+    import flint
+
+    if expr.is_Integer:
+        return flint.arb(int(expr))
+    if expr.is_Rational:
+        return flint.arb(flint.fmpq(int(expr.p), int(expr.q)))
+    if expr.is_Float:
+        r = sp.Rational(expr)          # the exact binary value
+        return flint.arb(flint.fmpq(int(r.p), int(r.q)))
+    if expr is sp.pi:
+        return flint.arb.pi()
+    if expr is sp.E:
+        return flint.arb(1).exp()
+    if expr.is_Add:
+        out = flint.arb(0)
+        for a in expr.args:
+            out = out + _arb_constant(a)
+        return out
+    if expr.is_Mul:
+        out = flint.arb(1)
+        for a in expr.args:
+            out = out * _arb_constant(a)
+        return out
+    if expr.is_Pow:
+        b, e = expr.args
+        if e.is_Integer:
+            base = _arb_constant(b)
+            return base ** int(e) if int(e) >= 0 else 1 / base ** (-int(e))
+        if e.is_Rational:
+            base = _arb_constant(b)
+            root = base.sqrt() if e.q == 2 else base.root(int(e.q))
+            return root ** int(e.p) if e.p >= 0 else 1 / root ** (-int(e.p))
+        raise _Unsupported(f"power {expr}")
+    if isinstance(expr, (sp.sin, sp.cos)):
+        x = _arb_constant(expr.args[0])
+        return x.sin() if isinstance(expr, sp.sin) else x.cos()
+    raise _Unsupported(f"constant {expr}")
+
+
+_TRIG_CHECK = {}
+
+
+def _trig_accuracy_ok():
+    """True when numpy's float64 sin and cos are within :data:`TRIG_ULPS` ulp of arb on a fixed sample
+    (uniform in [-8, 8], near multiples of pi/2, tiny arguments) and exact at +-0. Cached."""
+    if "ok" in _TRIG_CHECK:
+        return _TRIG_CHECK["ok"]
+    import flint
+
+    rng = np.random.default_rng(20240613)
+    x = np.concatenate([rng.uniform(-8, 8, 192), np.pi / 2 * np.arange(-5, 6) + rng.uniform(-1e-9, 1e-9, 11),
+                        np.pi / 2 * np.arange(-5, 6), [1e-300, -2e-12, 5e-324, np.pi, -np.pi]])
+    zeros = np.array([0.0, -0.0])
+    ok = bool(np.all(np.sin(zeros) == 0) and np.all(np.cos(zeros) == 1))
+    with _flint_precision(128):
+        for fn, name in ((np.sin, "sin"), (np.cos, "cos")):
+            y = fn(x)
+            for xi, yi in zip(x.tolist(), y.tolist()):
+                exact = getattr(flint.arb(xi), name)()
+                err = abs(flint.arb(yi) - exact)
+                if not err.upper() <= TRIG_ULPS * float(np.spacing(abs(yi))):
+                    ok = False
+    _TRIG_CHECK["ok"] = ok
+    return ok
+
+
+class _ProvenSign:
+    """Signs of a sympy expression at float points, proven.
+
+    The expression is written as a polynomial ``sum_i c_i prod_j g_j**a_ij`` in generators ``g_j``:
+    the chart variables, and ``sin``/``cos`` of a rational multiple of one variable. In float it is
+    evaluated as that monomial sum, whose rounding error is bounded a priori: the coefficients are
+    rounded from arb balls (relative error known), each monomial takes at most ``d + G`` roundings,
+    the sum of ``N`` terms at most ``N - 1`` (any order), and a trigonometric generator is off by
+    at most its argument's rounding plus :data:`TRIG_ULPS` ulp; a generator's error ``e_j`` enters
+    through ``prod (|g_j| + e_j)**a - prod |g_j|**a``. Where ``|F|`` is not above the bound (or a
+    value is not finite), arb decides at 128 then 512 bits.
+    """
+
+    def __init__(self, expr, symbols):
+        expr = sp.expand(sp.sympify(expr))
+        symbols = tuple(symbols)
+        trig = sorted((a for a in expr.atoms(sp.sin, sp.cos) if a.free_symbols), key=sp.default_sort_key)
+        self.trig = []
+        for a in trig:
+            coeff, rest = a.args[0].as_coeff_Mul()
+            if rest not in symbols or not coeff.is_Rational or coeff == 0:
+                raise _Unsupported(f"{a}: the argument must be a rational multiple of one chart variable")
+            self.trig.append((isinstance(a, sp.sin), symbols.index(rest), sp.Rational(coeff)))
+        if self.trig and not _trig_accuracy_ok():
+            raise _Unsupported(f"numpy's sin/cos are not within {TRIG_ULPS} ulp on this machine")
+        dummies = {a: sp.Dummy() for a in trig}
+        free = expr.xreplace(dummies).free_symbols
+        plain = [s for s in symbols if s in free]
+        gens = plain + trig
+        if not gens:
+            gens = [symbols[0]]
+            plain = [symbols[0]]
+        try:
+            poly = sp.Poly(expr, *gens)
+        except sp.PolynomialError as exc:
+            raise _Unsupported(str(exc)) from None
+        coeffs = poly.coeffs()
+        if any(c.free_symbols for c in coeffs):
+            raise _Unsupported("a coefficient depends on the chart variables")
+        self.plain = [symbols.index(s) for s in plain]
+        self.monoms = np.array(poly.monoms(), dtype=np.int64).reshape(len(coeffs), len(gens))
+        self.coeff_exprs = coeffs
+        self._arb_coeffs = {}
+        cf, rel = [], []
+        with _flint_precision(_ARB_PRECISIONS[0]):
+            import flint
+
+            for c in coeffs:
+                ball = _arb_constant(c)
+                if not ball.is_finite():
+                    raise _Unsupported(f"coefficient {c} is not finite")
+                f = float(ball.mid())
+                err = float(abs(flint.arb(f) - ball).upper()) * (1 + 4 * _EPS)
+                if f == 0 or not np.isfinite(f) or err > 1e-6 * abs(f):
+                    raise _Unsupported(f"coefficient {c} is not well represented in float")
+                cf.append(f)
+                rel.append(err / abs(f))
+        self.coeffs = np.array(cf)
+        self.coeff_rel = max(rel, default=0.0)
+        d = int(self.monoms.sum(axis=1).max()) if len(coeffs) else 0
+        # roundings per monomial: powers and products (<= d + G), the coefficient, the sum of N terms
+        self.gamma = _gamma(len(coeffs) + d + len(gens) + 2)
+        # every monomial as its parent times one generator (a chain from 1): one product per node
+        nodes = {(0,) * len(gens): 0}
+        order = [(0,) * len(gens)]
+        for mono in sorted(map(tuple, self.monoms.tolist()), key=sum):
+            chain = []
+            cur = mono
+            while cur not in nodes:
+                chain.append(cur)
+                j = next(i for i, a in enumerate(cur) if a)
+                cur = cur[:j] + (cur[j] - 1,) + cur[j + 1:]
+            for c in reversed(chain):
+                nodes[c] = len(order)
+                order.append(c)
+        self.parent = np.zeros(len(order), dtype=np.int64)
+        self.gen = np.zeros(len(order), dtype=np.int64)
+        for i, mono in enumerate(order[1:], start=1):
+            j = next(k for k, a in enumerate(mono) if a)
+            self.parent[i] = nodes[mono[:j] + (mono[j] - 1,) + mono[j + 1:]]
+            self.gen[i] = j
+        self.c_full = np.zeros(len(order))
+        for c, mono in zip(self.coeffs, self.monoms.tolist()):
+            self.c_full[nodes[tuple(mono)]] = c
+        self.terms = np.array([nodes[tuple(m)] for m in self.monoms.tolist()], dtype=np.int64)
+        self.tiny = float(np.abs(self.coeffs).sum()) * (d + len(gens) + 2) * _TINY + _TINY
+        n_plain = len(self.plain)
+        self.plain_deg = int(self.monoms[:, :n_plain].sum(axis=1).max()) if len(coeffs) else 0
+        trig_deg = int(self.monoms[:, n_plain:].sum(axis=1).max()) if len(coeffs) and self.trig else 0
+        self.cheap_trig = all(_is_power_of_two(c) for _, _, c in self.trig)
+        self.trig_rel = _gamma(2 * TRIG_ULPS * trig_deg)
+        self.trig_abs = max(2.0 * trig_deg * (TRIG_ULPS + 1) * float(np.abs(self.coeffs).sum()), 1.0) * _TINY
+        self.trig_c = [(float(c), 0.0 if _is_power_of_two(c)
+                        else float(abs(sp.Rational(float(c)) - c)) * (1 + 4 * _EPS)) for _, _, c in self.trig]
+
+    # float filter ----------------------------------------------------------------------------
+    def _generators(self, P):
+        """Generator values, their absolute error bounds, and which are exact zeros."""
+        vals, errs = [], []
+        for k in self.plain:
+            vals.append(P[:, k])
+            errs.append(np.zeros(len(P)))
+        for (is_sin, k, _), (cf, cerr) in zip(self.trig, self.trig_c):
+            x = P[:, k]
+            arg = cf * x
+            # the argument: exact for a power-of-two multiple unless it underflows
+            arg_err = cerr * np.abs(x) + np.where(np.abs(arg) < 2.0**-1000, _TINY, 0.0)
+            if cerr:
+                arg_err = arg_err + _EPS * np.abs(arg)
+            g = np.sin(arg) if is_sin else np.cos(arg)
+            err = arg_err + TRIG_ULPS * np.spacing(np.abs(g))
+            # sin(+-0) = +-0 and cos(+-0) = 1 exactly (C99 Annex F)
+            exact0 = (arg == 0) & (arg_err == 0)
+            err = np.where(exact0, 0.0, err)
+            vals.append(g)
+            errs.append(err)
+        return np.stack(vals, axis=-1), np.stack(errs, axis=-1)
+
+    def filter(self, P):
+        """``(F, bound, zero)``: the float value, a bound on its error, and where it is proven 0."""
+        P = np.atleast_2d(np.asarray(P, dtype=float))
+        n = len(P)
+        F, B = np.empty(n), np.full(n, np.inf)
+        zero = np.zeros(n, dtype=bool)
+        K = len(self.parent)
+        c_abs = np.abs(self.c_full)
+        inexact = bool(self.trig)
+        step = max(1, 2**21 // K)
+        for s in range(0, n, step):
+            g, e = self._generators(P[s:s + step])
+            gT = np.ascontiguousarray(g.T)
+            m = len(g)
+            with np.errstate(over="ignore", invalid="ignore"):
+                M = np.empty((K, m))
+                M[0] = 1.0
+                for i in range(1, K):
+                    np.multiply(M[self.parent[i]], gT[self.gen[i]], out=M[i])
+                # the sums by hand, not as a BLAS product: its threads would keep spinning and slow
+                # down the single-threaded numpy work that follows on a busy machine
+                f = np.zeros(m)
+                A = np.zeros(m)
+                tmp = np.empty(m)
+                for i in self.terms:
+                    f += np.multiply(M[i], self.c_full[i], out=tmp)
+                    A += np.abs(tmp, out=tmp)
+                rel = self.gamma + self.coeff_rel + 4 * _EPS
+                if inexact and self.cheap_trig:
+                    # sin/cos of an exact argument: e <= rho |g| + tau with rho = 2 u TRIG_ULPS, so
+                    # prod (|g| + e)**a - prod |g|**a <= ((1 + rho)**Dt - 1) prod |g|**a + 2 Dt tau
+                    # (|g| <= 1), times |c| and the plain variables' monomial
+                    Pm = np.abs(P[s:s + step][:, self.plain]).max(axis=1) if self.plain else np.zeros(m)
+                    extra = self.trig_abs * np.maximum(1.0, Pm) ** self.plain_deg
+                    bound = ((rel + self.trig_rel) * A + extra) * _FILTER_SAFETY + self.tiny
+                else:
+                    if inexact:                   # prod (|g| + e)**a: the generators' own errors
+                        gi = np.ascontiguousarray((np.abs(g) + e).T)
+                        for i in range(1, K):
+                            np.multiply(M[self.parent[i]], gi[self.gen[i]], out=M[i])
+                        A_inf = np.zeros(m)
+                        for i in self.terms:
+                            A_inf += np.multiply(M[i], c_abs[i], out=tmp)
+                    else:
+                        A_inf = A
+                    bound = ((A_inf - A) + rel * A_inf) * _FILTER_SAFETY + self.tiny
+            F[s:s + step] = f
+            B[s:s + step] = np.where(np.isfinite(bound) & np.isfinite(f), bound, np.inf)
+            # f == 0 exactly: is every term provably 0 (a factor is an exact zero)?
+            z = np.flatnonzero(f == 0)
+            if z.size:
+                gz = np.ascontiguousarray(((g[z] == 0) & (e[z] == 0)).T)
+                Z = np.zeros((K, z.size), dtype=bool)
+                for i in range(1, K):
+                    np.logical_or(Z[self.parent[i]], gz[self.gen[i]], out=Z[i])
+                zero[s + z] = Z[self.terms].all(axis=0)
+        return F, B, zero
+
+    # arb -------------------------------------------------------------------------------------
+    def arb_sign(self, p):
+        """The sign at one point in arb: +1, -1, 0 (the ball is exactly 0) or None (undecided)."""
+        import flint
+
+        p = [float(v) for v in p]
+        if not all(np.isfinite(p)):
+            return None
+        for prec in _ARB_PRECISIONS:
+            with _flint_precision(prec):
+                if prec not in self._arb_coeffs:
+                    self._arb_coeffs[prec] = [_arb_constant(c) for c in self.coeff_exprs]
+                coeffs = self._arb_coeffs[prec]
+                gens = [flint.arb(p[k]) for k in self.plain]
+                for is_sin, k, c in self.trig:
+                    x = flint.arb(flint.fmpq(int(c.p), int(c.q))) * flint.arb(p[k])
+                    gens.append(x.sin() if is_sin else x.cos())
+                total = flint.arb(0)
+                for c, a in zip(coeffs, self.monoms):
+                    t = c
+                    for g, k in zip(gens, a):
+                        if k:
+                            t = t * g ** int(k)
+                    total = total + t
+                if total > 0:
+                    return 1
+                if total < 0:
+                    return -1
+                if total.is_zero():
+                    return 0
+        return None
+
+
+def _is_power_of_two(c):
+    c = abs(sp.Rational(c))
+    return c != 0 and (c.p & (c.p - 1)) == 0 and (c.q & (c.q - 1)) == 0
+
+
+class _ArbBudget:
+    """Counts the arb evaluations of one mesh (~0.1 ms each) and refuses those beyond ``limit``."""
+
+    def __init__(self, limit=_ARB_MAX_POINTS):
+        self.left = limit
+        self.used = 0
+        self.refused = False
+
+    def take(self):
+        if self.left <= 0:
+            self.refused = True
+            return False
+        self.left -= 1
+        self.used += 1
+        return True
 
 
 # -- implicit functions ---------------------------------------------------------------------------
@@ -49,8 +444,16 @@ class Implicit:
     """A scalar function on 3-space that :func:`mesh_implicit` can mesh (its zero set).
 
     Subclasses implement :meth:`value_and_gradient` and may override :meth:`grid` with a faster
-    evaluation on a tensor grid.
+    evaluation on a tensor grid, and :meth:`proven_sign` with signs proven beyond float rounding.
+
+    Attributes
+    ----------
+    sign_test : str
+        How :meth:`proven_sign` knows a sign; the base class: ``"float signs (not proven against
+        rounding)"``, the sign of the float value.
     """
+
+    sign_test = "float signs (not proven against rounding)"
 
     def value_and_gradient(self, P):
         """``(F (n,), grad F (n, 3))`` at points ``P`` ``(n, 3)``."""
@@ -59,6 +462,33 @@ class Implicit:
     def value(self, P):
         """``F`` at points ``P`` ``(n, 3)``."""
         return self.value_and_gradient(P)[0]
+
+    def _value_bound(self, P):
+        """``(F, bound, zero)``: a float value whose sign is known where ``|F| > bound`` (or
+        ``zero``: known to be 0). Here the float standard: ``bound = 0``."""
+        F = self.value(np.atleast_2d(P))
+        return F, np.zeros(len(F)), np.zeros(len(F), dtype=bool)
+
+    def proven_sign(self, P, _budget=None):
+        """Signs of ``F`` at points ``P`` ``(n, 3)`` and whether each is known.
+
+        Returns ``(sign (n,) int8, known (n,) bool)``: ``sign`` in ``{-1, 0, 1}``, meaningful where
+        ``known``. The base class knows the sign of every finite non-zero float value (``sign_test
+        == "float signs ..."``); :class:`PolynomialImplicit` proves it (see the module docstring).
+        ``_budget`` (internal) caps the number of arb evaluations of one mesh.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from imagespace.meshing import FunctionImplicit
+        >>> f = FunctionImplicit(lambda P: (P[:, 0] - 0.5, np.tile([1.0, 0, 0], (len(P), 1))))
+        >>> s, known = f.proven_sign(np.array([[1.0, 0, 0], [0.5, 0, 0]]))
+        >>> s.tolist(), known.tolist()
+        ([1, 0], [True, False])
+        """
+        f = self.value(np.atleast_2d(P))
+        known = np.isfinite(f) & (f != 0)
+        return np.where(known, np.sign(f), 0).astype(np.int8), known
 
     def grid(self, axes, block=None):
         """``F`` on the tensor grid of three 1-d ``axes``: ``(len(u), len(v), len(w))`` float.
@@ -79,6 +509,12 @@ class Implicit:
 class PolynomialImplicit(Implicit):
     """An implicit function given by a sympy expression, polynomial in its first two variables.
 
+    Signs are proven (:meth:`proven_sign`) when the expression is a polynomial in the three
+    variables and in ``sin``/``cos`` of rational multiples of them, with constant coefficients
+    arb can evaluate (integers, rationals, floats, radicals, ``pi``, ``sin``/``cos`` of
+    constants) - every singularity surface of a polynomial kind; otherwise ``sign_test`` says
+    ``"float signs (not proven against rounding: <why>)"``.
+
     Parameters
     ----------
     expr : sympy expression
@@ -93,6 +529,17 @@ class PolynomialImplicit(Implicit):
     >>> sphere = PolynomialImplicit(u**2 + v**2 + w**2 - 1, (u, v, w))
     >>> sphere.grid(([0.0, 1.0], [0.0], [0.0, 2.0])).tolist()
     [[[-1.0, 3.0]], [[0.0, 4.0]]]
+    >>> sphere.sign_test
+    'rounding-error bound, arb below it'
+
+    ``(1, 0, 0)`` is on the sphere; the floats nearest to ``(3/5, 4/5, 0)`` are not (arb decides
+    what the float value ``0.0`` cannot):
+
+    >>> sphere.value([[0.6, 0.8, 0.0]]).tolist()
+    [0.0]
+    >>> s, known = sphere.proven_sign([[1.0, 0.0, 0.0], [0.6, 0.8, 0.0]])
+    >>> s.tolist(), known.tolist()
+    ([0, 1], [True, True])
     """
 
     def __init__(self, expr, symbols):
@@ -113,6 +560,42 @@ class PolynomialImplicit(Implicit):
             self._coeffs = compile_exprs(poly.coeffs(), [w])
         except sp.PolynomialError:
             self._monomials = None
+        self._signs = None
+
+    @property
+    def sign_test(self):
+        self._sign_evaluator()
+        return self._sign_note
+
+    def _sign_evaluator(self):
+        if self._signs is None:
+            try:
+                self._signs = _ProvenSign(self.expr, self.symbols)
+                self._sign_note = "rounding-error bound, arb below it"
+            except _Unsupported as exc:
+                self._signs = False
+                self._sign_note = f"float signs (not proven against rounding: {exc})"
+        return self._signs or None
+
+    def _value_bound(self, P):
+        ev = self._sign_evaluator()
+        return super()._value_bound(P) if ev is None else ev.filter(P)
+
+    def proven_sign(self, P, _budget=None):
+        ev = self._sign_evaluator()
+        if ev is None:
+            return super().proven_sign(P, _budget)
+        P = np.atleast_2d(np.asarray(P, dtype=float))
+        F, bound, zero = ev.filter(P)
+        known = zero | (np.abs(F) > bound)
+        sign = np.where(zero, 0, np.sign(F)).astype(np.int8)
+        for i in np.flatnonzero(~known):
+            if _budget is not None and not _budget.take():
+                break
+            s = ev.arb_sign(P[i])
+            if s is not None:
+                sign[i], known[i] = s, True
+        return sign, known
 
     def value_and_gradient(self, P):
         P = np.atleast_2d(P)
@@ -142,6 +625,9 @@ class PolynomialImplicit(Implicit):
 
 class FunctionImplicit(Implicit):
     """An implicit function given by a Python callable ``f(P) -> (F (n,), grad (n, 3))``.
+
+    Its signs are float signs (``sign_test`` starts with ``"float signs"``): a mesh of it is
+    certified only up to the rounding of ``f``.
 
     Examples
     --------
@@ -252,7 +738,8 @@ class _Progress:
             self.bar.close()
 
 
-def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory=MAX_MEMORY):
+def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory=MAX_MEMORY,
+                  on_uncertified="remove"):
     """Mesh the zero set of an implicit function inside a box.
 
     Parameters
@@ -264,25 +751,36 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     resolution : int or (3,) int
         Grid points per axis, at least 8.
     tol : float
-        Every vertex ends within ``tol * size`` of the surface (certified by a sign change, see
-        the module docstring), ``size`` the box's longest side.
+        Every vertex kept ends within ``tol * size`` of the surface, certified by a sign change
+        between two points with proven signs (see the module docstring), ``size`` the box's
+        longest side.
     progress : bool or None
         Progress bar (tqdm); ``None``: shown only if meshing takes longer than a second.
     max_memory : float
         Bytes; a resolution whose estimated memory is above it is refused before allocating.
+    on_uncertified : {"remove", "keep"}
+        What to do with a vertex no proven sign change within ``tol * size`` can be found for
+        (e.g. on a surface component of even multiplicity, where ``func`` does not change sign):
+        remove it with its faces (default), or keep it at its marching-cubes place and count it.
 
     Returns
     -------
     trimesh.Trimesh
         Normals point to where ``func > 0``. ``mesh.metadata["imagespace"]`` holds
-        ``max_distance`` (the certified bound), ``max_residual`` (``max |F|/|grad F|``),
-        ``uncertified`` (vertices where no sign change could be bracketed, expected 0), the
-        box, resolution and timings.
+        ``max_distance`` (the largest certified bound over the certified vertices),
+        ``max_residual`` (``max |F|/|grad F|``), ``uncertified`` (vertices left in the mesh without
+        a certificate: 0 unless ``on_uncertified="keep"``), ``removed`` and ``removed_faces`` (what
+        was removed for want of a certificate), ``sign_test`` (how signs were known),
+        ``searched`` (vertices certified off their own edge or not at all), ``arb_evaluations`` and
+        ``arb_budget_exhausted`` (more undecided signs than arb was allowed to settle),
+        the box, resolution and timings. ``mesh.vertex_attributes["distance_bound"]`` is the
+        certified bound of each vertex (``inf`` if uncertified).
 
     Raises
     ------
     InputError
-        Empty box, resolution below 8, or above the memory limit.
+        Empty box, resolution below 8, or above the memory limit; ``tol`` outside ``(0, 0.01)``;
+        an unknown ``on_uncertified``.
 
     Examples
     --------
@@ -292,14 +790,25 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     >>> mesh = mesh_implicit(PolynomialImplicit(u**2 + v**2 + w**2 - 1, (u, v, w)), [(-1.5, 1.5)] * 3, 48)
     >>> bool(abs(mesh.area - 4 * 3.141592653589793) < 0.04 * 4 * 3.141592653589793)
     True
-    >>> mesh.metadata["imagespace"]["max_distance"] <= 1e-9 * 3
-    True
+    >>> md = mesh.metadata["imagespace"]
+    >>> md["max_distance"] <= 1e-9 * 3, md["uncertified"], md["removed"]
+    (True, 0, 0)
+
+    A tolerance finer than the spacing of floats near the vertices cannot be certified: those
+    vertices are removed and counted (or kept and counted, ``on_uncertified="keep"``):
+
+    >>> sphere = PolynomialImplicit(u**2 + v**2 + w**2 - 1, (u, v, w))
+    >>> md = mesh_implicit(sphere, [(-1.5, 1.5)] * 3, 12, tol=1e-18).metadata["imagespace"]
+    >>> md["removed"] > 0, md["uncertified"]
+    (True, 0)
     """
     import trimesh
     from skimage.measure import marching_cubes
 
     if not isinstance(func, Implicit):
         raise TypeError(f"func must be an imagespace.meshing.Implicit, got {type(func).__name__}")
+    if on_uncertified not in ("remove", "keep"):
+        raise InputError(f"on_uncertified must be 'remove' or 'keep', got {on_uncertified!r}")
     b = _check_box(box)
     res = _check_resolution(resolution, max_memory)
     tol = float(tol)
@@ -314,14 +823,18 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     G = func.grid(axes, block=lambda k, n: bar.step(16 / n))
     times["grid"] = time.perf_counter() - t0
     finite = np.isfinite(G)
-    meta = {"resolution": list(res), "box": b.tolist(), "tol": tol, "size": size}
+    meta = {"resolution": list(res), "box": b.tolist(), "tol": tol, "size": size,
+            "sign_test": func.sign_test}
     empty = not finite.any() or np.nanmin(G) > 0 or np.nanmax(G) < 0
     if empty:
         bar.close()
-        meta.update(max_distance=0.0, max_residual=0.0, uncertified=0, times=times,
+        meta.update(max_distance=0.0, max_residual=0.0, uncertified=0, removed=0, removed_faces=0,
+                    searched=0, arb_evaluations=0, arb_budget_exhausted=False, times=times,
                     note="the surface does not meet the box")
-        return trimesh.Trimesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64),
+        mesh = trimesh.Trimesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64),
                                metadata={"imagespace": meta}, process=False)
+        mesh.vertex_attributes["distance_bound"] = np.zeros(0)
+        return mesh
     t0 = time.perf_counter()
     kw = {}
     if not finite.all():
@@ -331,33 +844,44 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     times["marching_cubes"] = time.perf_counter() - t0
     bar.step()
     t0 = time.perf_counter()
-    V, dist, resid, uncert = _project(func, verts, b[:, 0], h, tol * size)
+    budget = _ArbBudget()
+    V, bound, resid, searched = _project(func, verts, b[:, 0], h, tol * size, budget)
     times["projection"] = time.perf_counter() - t0
     bar.step()
     t0 = time.perf_counter()
-    V, faces = _clean(V, faces, b[:, 0], h, 1e-3 * tol * size)
+    V, faces, bound, removed, removed_faces = _clean(V, faces, bound, b[:, 0], h, _MIN_ALTITUDE * tol * size,
+                                                     remove=on_uncertified == "remove")
     mesh = trimesh.Trimesh(V, faces, process=False)
+    mesh.vertex_attributes["distance_bound"] = bound
     agree = _orient(func, mesh)
     times["clean"] = time.perf_counter() - t0
     bar.step()
     bar.close()
-    meta.update(max_distance=float(dist), max_residual=float(resid), uncertified=int(uncert),
+    fin = np.isfinite(bound)
+    meta.update(max_distance=float(bound[fin].max()) if fin.any() else 0.0, max_residual=float(resid),
+                uncertified=int((~fin).sum()), removed=removed, removed_faces=removed_faces,
+                searched=searched, arb_evaluations=budget.used, arb_budget_exhausted=budget.refused,
                 normals_agree=float(agree), times=times,
-                projection="safeguarded Newton along marching-cubes edges, sign change bracketed")
+                projection="safeguarded Newton along marching-cubes edges, then a neighbourhood search; "
+                           "sign change between points of proven sign")
     mesh.metadata["imagespace"] = meta
     return mesh
 
 
-def _clean(V, faces, origin, h, height):
-    """Merge vertices that landed on the same grid node, drop faces that became degenerate
-    (repeated vertex or altitude below ``height``) and vertices no face uses."""
+def _clean(V, faces, bound, origin, h, height, remove):
+    """Merge vertices that landed on the same grid node (the best-certified one stays), drop faces
+    that became degenerate (repeated vertex or altitude below ``height``), then the faces of
+    uncertified vertices if ``remove``, and vertices no face uses.
+
+    Returns ``(V, faces, bound, removed, removed_faces)``."""
     idx = (V - origin) / h
-    node = np.all(np.abs(idx - np.round(idx)) < 1e-9, axis=1)
+    node = np.flatnonzero(np.all(np.abs(idx - np.round(idx)) < _NODE_MERGE, axis=1))
     remap = np.arange(len(V))
-    if node.any():
+    if node.size:
+        node = node[np.argsort(bound[node], kind="stable")]       # the smallest bound represents its node
         keys = np.round(idx[node]).astype(np.int64)
         _, first, inv = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-        remap[np.flatnonzero(node)] = np.flatnonzero(node)[first][inv.ravel()]
+        remap[node] = node[first][inv.ravel()]
     F = remap[faces]
     keep = (F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])
     F = F[keep]
@@ -366,10 +890,17 @@ def _clean(V, faces, origin, h, height):
     cross = np.cross(e1, e2)
     # twice the area over the longest possible edge (a cell diagonal): a bound on the altitude
     F = F[np.sqrt(np.einsum("ij,ij->i", cross, cross)) > height * 2 * float(np.linalg.norm(h))]
+    removed = removed_faces = 0
+    if remove:                    # only what a certificate would have kept counts as removed
+        bad = ~np.isfinite(bound)
+        drop = bad[F].any(axis=1)
+        removed = int(np.unique(F[drop][bad[F[drop]]]).size)
+        removed_faces = int(drop.sum())
+        F = F[~drop]
     used = np.zeros(len(V), dtype=bool)
     used[F] = True
     new_index = np.cumsum(used) - 1
-    return V[used], new_index[F]
+    return V[used], new_index[F], bound[used], removed, removed_faces
 
 
 def _cube_mask(finite):
@@ -381,37 +912,67 @@ def _cube_mask(finite):
     return m
 
 
-def _project(func, verts, origin, h, tol_abs):
-    """Move marching-cubes vertices along their grid edges onto the surface.
+def _project(func, verts, origin, h, tol_abs, budget):
+    """Move marching-cubes vertices onto the surface and certify each.
 
-    Returns the vertices, the largest certified distance bound, the largest ``|F|/|grad F|`` and
-    the number of vertices whose edge showed no sign change (left at their interpolated place).
+    Returns ``(V, bound, resid, searched)``: the vertices ``(n, 3)``, the certified distance bound
+    per vertex (``inf`` where no proven sign change within ``tol_abs`` was found; the vertex is
+    then left at its marching-cubes place), the largest ``|F|/|grad F|``, and how many vertices
+    needed the neighbourhood search.
     """
     n = len(verts)
     frac = np.abs(verts - np.round(verts))
+    # a vertex on a grid node (marching cubes interpolated next to a tiny value) starts at the node
+    P0 = origin + np.where((frac <= _ON_GRID).all(axis=1)[:, None], np.round(verts), verts) * h
+    V = P0.copy()
+    bound = np.full(n, np.inf)
+    if n == 0:
+        return V, bound, 0.0, 0
+    on_edge = (frac > _ON_GRID).sum(axis=1) == 1          # between grid planes along exactly one axis
     axis = np.argmax(frac, axis=1)
-    on_node = frac[np.arange(n), axis] < 1e-12
+    k = np.flatnonzero(on_edge)
+    if k.size:
+        Ve, be = _project_edges(func, verts[k], axis[k], origin, h, tol_abs, budget)
+        V[k], bound[k] = Ve, be
+    first = np.where(on_edge, axis, -1)
+    rest = np.flatnonzero(~(bound <= tol_abs))
+    if rest.size:
+        Vs, bs = _search(func, P0[rest], first[rest], h, tol_abs, budget)
+        V[rest], bound[rest] = Vs, bs
+    f, g = func.value_and_gradient(V)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.abs(f) / np.linalg.norm(g, axis=1)
+    r = np.where((f == 0) | ~np.isfinite(bound), 0.0, r)
+    resid = float(np.nanmax(r)) if np.any(np.isfinite(r)) else 0.0
+    return V, bound, resid, int(rest.size)
+
+
+def _project_edges(func, verts, axis, origin, h, tol_abs, budget):
+    """Safeguarded Newton along the marching-cubes edge of each vertex, certified by two points
+    about ``tol_abs / 2`` on either side whose signs are proven (:meth:`Implicit.proven_sign`).
+    Returns ``(V, bound)``."""
+    n = len(verts)
+    rows = np.arange(n)
     lo_idx = np.round(verts).astype(float)
-    lo_idx[np.arange(n), axis] = np.floor(verts[np.arange(n), axis])
+    lo_idx[rows, axis] = np.floor(verts[rows, axis])
     a = origin + lo_idx * h
     e = np.zeros((n, 3))
-    e[np.arange(n), axis] = h[axis]
-    s = verts[np.arange(n), axis] - lo_idx[np.arange(n), axis]
-    s = np.where(on_node, np.round(s), s)
+    e[rows, axis] = h[axis]
+    s = verts[rows, axis] - lo_idx[rows, axis]
     delta = tol_abs / h[axis]                    # wanted bracket width in the edge parameter
 
     lo, hi = np.zeros(n), np.ones(n)
+    pair = np.full((n, 2), np.nan)               # edge parameters of a pair with proven opposite signs
     f_lo = func.value(a)
     f_hi = func.value(a + e)
     sg_lo = np.sign(f_lo)
-    width = np.ones(n)
     done = (f_lo == 0) | (f_hi == 0)
     s = np.where(f_lo == 0, 0.0, np.where(f_hi == 0, 1.0, s))
-    width[done] = 0.0
-    bad = ~done & (np.sign(f_hi) == sg_lo)       # no sign change along the edge (rounding)
+    lo[done] = hi[done] = s[done]
+    bad = ~done & (np.sign(f_hi) == sg_lo)       # no float sign change along the edge
     done |= bad
     act = np.flatnonzero(~done)
-    for _ in range(200):
+    for _ in range(_NEWTON_STEPS):
         if act.size == 0:
             break
         P = a[act] + s[act, None] * e[act]
@@ -425,14 +986,19 @@ def _project(func, verts, origin, h, tol_abs):
             sn = s[act] - f / df
         inside = np.isfinite(sn) & (sn > lo[act]) & (sn < hi[act])
         sn = np.where(inside, sn, 0.5 * (lo[act] + hi[act]))
-        small = inside & (np.abs(sn - s[act]) < 0.25 * delta[act])
-        # a converged Newton step: test a bracket of width delta around it
+        small = inside & (np.abs(sn - s[act]) < _NEWTON_SMALL * delta[act])
+        # a converged Newton step: test the points delta/2 on either side of it. Proven opposite
+        # signs there certify the vertex at once; otherwise their float signs shrink the bracket.
+        certified = np.zeros(act.size, dtype=bool)
         if small.any():
             k = act[small]
-            pl = np.maximum(sn[small] - 0.5 * delta[k], lo[k])
-            ph = np.minimum(sn[small] + 0.5 * delta[k], hi[k])
-            fl = func.value(a[k] + pl[:, None] * e[k])
-            fh = func.value(a[k] + ph[:, None] * e[k])
+            pl = np.maximum(sn[small] - 0.5 * delta[k], 0.0)
+            ph = np.minimum(sn[small] + 0.5 * delta[k], 1.0)
+            fl, bl, _ = func._value_bound(a[k] + pl[:, None] * e[k])
+            fh, bh, _ = func._value_bound(a[k] + ph[:, None] * e[k])
+            ok = (np.abs(fl) > bl) & (np.abs(fh) > bh) & (np.sign(fl) * np.sign(fh) < 0)
+            pair[k[ok]] = np.stack([pl[ok], ph[ok]], axis=-1)
+            certified[small] = ok
             for p_, f_ in ((pl, fl), (ph, fh)):
                 sm = np.sign(f_) == sg_lo[k]
                 lo[k] = np.where(sm & (f_ != 0), np.maximum(lo[k], p_), lo[k])
@@ -441,20 +1007,147 @@ def _project(func, verts, origin, h, tol_abs):
                 lo[k[hit]] = hi[k[hit]] = p_[hit]
         s[act] = np.where(zero, s[act], sn)
         lo[act[zero]] = hi[act[zero]] = s[act[zero]]
-        fin = (hi[act] - lo[act]) <= delta[act]
-        s[act[fin]] = 0.5 * (lo[act[fin]] + hi[act[fin]])
-        width[act[fin]] = hi[act[fin]] - lo[act[fin]]
+        fin = ((hi[act] - lo[act]) <= delta[act]) | certified
         act = act[~fin]
-    if act.size:                                  # not expected: report, keep the midpoint
-        s[act] = 0.5 * (lo[act] + hi[act])
-        width[act] = hi[act] - lo[act]
+    proven = ~np.isnan(pair[:, 0])
+    s = np.where(bad, s, np.where(proven, 0.5 * (pair[:, 0] + pair[:, 1]), 0.5 * (lo + hi)))
     V = a + s[:, None] * e
-    dist = np.max(np.where(bad, 0.0, 0.5 * width * h[axis])) if n else 0.0
-    f, g = func.value_and_gradient(V)
+    # the certificate: proven signs at two float points about delta/2 on either side of the vertex
+    # (inside the edge): the pair proven in the loop, else the points at s -+ delta/2. Not the float
+    # bracket's own ends: Newton leaves one of them within rounding of the root, where no sign can
+    # be proven.
+    P_lo = a + np.where(proven, pair[:, 0], np.maximum(s - 0.5 * delta, 0.0))[:, None] * e
+    P_hi = a + np.where(proven, pair[:, 1], np.minimum(s + 0.5 * delta, 1.0))[:, None] * e
+    bound = np.full(n, np.inf)
+    if proven.any():
+        b = np.maximum(np.linalg.norm(V[proven] - P_lo[proven], axis=1),
+                       np.linalg.norm(V[proven] - P_hi[proven], axis=1)) * (1 + 8 * _EPS)
+        bound[proven] = np.where(b <= tol_abs, b, np.inf)
+    check = np.flatnonzero(~bad & ~(bound <= tol_abs))
+    if check.size:
+        sg, known = func.proven_sign(np.concatenate([P_lo[check], P_hi[check]]), budget)
+        s1, s2 = sg[:check.size], sg[check.size:]
+        k1, k2 = known[:check.size], known[check.size:]
+        Vc = V[check]
+        d1 = np.linalg.norm(Vc - P_lo[check], axis=1)
+        d2 = np.linalg.norm(Vc - P_hi[check], axis=1)
+        b = np.full(check.size, np.inf)
+        crossing = k1 & k2 & (s1 * s2 < 0)
+        b = np.where(crossing, np.maximum(d1, d2), b)
+        b = np.where(k1 & (s1 == 0), np.minimum(b, d1), b)     # a proven zero at a bracket end
+        b = np.where(k2 & (s2 == 0), np.minimum(b, d2), b)
+        b = b * (1 + 8 * _EPS)
+        bound[check] = np.where(b <= tol_abs, b, np.inf)
+    return V, bound
+
+
+def _directions(func, P0, first, h):
+    """Candidate search directions per vertex, ``(8, m, 3)``: the vertex's own edge axis first
+    (if any), the other grid axes, the gradient (scaled to the smallest cell side; NaN where it
+    vanishes), the four cube diagonals."""
+    m = len(P0)
+    axes = np.where(first[:, None] >= 0, (first[:, None] + np.arange(3)[None, :]) % 3, np.arange(3)[None, :])
+    D = np.full((8, m, 3), np.nan)
+    for i in range(3):
+        D[i] = 0.0
+        D[i, np.arange(m), axes[:, i]] = h[axes[:, i]]
+    _, g = func.value_and_gradient(P0)
+    gn = np.linalg.norm(g, axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.abs(f) / np.linalg.norm(g, axis=1)
-    resid = float(np.nanmax(np.where(f == 0, 0.0, r))) if n else 0.0
-    return V, dist, resid, int(bad.sum() + act.size)
+        D[3] = np.where((gn > 0)[:, None] & np.isfinite(g), g / gn[:, None] * h.min(), np.nan)
+    for i, sgn in enumerate(((1, 1, 1), (1, 1, -1), (1, -1, 1), (-1, 1, 1))):
+        D[4 + i] = np.asarray(sgn) * h
+    return D
+
+
+def _search(func, P0, first, h, tol_abs, budget):
+    """Certify vertices whose own edge gave no proven bracket: a proven zero at the vertex, or the
+    nearest proven sign change along the candidate directions (points at ``_SEARCH_STEPS`` cells on
+    both sides), bisected on proven signs. Returns ``(V, bound)``; ``V = P0`` and ``bound = inf``
+    where nothing was found."""
+    m = len(P0)
+    V, bound = P0.copy(), np.full(m, np.inf)
+    s0, k0 = func.proven_sign(P0, budget)
+    bound[k0 & (s0 == 0)] = 0.0
+    D = _directions(func, P0, first, h)
+    t = np.concatenate([-np.asarray(_SEARCH_STEPS)[::-1], [0.0], np.asarray(_SEARCH_STEPS)])
+    i0 = len(_SEARCH_STEPS)
+    # no two distinct floats near P0 are closer than this: a shorter bracket cannot exist there
+    hopeless = tol_abs < 0.5 * np.spacing(np.abs(P0)).min(axis=1)
+    for Dk in D:
+        todo = np.flatnonzero(~(bound <= tol_abs) & ~hopeless & np.isfinite(Dk).all(axis=1))
+        if todo.size == 0:
+            continue
+        pts = P0[todo, None, :] + t[None, :, None] * Dk[todo, None, :]
+        pts[:, i0] = P0[todo]
+        sg, kn = func.proven_sign(pts.reshape(-1, 3), budget)
+        sg, kn = sg.reshape(len(todo), len(t)), kn.reshape(len(todo), len(t))
+        lo_pt, hi_pt, s_lo, owner = [], [], [], []
+        for r, j in enumerate(todo):
+            best = None                                   # (radius, lo index, hi index or None)
+            idx = np.flatnonzero(kn[r])
+            for a_, b_ in zip(idx[:-1], idx[1:]):
+                if sg[r, a_] * sg[r, b_] < 0:
+                    rad = max(abs(t[a_]), abs(t[b_]))
+                    if best is None or rad < best[0]:
+                        best = (rad, a_, b_)
+            for a_ in idx[sg[r, idx] == 0]:
+                if best is None or abs(t[a_]) <= best[0]:
+                    best = (abs(t[a_]), a_, None)
+            if best is None:
+                continue
+            if best[2] is None:                           # a proven zero
+                V[j], bound[j] = pts[r, best[1]], 0.0
+                continue
+            lo_pt.append(pts[r, best[1]])
+            hi_pt.append(pts[r, best[2]])
+            s_lo.append(sg[r, best[1]])
+            owner.append(j)
+        if owner:
+            Vb, bb = _bisect(func, np.array(lo_pt), np.array(hi_pt), np.array(s_lo), tol_abs, budget)
+            owner = np.array(owner)
+            ok = bb <= tol_abs
+            V[owner[ok]], bound[owner[ok]] = Vb[ok], bb[ok]
+    return V, bound
+
+
+def _bisect(func, lo, hi, s_lo, tol_abs, budget):
+    """Bisect brackets ``[lo, hi]`` (points with proven signs ``s_lo`` and ``-s_lo``) on proven
+    signs until shorter than ``tol_abs``; an undecided midpoint is replaced by the next point of
+    ``_BISECT_TRIES``. Returns ``(V, bound)`` with ``bound = inf`` where the bisection got stuck."""
+    k = len(lo)
+    lo, hi = lo.copy(), hi.copy()
+    zero_at = np.full((k, 3), np.nan)
+    stuck = np.zeros(k, dtype=bool)
+    for _ in range(_BISECT_STEPS):
+        act = np.flatnonzero(~stuck & np.isnan(zero_at[:, 0]) & (np.linalg.norm(hi - lo, axis=1) > tol_abs))
+        if act.size == 0:
+            break
+        pending = act
+        for tr in _BISECT_TRIES:
+            if pending.size == 0:
+                break
+            P = lo[pending] + tr * (hi[pending] - lo[pending])
+            # a point that rounds onto an end of its bracket tells nothing: the bracket is as short
+            # as the float spacing allows
+            fresh = np.any(P != lo[pending], axis=1) & np.any(P != hi[pending], axis=1)
+            stuck[pending[~fresh]] = True
+            pending, P = pending[fresh], P[fresh]
+            sg, kn = func.proven_sign(P, budget)
+            z = kn & (sg == 0)
+            zero_at[pending[z]] = P[z]
+            same = kn & (sg == s_lo[pending])
+            opp = kn & (sg == -s_lo[pending])
+            lo[pending[same]] = P[same]
+            hi[pending[opp]] = P[opp]
+            pending = pending[~kn]
+        stuck[pending] = True
+    V = 0.5 * (lo + hi)
+    bound = np.maximum(np.linalg.norm(V - lo, axis=1), np.linalg.norm(V - hi, axis=1)) * (1 + 8 * _EPS)
+    z = ~np.isnan(zero_at[:, 0])
+    V[z], bound[z] = zero_at[z], 0.0
+    bound[~z & (stuck | (bound > tol_abs))] = np.inf
+    return V, bound
 
 
 def _orient(func, mesh):
@@ -464,7 +1157,7 @@ def _orient(func, mesh):
     sample of faces decides the direction for all of them."""
     if len(mesh.faces) == 0:
         return 1.0
-    pick = np.random.default_rng(0).choice(len(mesh.faces), min(len(mesh.faces), 4096), replace=False)
+    pick = np.random.default_rng(0).choice(len(mesh.faces), min(len(mesh.faces), _ORIENT_SAMPLE), replace=False)
     _, g = func.value_and_gradient(mesh.triangles_center[pick])
     dots = np.einsum("ij,ij->i", mesh.face_normals[pick], g)
     ok = np.isfinite(dots)
@@ -476,7 +1169,7 @@ def _orient(func, mesh):
 
 
 def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress=None,
-                 max_memory=MAX_MEMORY):
+                 max_memory=MAX_MEMORY, on_uncertified="remove"):
     """Mesh a singularity surface in the image chart or the pose chart.
 
     Parameters
@@ -487,7 +1180,7 @@ def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress
         In chart coordinates: ``chart="image"``: ranges of ``(x2/x0, x3/x0, x1/x0)``;
         ``chart="pose"``: ranges of ``(x, y, phi)``.
     chart : {"image", "pose"}
-    resolution, tol, progress, max_memory
+    resolution, tol, progress, max_memory, on_uncertified
         As in :func:`mesh_implicit`.
 
     Returns
@@ -504,16 +1197,31 @@ def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress
     >>> mesh = mesh_surface(S, [(-12, 12), (-12, 12), (-3, 3)], resolution=32)
     >>> len(mesh.faces) > 1000, mesh.metadata["imagespace"]["chart"]
     (True, 'image')
+    >>> mesh.metadata["imagespace"]["uncertified"], mesh.metadata["imagespace"]["removed"]
+    (0, 0)
     """
     func = surface_implicit(surface, chart)
     mesh = mesh_implicit(func, box, resolution=resolution, tol=tol, progress=progress,
-                         max_memory=max_memory)
+                         max_memory=max_memory, on_uncertified=on_uncertified)
     mesh.metadata["imagespace"].update(chart=chart, surface=repr(surface))
     return mesh
 
 
+# -- export ---------------------------------------------------------------------------------------
 def export_mesh(mesh, path):
-    """Write a mesh; the format is taken from the suffix (``.stl``, ``.ply``, ``.obj``, ``.glb``).
+    """Write a mesh atomically; the format is taken from the suffix (``.stl``, ``.ply``, ``.obj``, ``.glb``).
+
+    Precision of the stored vertices (:data:`EXPORT_PRECISION`):
+
+    * ``.ply`` - binary little endian with ``property double x/y/z``: the float64 vertices bit
+      for bit (``trimesh.load`` reads them back exactly);
+    * ``.obj`` - text with 17 significant digits: float64 bit for bit;
+    * ``.stl``, ``.glb`` - **float32 by format**: every coordinate is rounded to 24 bits, an error
+      of up to ``2**-24 ~ 6e-8`` of its magnitude - far more than a certified ``tol`` of ``1e-9``
+      of the box. Use PLY or OBJ where the certificate matters.
+
+    The file is written to a temporary file in the target's folder, flushed and synced, then
+    renamed over the target (``os.replace``): a failure midway leaves an existing file unchanged.
 
     Parameters
     ----------
@@ -524,13 +1232,23 @@ def export_mesh(mesh, path):
     -------
     Path
 
+    Raises
+    ------
+    TypeError
+        ``mesh`` is not a :class:`trimesh.Trimesh`.
+    InputError
+        Unknown suffix.
+
     Examples
     --------
-    >>> import tempfile, pathlib, trimesh
+    >>> import tempfile, pathlib, trimesh, numpy as np
     >>> from imagespace.meshing import export_mesh
-    >>> p = export_mesh(trimesh.creation.box(), pathlib.Path(tempfile.mkdtemp()) / "box.ply")
-    >>> len(trimesh.load(p).faces)
-    12
+    >>> box = trimesh.creation.box()
+    >>> box.vertices[0] += 1e-12
+    >>> p = export_mesh(box, pathlib.Path(tempfile.mkdtemp()) / "box.ply")
+    >>> back = trimesh.load(p, process=False)
+    >>> len(back.faces), bool(np.array_equal(back.vertices, box.vertices))
+    (12, True)
     """
     import trimesh
 
@@ -541,7 +1259,91 @@ def export_mesh(mesh, path):
     if suffix not in EXPORT_FORMATS:
         raise InputError(f"path must end in one of {', '.join(EXPORT_FORMATS)} (the format is taken "
                          f"from the suffix), got {str(path)!r}")
+    V = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
+    F = np.ascontiguousarray(mesh.faces, dtype=np.int64)
     path.parent.mkdir(parents=True, exist_ok=True)
-    clean = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False)
-    clean.export(path, file_type=suffix[1:])
+    if suffix == ".ply":
+        _atomic_write(path, lambda f: _write_ply(f, V, F))
+    elif suffix == ".obj":
+        _atomic_write(path, lambda f: _write_obj(f, V, F))
+    else:
+        data = trimesh.Trimesh(V, F, process=False).export(file_type=suffix[1:])
+        _atomic_write(path, lambda f: f.write(data))
     return path
+
+
+def _write_ply(f, V, F):
+    """Binary little-endian PLY with float64 vertices and int32 triangle indices."""
+    if len(V) > np.iinfo(np.int32).max:
+        raise InputError(f"a PLY export holds at most {np.iinfo(np.int32).max} vertices, got {len(V)}")
+    header = ("ply\nformat binary_little_endian 1.0\ncomment imagespace: vertices in float64\n"
+              f"element vertex {len(V)}\nproperty double x\nproperty double y\nproperty double z\n"
+              f"element face {len(F)}\nproperty list uchar int vertex_indices\nend_header\n")
+    f.write(header.encode("ascii"))
+    f.write(V.astype("<f8").tobytes())
+    rec = np.empty(len(F), dtype=[("n", "u1"), ("v", "<i4", (3,))])
+    rec["n"] = 3
+    rec["v"] = F
+    f.write(rec.tobytes())
+
+
+def _write_obj(f, V, F):
+    """Wavefront OBJ with 17 significant digits (float64 round trip) and 1-based faces."""
+    f.write(b"# imagespace: vertices with 17 significant digits (float64)\n")
+    if len(V):
+        f.write(("\n".join("v %.17g %.17g %.17g" % tuple(r) for r in V.tolist()) + "\n").encode("ascii"))
+    if len(F):
+        f.write(("\n".join("f %d %d %d" % tuple(r) for r in (F + 1).tolist()) + "\n").encode("ascii"))
+
+
+def _new_file_mode(path):
+    """The permission bits a plain ``open(path, "w")`` would give: the existing file's, else
+    ``0o666`` less the process umask."""
+    try:
+        import stat
+
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except FileNotFoundError:
+        pass
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return 0o666 & ~int(line.split()[1], 8)
+    except OSError:
+        pass
+    with _FLINT_LOCK:                 # any lock: os.umask can only be read by setting it
+        mask = os.umask(0o022)
+        os.umask(mask)
+    return 0o666 & ~mask
+
+
+def _atomic_write(path, write):
+    """Write a file atomically: ``write(f)`` fills a temporary file in the same folder, which is
+    flushed, synced and renamed over ``path``; on any error the temporary file is removed and
+    ``path`` is untouched."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, _new_file_mode(path))
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    try:                              # make the rename itself durable (POSIX)
+        dfd = os.open(path.parent, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(dfd)
+    except OSError:
+        pass
+    finally:
+        os.close(dfd)
