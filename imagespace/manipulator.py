@@ -162,7 +162,8 @@ class DKBatchResult:
         kinematic polynomial could not be separated by inclusion discs, or the modes found do
         not account for the real roots (compiled kernel: a root pair closer than
         ``Tolerances.near_singular_gap``, or an odd count). Rows answered by the certified path
-        are never near-singular (their count is proven).
+        and, with ``certify=True``, every ``consistent`` row are never near-singular (their count
+        is proven).
     multiplicity : (n, 6) int
         Multiplicity of each mode's root (1 except on rows solved by the certified path).
 
@@ -784,8 +785,8 @@ class PlanarParallel:
         derivation (no sympy elimination per call), or None where that route does not apply
         (symbolic or irrational input, trigonometric features, or a Cramer case at this ``q``
         that the general formulas do not see: then ``_exact_forms`` decides)."""
-        if not all(v.is_Rational for v in q_exact):
-            return None
+        if not all(v.is_Rational for v in q_exact) or any(leg.actuated_is_angle for leg in self.legs):
+            return None                 # cos/sin of an actuated angle: not rational, sympy decides
         if "exact_evaluators" not in self._symbolic_cache:
             ev = None
             if not set().union(*(leg.free_symbols for leg in self.legs)):
@@ -1005,10 +1006,11 @@ class PlanarParallel:
         # than near_singular_gap (in the half-angle), or an odd count (the kinematic polynomial
         # has even degree and real coefficients: an odd number of distinct real roots means a
         # multiple root)
-        half = np.where(valid, np.arctan2(X[..., 1], X[..., 0]), np.nan)
-        hs = np.sort(np.where(valid, half, np.inf), axis=1)
-        gaps = np.diff(hs, axis=1)
-        wrap = hs[:, 0] + np.pi - np.max(np.where(np.isfinite(hs), hs, -np.inf), axis=1)
+        with np.errstate(invalid="ignore"):
+            half = np.where(valid, np.arctan2(X[..., 1], X[..., 0]), np.nan)
+            hs = np.sort(np.where(valid, half, np.inf), axis=1)
+            gaps = np.diff(hs, axis=1)
+            wrap = hs[:, 0] + np.pi - np.max(np.where(np.isfinite(hs), hs, -np.inf), axis=1)
         close = np.any(np.where(np.isfinite(gaps), gaps, np.inf) < tol.near_singular_gap, axis=1)
         close |= (cnt > 1) & (wrap < tol.near_singular_gap)
         near = row_ok & ((cnt % 2 == 1) | close)
@@ -1114,6 +1116,7 @@ class PlanarParallel:
                     "arb" if cert.certified else "uncertified")
             consistent[i] = bool(cert.certified)
             res.near_singular[i] = not cert.certified
+        res.near_singular = res.near_singular & ~consistent      # proven rows are not in doubt
         res.certified_roots, res.certificate_path, res.consistent = counts, path, consistent
 
     # .. internals ..............................................................
