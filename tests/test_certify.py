@@ -1,3 +1,5 @@
+from fractions import Fraction
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -18,11 +20,10 @@ def sturm_count(coeffs):
 
 
 def test_random_rational_forms_against_sturm(rng):
+    checked = 0
     for _ in range(150):
         d = int(rng.integers(2, 7))
         roots = [sp.Rational(int(v), int(rng.integers(1, 5))) for v in rng.integers(-6, 7, size=int(rng.integers(0, d + 1)))]
-        lin = [[-r, 1] for r in roots]                        # x1 - r x0
-        rest = d - len(lin)
         poly = sp.Integer(1)
         for r in roots:
             poly *= (x1 - r * x0)
@@ -39,7 +40,12 @@ def test_random_rational_forms_against_sturm(rng):
         coeffs = [P.coeff_monomial(x0 ** (d - k) * x1**k) for k in range(d + 1)]
         cert = certify_real_roots(coeffs)
         assert cert.certified and cert.count == sturm_count(coeffs), (P, cert)
-        assert rest >= 0
+        # every constructed rational root lies in exactly one certified interval (exact ends)
+        for r in set(roots):
+            rf = Fraction(int(r.p), int(r.q))
+            assert sum(lo <= rf <= hi for lo, hi in cert.exact_intervals) == 1, (P, r)
+        checked += 1
+    assert checked >= 140
 
 
 def test_double_root_and_half_turn_exact():

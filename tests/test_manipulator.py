@@ -52,11 +52,14 @@ def test_seed_002_modes_satisfy_constraints_and_ik():
     m = isp.examples.stigger_husty()
     eqs = m.constraint_equations(m.q_example)
     q = m.q_example_float
+    checked = 0
     for mm in m.direct_kinematics(m.q_example):
         sub = dict(zip((x0s, x1s, x2s, x3s), mm.image_point))
         for e in eqs:
             assert abs(float(e.subs(sub))) < 1e-9
         assert np.allclose(m.inverse_kinematics(mm.pose), q, atol=1e-10)
+        checked += 1
+    assert checked == 6
 
 
 def test_seed_002_exact_polynomial_has_six_real_roots():
@@ -148,6 +151,7 @@ def closed_form_003(R, r, d1, d2, d3):
 
 
 def test_seed_003_closed_form_equals_elimination():
+    checked = 0
     for R, r in [(2, 1), (3, 1.2), (1.5, 0.8)]:
         m = isp.examples.collinear_3rpr(R, r)
         for pose in ([0.3 * R, 1.2 * R, 0.7], [0.1, 0.9 * R, -0.4], [-0.2, 0.5 * R, 2.0]):
@@ -156,6 +160,8 @@ def test_seed_003_closed_form_equals_elimination():
             ref = closed_form_003(R, r, *q)
             assert len(ref) == 4
             assert match(modes, ref, 1e-8)
+            checked += 1
+    assert checked == 9
 
 
 def test_seed_003_sin_theta_zero_no_division_by_zero():
@@ -186,6 +192,7 @@ def test_seed_003_sin_theta_zero_no_division_by_zero():
 
 
 def test_seed_004_two_modes_share_position():
+    checked = 0
     for alpha in (7 * np.pi / 18, 11 * np.pi / 18, 1.0):
         m = isp.examples.choi_3ppr(1.0, 0.5, alpha)
         pose = np.array([0.1, -0.05, 0.2])
@@ -195,6 +202,8 @@ def test_seed_004_two_modes_share_position():
         phis = sorted(mm.pose[2] for mm in modes)
         other = np.angle(np.exp(1j * (2 * alpha - 0.2)))
         assert np.allclose(sorted([0.2, other]), phis, atol=1e-9)
+        checked += 1
+    assert checked == 3
 
 
 # ----------------------------------------------------------------------------- properties
@@ -230,6 +239,7 @@ def test_symbolic_polynomial_at_q_equals_numeric(rng):
     m = isp.examples.general_3rpr()
     P = m.kinematic_polynomial()
     qs = m.joint_symbols
+    roots_checked = 0
     for _ in range(5):
         q = rng.uniform(4, 12, 3)
         numeric = m.kinematic_polynomial(q)
@@ -244,6 +254,8 @@ def test_symbolic_polynomial_at_q_equals_numeric(rng):
             val = float(numeric.as_expr().subs({x0s: mm.image_point[0], x1s: mm.image_point[1]}))
             scale = float(sum(abs(c) for c in numeric.coeffs()))
             assert abs(val) < 1e-9 * scale
+            roots_checked += 1
+    assert roots_checked >= 5
 
 
 def test_polynomial_is_general_in_design_parameters():
@@ -447,7 +459,9 @@ def test_compiled_coefficients_equal_numeric_elimination(rng):
     """The compiled general-q polynomial is proportional to the float elimination at each q."""
     from imagespace.elimination import eliminate
 
+    designs = 0
     for m in (isp.examples.stigger_husty(), isp.examples.general_3rpr(), random_design(rng)):
+        designs += 1
         comp = m.compiled()
         Q = rng.uniform(3, 12, (20, 3))
         C = comp.coefficients(Q)
@@ -463,6 +477,7 @@ def test_compiled_coefficients_equal_numeric_elimination(rng):
         ratio = a / b
         assert np.allclose(ratio, ratio[:, :1], rtol=1e-7)
         assert comp is m.compiled()            # cached
+    assert designs == 3
 
 
 def test_batch_odd_inputs():
