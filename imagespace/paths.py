@@ -9,13 +9,21 @@ or a straight segment in pose space ``(x, y, phi)`` (trigonometric in ``t``).
 decides **exactly** whether the univariate polynomial ``p(t) = S(X(t))`` has a root in ``[0, 1]``:
 ``S`` is scaled to rational coefficients when it is a constant multiple of a rational form (the
 seed-002 quartic is ``sqrt(181)/362`` times one), the endpoints are taken as the exact binary
-rationals they are, ``p`` is built in python-flint ``fmpq_poly`` arithmetic, split into square-free
-factors and their real roots isolated by FLINT (certified balls); each root in ``[0, 1]`` is
-reported with an isolating interval narrower than ``1e-12`` and its multiplicity (even: the path
-touches the surface; odd: it crosses). Designs whose quartic is not a multiple of a rational one
-are decided by sympy's exact root counting over the algebraic field. Pose-space segments are
-decided by interval arithmetic (python-flint ``arb``) with subdivision; where that cannot decide
-(a tangency), the result says so.
+rationals they are, ``p`` is built in python-flint ``fmpq_poly`` arithmetic, factored over Q, and
+the real roots of each factor in ``[0, 1]`` are isolated by Sturm sequences and refined by sign
+bisection, all in exact rational arithmetic (no arb ball, no float, nothing that depends on
+``flint.ctx.prec``); each root in ``[0, 1]`` is reported with an isolating interval narrower
+than ``1e-12`` (float end points rounded outwards) and its multiplicity (odd: the path crosses
+the surface; even: it touches it tangentially without crossing). Designs whose quartic is not a
+multiple of a rational one are decided by sympy's exact root counting over the algebraic field.
+Pose-space segments are decided by interval arithmetic (python-flint ``arb``) with subdivision,
+at a working precision of their own set under a module lock; where that cannot decide (a
+tangency), the result says so.
+
+Certificates therefore do not depend on python-flint's process-global precision (a user's
+``flint.ctx.dps = 30`` or ``ctx.prec = 212``), and calls from several threads at once give the
+single-thread answers; the only change this module makes to ``flint.ctx.prec`` is the pose
+check's, made under a lock and undone afterwards.
 
 :func:`segments_free` is the batched fast path for straight segments: the Bernstein coefficients
 of ``p`` on ``[0, 1]`` are computed in floating point with a rigorous bound on their rounding
@@ -26,7 +34,10 @@ exact path above.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+import threading
+from contextlib import contextmanager
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 import numpy as np
@@ -39,7 +50,21 @@ from .exceptions import InputError
 __all__ = ["ImagePath", "PathCheck", "Crossing", "check_path", "segments_free", "segment", "polyline",
            "polynomial_curve", "rational_curve", "pose_segment"]
 
+# Every root is reported in an interval of the path parameter narrower than this (a promise
+# about the output, not a decision threshold: isolation is exact whatever the width).
 _ISOLATION_WIDTH = 1e-12
+# Working precision (bits) of the arb interval arithmetic for pose-space segments. arb enclosures
+# are valid at every precision; this only sets their width, hence how soon a sign is decided.
+# If a pose piece is left undecided at _POSE_PREC it is recomputed once at _POSE_PREC_RETRY
+# (a genuine tangency stays undecided at any precision and is reported uncertified).
+_POSE_PREC = 128
+_POSE_PREC_RETRY = 512
+# python-flint's working precision (flint.ctx.prec) is one process-global setting, not local to
+# a thread; every change of it made here happens under this lock (see _arb_precision).
+_FLINT_PREC_LOCK = threading.Lock()
+# Prepared quartics by polynomial: a PlanarParallel builds a new SingularitySurface per call.
+_PREPARED = {}
+_PREPARED_MAX = 64
 
 
 # -- paths ---------------------------------------------------------------------------------------
@@ -316,8 +341,11 @@ def _prepare(target):
     from .singularities import SingularitySurface
 
     if isinstance(target, PlanarParallel):
-        S = target.singularity_surface()
-    elif isinstance(target, SingularitySurface):
+        cache = getattr(target, "_symbolic_cache", {})
+        if "paths: prepared quartic" not in cache:
+            cache["paths: prepared quartic"] = _prepare(target.singularity_surface())
+        return cache["paths: prepared quartic"]
+    if isinstance(target, SingularitySurface):
         S = target
     else:
         raise TypeError(f"target must be a PlanarParallel or a SingularitySurface, got {type(target).__name__}")
@@ -329,23 +357,63 @@ def _prepare(target):
     P = S.polynomial
     if P.is_zero:
         raise InputError("the singularity quartic vanishes identically: every pose is singular")
+    key = P
+    prep = _PREPARED.get(key)
+    if prep is None:
+        prep = _prepare_polynomial(P)
+        if len(_PREPARED) >= _PREPARED_MAX:
+            _PREPARED.clear()
+        _PREPARED[key] = prep
+    prep = replace(prep, surface=S)
+    S._cache["paths"] = prep
+    return prep
+
+
+def _exact_ratio(c, lead):
+    """``c / lead`` as a sympy Rational when it is one exactly, else None (proved, not guessed:
+    a candidate from nsimplify is accepted only if the difference has minimal polynomial ``z``)."""
+    r = sp.radsimp(c / lead)
+    if r.is_Rational:
+        return r
+    cand = sp.nsimplify(r)
+    if not cand.is_Rational:
+        return None
+    z = sp.Dummy("z")
+    try:
+        return cand if sp.minimal_polynomial(r - cand, z) == z else None
+    except (NotImplementedError, sp.polys.polyerrors.NotAlgebraic):
+        return None
+
+
+def _prepare_polynomial(P):
     terms = P.terms()
     lead = terms[0][1]
-    scaled = [sp.nsimplify(sp.radsimp(c / lead)) for _, c in terms]
-    rational = all(c.is_Rational for c in scaled)
+    ratios = [_exact_ratio(c, lead) for _, c in terms]
+    rational = all(r is not None for r in ratios)
     if rational:
-        den = sp.ilcm(*[c.q for c in scaled])
-        scaled = [c * den for c in scaled]
+        den = sp.ilcm(*[r.q for r in ratios])
+        scaled = [r * den for r in ratios]
         coeffs = tuple(Fraction(int(c.p), int(c.q)) for c in scaled)
         poly = sp.Poly(dict(zip([m for m, _ in terms], scaled)), *image_symbols())
     else:
         coeffs = ()
         poly = P
         scaled = [c for _, c in terms]
-    prep = _Quartic(poly, rational, tuple(m for m, _ in terms), coeffs,
-                    np.array([float(sp.N(c, 20)) for c in scaled]), S)
-    S._cache["paths"] = prep
-    return prep
+    return _Quartic(poly, rational, tuple(m for m, _ in terms), coeffs,
+                    np.array([float(sp.N(c, 20)) for c in scaled]), None)
+
+
+def _value_and_gradient(quartic, X):
+    """The prepared quartic and its gradient at points ``X`` ``(n, 4)`` (floats: diagnostics only)."""
+    X = np.asarray(X, dtype=float)
+    v = np.zeros(len(X))
+    G = np.zeros((len(X), 4))
+    for mono, c in zip(quartic.monomials, quartic.coeffs_f):
+        v += c * np.prod([X[:, j] ** e for j, e in enumerate(mono)], axis=0)
+        for j, e in enumerate(mono):
+            if e:
+                G[:, j] += c * e * np.prod([X[:, k] ** (f - (k == j)) for k, f in enumerate(mono)], axis=0)
+    return v, G
 
 
 def _fmpq(x):
@@ -376,59 +444,96 @@ def _piece_polynomial(quartic, C):
 
 
 def _roots_in_unit_interval(p, width=_ISOLATION_WIDTH):
-    """Real roots of an fmpq_poly in ``[0, 1]``: list of ``(lo, hi, multiplicity)`` (exact isolation)."""
+    """Real roots of a non-zero fmpq_poly in ``[0, 1]``: sorted list of ``(lo, hi, multiplicity)``.
+
+    Exact rational arithmetic only (no arb ball, no float, nothing that reads
+    ``flint.ctx.prec``): ``p`` is factored over Q into irreducible factors ``g**e``; a linear
+    factor gives its rational root exactly; an irreducible ``g`` of degree >= 2 has no rational
+    root, so it is non-zero at every bisection point and its roots in ``(0, 1)`` are isolated by
+    Sturm counts (:func:`_sturm_count`), then each is refined by exact sign bisection until the
+    interval is narrower than ``width``. ``(lo, hi)`` are floats rounded outwards, so the float
+    interval contains the root; roots of distinct factors are distinct, so each interval holds
+    exactly one root of ``p``, of multiplicity ``e``.
+    """
     from flint import fmpq
 
+    w = _fmpq(Fraction(width))
+    zero, one = fmpq(0), fmpq(1)
     out = []
-    _, factors = p.factor_squarefree()
-    for f, mult in factors:
-        if f.degree() < 1:
+    for g, mult in p.factor()[1]:
+        if g.degree() < 1:
             continue
-        for r, _ in f.complex_roots():
-            if not r.imag.is_zero():
+        if g.degree() == 1:
+            c0, c1 = g.coeffs()
+            r = -c0 / c1
+            if zero <= r <= one:
+                out.append((_float_down(r), _float_up(r), mult))
+            continue
+        seq = _sturm_sequence(g)
+        stack = [(zero, one, _sturm_count(seq, zero), _sturm_count(seq, one))]
+        while stack:
+            lo, hi, v_lo, v_hi = stack.pop()
+            n = v_lo - v_hi                    # roots of g in (lo, hi): g(lo), g(hi) != 0
+            if n == 0:
                 continue
-            lo_a, hi_a = r.real.lower(), r.real.upper()
-            lo, hi = _arb_to_fmpq_floor(lo_a), _arb_to_fmpq_ceil(hi_a)
-            if hi < 0 or lo > 1:
+            if n == 1:                         # one simple root: g changes sign on (lo, hi)
+                g_lo = g(lo)
+                while hi - lo >= w:
+                    mid = (lo + hi) / 2
+                    g_mid = g(mid)
+                    if (g_mid > 0) == (g_lo > 0):
+                        lo, g_lo = mid, g_mid
+                    else:
+                        hi = mid
+                out.append((_float_down(lo), _float_up(hi), mult))
                 continue
-            # the root is simple in f: f changes sign on [lo, hi]; clip to [0, 1] and refine
-            lo, hi = max(lo, fmpq(0)), min(hi, fmpq(1))
-            flo, fhi = f(lo), f(hi)
-            if flo == 0:
-                out.append((float(lo), float(lo), mult))
-                continue
-            if fhi == 0:
-                out.append((float(hi), float(hi), mult))
-                continue
-            if (flo > 0) == (fhi > 0):        # the ball stuck out of [0, 1]: no root inside
-                continue
-            while float(hi - lo) >= width:
-                mid = (lo + hi) / 2
-                fm = f(mid)
-                if fm == 0:
-                    lo = hi = mid
-                    break
-                if (fm > 0) == (flo > 0):
-                    lo, flo = mid, fm
-                else:
-                    hi = mid
-            out.append((float(lo), float(hi), mult))
+            mid = (lo + hi) / 2
+            v_mid = _sturm_count(seq, mid)
+            stack += [(mid, hi, v_mid, v_hi), (lo, mid, v_lo, v_mid)]
     out.sort()
     return out
 
 
-def _arb_to_fmpq_floor(a):
-    from flint import fmpq
+def _sturm_sequence(g):
+    """The Sturm sequence ``g, g', -rem(g, g'), ...`` of a square-free fmpq_poly (exact)."""
+    seq = [g, g.derivative()]
+    while seq[-1].degree() > 0:
+        r = seq[-2] % seq[-1]
+        if r.is_zero():
+            break
+        seq.append(-r)
+    return seq
 
-    fr = Fraction(float(a.mid())) - Fraction(float(a.rad())) - Fraction(1, 2**60)
-    return fmpq(fr.numerator, fr.denominator) if isinstance(fr, Fraction) else fmpq(fr)
+
+def _sturm_count(seq, x):
+    """Sign variations of a Sturm sequence at the rational ``x`` (zeros skipped)."""
+    changes, last = 0, 0
+    for s in seq:
+        v = s(x)
+        sign = (v > 0) - (v < 0)
+        if sign:
+            changes += last * sign < 0
+            last = sign
+    return changes
 
 
-def _arb_to_fmpq_ceil(a):
-    from flint import fmpq
+def _float_down(q):
+    """The largest float ``<= q`` (``q`` an exact rational: fmpq, Fraction or sympy Rational)."""
+    fr = _as_fraction(q)
+    f = float(fr)                              # correctly rounded
+    return f if Fraction(f) <= fr else math.nextafter(f, -math.inf)
 
-    fr = Fraction(float(a.mid())) + Fraction(float(a.rad())) + Fraction(1, 2**60)
-    return fmpq(fr.numerator, fr.denominator)
+
+def _float_up(q):
+    """The smallest float ``>= q``."""
+    fr = _as_fraction(q)
+    f = float(fr)
+    return f if Fraction(f) >= fr else math.nextafter(f, math.inf)
+
+
+def _as_fraction(q):
+    """An exact rational (Fraction, fmpq or sympy Rational: the last two have ``.p``, ``.q``)."""
+    return q if isinstance(q, Fraction) else Fraction(int(q.p), int(q.q))
 
 
 def _sympy_roots(quartic, C):
@@ -440,6 +545,7 @@ def _sympy_roots(quartic, C):
     if e == 0:
         return None
     p = sp.Poly(e, t, extension=True)
+    width = sp.Rational(Fraction(_ISOLATION_WIDTH))
     out = []
     for f, mult in p.sqf_list()[1]:
         n = f.count_roots(0, 1)
@@ -452,8 +558,8 @@ def _sympy_roots(quartic, C):
             a, b, k = stack.pop()
             if k == 0:
                 continue
-            if k == 1 and float(b - a) < _ISOLATION_WIDTH:
-                out.append((float(a), float(b), mult))
+            if k == 1 and b - a < width:
+                out.append((_float_down(a), _float_up(b), mult))
                 continue
             m = (a + b) / 2
             while f.eval(m) == 0:               # split at a non-root, so every count is unambiguous
@@ -467,16 +573,28 @@ def _sympy_roots(quartic, C):
 # -- results -------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Crossing:
-    """Where a path meets the singularity surface.
+    """Where a path meets the singularity surface: one root of ``p(t) = S(X(t))`` on one piece.
 
     Attributes
     ----------
     piece : int
     t : (float, float)
-        An interval of the piece's parameter containing the root (width < 1e-12), and no other.
+        An interval of the piece's parameter containing the root and no other root of ``p``
+        (width < 1e-12; the end points are floats rounded outwards from the exact bracket, a
+        point interval for a root that is an exact rational).
     multiplicity : int
-        Even: the path touches the surface without crossing; odd: it crosses (``>= 2``:
-        tangentially); ``0``: the whole piece lies on the surface (``t = (0, 1)``).
+        The root's multiplicity in ``p``. Odd (1, 3, ...): ``det J`` changes sign there, the path
+        crosses the surface (1 transversally, 3, 5, ... tangentially, still crossing). Even (2,
+        4, ...): ``det J`` keeps its sign, the path touches the surface tangentially without
+        crossing. ``0``: ``p`` vanishes identically, the whole piece lies in the surface
+        (``t = (0, 1)``). A vertex of a polyline on the surface is a root of both pieces and is
+        reported for each, with that piece's multiplicity.
+
+    Examples
+    --------
+    >>> from imagespace.paths import Crossing
+    >>> Crossing(0, (0.25, 0.25), 1).crosses, Crossing(0, (0.5, 0.5), 2).touches
+    (True, True)
     """
 
     piece: int
@@ -485,22 +603,40 @@ class Crossing:
 
     @property
     def crosses(self):
+        """True for a root of odd multiplicity (``det J`` changes sign)."""
         return self.multiplicity % 2 == 1
+
+    @property
+    def touches(self):
+        """True for a tangential contact without crossing: a root of even multiplicity, or a
+        piece lying in the surface (multiplicity 0)."""
+        return self.multiplicity % 2 == 0
 
 
 @dataclass(frozen=True)
 class PathCheck:
     """The certified answer of :func:`check_path`.
 
+    The three flags are decided by the multiplicities of the roots of ``p(t) = S(X(t))`` on
+    each piece (:class:`Crossing`); a path can both cross (at one root) and touch (at another).
+
     Attributes
     ----------
     singularity_free : bool
-        No point of the path is on the surface (no root at all in any piece).
+        True only if no point of the path is on the surface: no root at all in any piece
+        (``crossings`` is empty). Whenever it is False, ``crosses`` or ``touches`` is True.
     crosses : bool
-        ``det J`` changes sign along the path (odd-multiplicity root).
+        True if some root has odd multiplicity: ``det J`` changes sign there and the path passes
+        from one aspect to the other. An ordinary transversal crossing is a root of
+        multiplicity 1.
     touches : bool
-        The path meets the surface somewhere (crossing or tangential contact).
+        True only for a tangential contact without crossing: some root of even multiplicity
+        (``det J`` vanishes and keeps its sign), or a piece lying in the surface (multiplicity
+        0). False for a path whose only contacts are transversal crossings, however many. For an
+        uncertified pose piece, an interval where interval arithmetic could decide nothing is
+        reported with multiplicity 2 (a possible tangency, not proven: ``certified`` is False).
     crossings : tuple of Crossing
+        Every root, in order of piece and parameter.
     domain_exits : tuple of dict
         ``{"piece", "leg", "t", "what"}`` where a leg's joint reaches zero length or a given limit.
     min_distance : float
@@ -512,6 +648,18 @@ class PathCheck:
     polynomials : tuple
         ``S(X(t))`` of every polynomial piece (sympy Poly in ``t``, the quartic scaled to
         rational coefficients when possible); ``None`` for pose pieces.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.paths import check_path, segment
+    >>> m = isp.examples.stigger_husty()
+    >>> res = check_path(m, segment([1, -0.1, 0, 1.5], [1, 0.1, 0, 1.5]))   # transversal at t = 1/2
+    >>> res.singularity_free, res.crosses, res.touches, res.crossings[0].t
+    (False, True, False, (0.5, 0.5))
+    >>> on = check_path(m, segment([1, 0, 0, 1], [1, 0, 0, 2]))     # along the line x1 = x2 = 0 of S
+    >>> on.singularity_free, on.crosses, on.touches, on.crossings[0].multiplicity
+    (False, False, True, 0)
     """
 
     singularity_free: bool
@@ -542,6 +690,14 @@ def check_path(target, path, joint_limits=None, manipulator=None):
     Returns
     -------
     PathCheck
+        ``singularity_free`` only if no root at all; ``crosses`` for a root of odd
+        multiplicity, ``touches`` for a tangential contact (even multiplicity) only.
+
+    Notes
+    -----
+    Polynomial pieces are decided in exact rational arithmetic and pose pieces by arb intervals
+    at their own precision (see the module notes): the answer is the same whatever
+    ``flint.ctx.prec`` or ``flint.ctx.dps`` the caller has set, and from any thread.
 
     Examples
     --------
@@ -550,8 +706,8 @@ def check_path(target, path, joint_limits=None, manipulator=None):
     >>> m = isp.examples.stigger_husty()
     >>> a, b = [mm.image_point for mm in m.direct_kinematics(m.q_example)[:2]]
     >>> res = check_path(m, segment(a, b))
-    >>> res.crosses, res.certified          # modes 1 and 2 have opposite aspects
-    (True, True)
+    >>> res.crosses, res.touches, res.certified     # modes 1 and 2 have opposite aspects
+    (True, False, True)
     """
     if not isinstance(path, ImagePath):
         raise TypeError(f"path must be an ImagePath (segment, polyline, ...), got {type(path).__name__}")
@@ -572,7 +728,7 @@ def check_path(target, path, joint_limits=None, manipulator=None):
             else:
                 roots = _roots_in_unit_interval(p)
             polys.append(sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(p.coeffs())] or [0], t_sym))
-            methods.add("exact: fmpq_poly square-free factors, FLINT certified real-root isolation")
+            methods.add("exact: fmpq_poly factors over Q, Sturm sequences and sign bisection in rational arithmetic")
         else:
             roots = _sympy_roots(quartic, piece)
             roots = [(0.0, 1.0, 0)] if roots is None else roots
@@ -583,12 +739,14 @@ def check_path(target, path, joint_limits=None, manipulator=None):
     exits = _domain_exits(m, path, joint_limits) if m is not None else []
     X, _ = path.sample(128)
     X = X / np.hypot(X[:, 0], X[:, 1])[:, None]
-    v, G = quartic.surface.value_and_gradient(X)
-    min_dist = float(np.min(np.abs(v) / np.linalg.norm(G, axis=1)))
+    v, G = _value_and_gradient(quartic, X)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        min_dist = float(np.nanmin(np.where(v == 0, 0.0, np.abs(v) / np.linalg.norm(G, axis=1))))
     on_surface = any(c.multiplicity == 0 for c in crossings)
-    touches = bool(crossings)
-    crosses = on_surface or any(c.crosses for c in crossings)
-    return PathCheck(not touches, crosses, touches, tuple(crossings), tuple(exits), min_dist, certified,
+    free = not crossings
+    crosses = any(c.crosses for c in crossings)
+    touches = any(c.touches for c in crossings)
+    return PathCheck(free, crosses, touches, tuple(crossings), tuple(exits), min_dist, certified,
                      "; ".join(sorted(methods)) + ("; a piece lies on the surface" if on_surface else ""),
                      tuple(polys))
 
@@ -614,19 +772,51 @@ def _domain_exits(m, path, joint_limits):
                     bounds.append((i, sp.Rational(Fraction(float(L[i, j]))), name))
     if not bounds or path.kind == "pose":
         return out
-    x = image_symbols()
+    cache = getattr(m, "_symbolic_cache", {})
     for i, value, what in bounds:
-        Q = sp.Poly(sp.expand(m.legs[i].dyad(sp.Integer(value) if value == 0 else value).expr()), *x)
-        if any(not c.is_Rational for c in Q.coeffs()):
+        key = ("paths: leg quadric at a bound", i, value)
+        if key not in cache:
+            cache[key] = _leg_quadric(m.legs[i], value)
+        prep = cache[key]
+        if prep is None:
             continue
-        prep = _Quartic(Q, True, tuple(Q.monoms()), tuple(Fraction(int(c.p), int(c.q)) for c in Q.coeffs()),
-                        np.array([float(c) for c in Q.coeffs()]), None)
         for k, piece in enumerate(path.pieces):
             p = _piece_polynomial(prep, piece)
             if isinstance(p, fmpq_poly) and not p.is_zero():
                 for lo, hi, _ in _roots_in_unit_interval(p):
                     out.append({"piece": k, "leg": i, "t": (lo, hi), "what": what})
     return out
+
+
+def _leg_quadric(leg, value):
+    """A leg's quadric at a joint value, prepared like the quartic (None if not rational)."""
+    Q = sp.Poly(sp.expand(leg.dyad(sp.Integer(value) if value == 0 else value).expr()), *image_symbols())
+    if any(not c.is_Rational for c in Q.coeffs()):
+        return None
+    return _Quartic(Q, True, tuple(Q.monoms()), tuple(Fraction(int(c.p), int(c.q)) for c in Q.coeffs()),
+                    np.array([float(c) for c in Q.coeffs()]), None)
+
+
+@contextmanager
+def _arb_precision(bits):
+    """Run a block with ``flint.ctx.prec = bits``, under the module lock, restoring the previous
+    value afterwards.
+
+    python-flint has one working precision per process (``ctx.workprec`` sets the same global),
+    so two threads of this module never change it at once. A thread outside this module may
+    still change it meanwhile; that cannot make an answer wrong (arb enclosures are valid at
+    every precision, only wider), and its newer setting is then left in place on exit.
+    """
+    from flint import ctx
+
+    with _FLINT_PREC_LOCK:
+        old = ctx.prec
+        ctx.prec = bits
+        try:
+            yield
+        finally:
+            if ctx.prec == bits:
+                ctx.prec = old
 
 
 def _pose_roots(quartic, piece, max_depth=64):
@@ -639,87 +829,113 @@ def _pose_roots(quartic, piece, max_depth=64):
     narrower than 1e-12 where neither can be shown is reported as a possible tangency with
     ``certified = False``.
 
+    The arithmetic runs at a precision of its own (:data:`_POSE_PREC` bits, then once
+    :data:`_POSE_PREC_RETRY` if something was left undecided), whatever ``flint.ctx.prec`` the
+    caller has set; the decisions are signs of rigorous enclosures and the brackets are exact
+    rationals, so the answer is correct at any precision.
+
     Returns ``(roots, certified)``.
     """
-    from flint import arb, ctx
+    for bits in (_POSE_PREC, _POSE_PREC_RETRY):
+        with _arb_precision(bits):
+            roots, ok = _pose_roots_at_current_precision(quartic, piece, max_depth)
+        if ok:
+            break
+    return roots, ok
+
+
+def _pose_roots_at_current_precision(quartic, piece, max_depth):
+    from flint import arb
 
     p0, p1 = (np.asarray(v, float) for v in piece)
     if quartic.rational:
         coeffs = [arb(_fmpq(c)) for c in quartic.coeffs_q]
     else:
-        coeffs = [arb(float(c)) + arb(0, abs(float(c)) * 2.0**-50) for c in quartic.coeffs_f]
-    old = ctx.prec
-    ctx.prec = 128
-    try:
-        P0 = [arb(_fmpq(Fraction(float(v)))) for v in p0]
-        D = [arb(_fmpq(Fraction(float(v1)) - Fraction(float(v0)))) for v0, v1 in zip(p0, p1)]
+        # float(sp.N(c, 20)) is within 2**-52 |c| of c (20 correct digits, then one rounding)
+        coeffs = [arb(_fmpq(Fraction(float(c)))) + arb(0, _fmpq(Fraction(abs(float(c))) / 2**50))
+                  for c in quartic.coeffs_f]
+    P0 = [arb(_fmpq(Fraction(float(v)))) for v in p0]
+    D = [arb(_fmpq(Fraction(float(v1)) - Fraction(float(v0)))) for v0, v1 in zip(p0, p1)]
 
-        def value_and_slope(t):
-            x, y, phi = (P0[j] + t * D[j] for j in range(3))
-            c, sn = (phi / 2).cos(), (phi / 2).sin()
-            dc, ds = -sn * D[2] / 2, c * D[2] / 2
-            X = (c, sn, (sn * x - c * y) / 2, (c * x + sn * y) / 2)
-            dX = (dc, ds, (ds * x + sn * D[0] - dc * y - c * D[1]) / 2,
-                  (dc * x + c * D[0] + ds * y + sn * D[1]) / 2)
-            val, slope = arb(0), arb(0)
-            for mono, co in zip(quartic.monomials, coeffs):
-                term = co
-                for j, e in enumerate(mono):
-                    if e:
-                        term = term * X[j] ** e
-                val += term
-                for j, e in enumerate(mono):
-                    if e:
-                        part = co * e * X[j] ** (e - 1) * dX[j]
-                        for k, f in enumerate(mono):
-                            if k != j and f:
-                                part = part * X[k] ** f
-                        slope += part
-            return val, slope
+    def value_and_slope(t):
+        x, y, phi = (P0[j] + t * D[j] for j in range(3))
+        c, sn = (phi / 2).cos(), (phi / 2).sin()
+        dc, ds = -sn * D[2] / 2, c * D[2] / 2
+        X = (c, sn, (sn * x - c * y) / 2, (c * x + sn * y) / 2)
+        dX = (dc, ds, (ds * x + sn * D[0] - dc * y - c * D[1]) / 2,
+              (dc * x + c * D[0] + ds * y + sn * D[1]) / 2)
+        val, slope = arb(0), arb(0)
+        for mono, co in zip(quartic.monomials, coeffs):
+            term = co
+            for j, e in enumerate(mono):
+                if e:
+                    term = term * X[j] ** e
+            val += term
+            for j, e in enumerate(mono):
+                if e:
+                    part = co * e * X[j] ** (e - 1) * dX[j]
+                    for k, f in enumerate(mono):
+                        if k != j and f:
+                            part = part * X[k] ** f
+                    slope += part
+        return val, slope
 
-        def sign_at(t):
-            v, _ = value_and_slope(arb(_fmpq(t)))
-            if v.is_zero():
-                return 0
-            return 1 if v > 0 else (-1 if v < 0 else None)
+    def sign_at(t):
+        v, _ = value_and_slope(arb(_fmpq(t)))
+        if v.is_zero():
+            return 0
+        return 1 if v > 0 else (-1 if v < 0 else None)
 
-        roots, ok = [], True
-        stack = [(Fraction(0), Fraction(1), 0)]
-        while stack:
-            a, b, depth = stack.pop()
-            mid, rad = (a + b) / 2, (b - a) / 2
-            vm, _ = value_and_slope(arb(_fmpq(mid)))
-            _, dT = value_and_slope(arb(_fmpq(mid), _fmpq(rad)))
-            enclosure = vm + dT * arb(0, _fmpq(rad))
-            if not enclosure.contains(0):
-                continue
-            if not dT.contains(0):                   # monotone on [a, b]
-                sa, sb = sign_at(a), sign_at(b)
-                if sa is None or sb is None:
-                    ok = False
-                    roots.append((float(a), float(b), 1))
-                elif sa == 0 or sb == 0:
-                    r = a if sa == 0 else b
-                    roots.append((float(r), float(r), 1))
-                elif sa != sb:
-                    while b - a >= Fraction(_ISOLATION_WIDTH):
-                        m_ = (a + b) / 2
-                        sm = sign_at(m_)
-                        if sm == 0 or sm is None:
-                            a = b = m_
-                            break
-                        a, b = (m_, b) if sm == sa else (a, m_)
-                    roots.append((float(a), float(b), 1))
-                continue
-            if float(b - a) < _ISOLATION_WIDTH or depth >= max_depth:
-                ok = False                           # a tangency or a root of even multiplicity?
-                roots.append((float(a), float(b), 2))
-                continue
-            stack += [(mid, b, depth + 1), (a, mid, depth + 1)]
-        roots = sorted(set(roots))
-        return roots, ok
-    finally:
-        ctx.prec = old
+    width = Fraction(_ISOLATION_WIDTH)
+    roots, ok = [], True
+    stack = [(Fraction(0), Fraction(1), 0)]
+    while stack:
+        a, b, depth = stack.pop()
+        mid, rad = (a + b) / 2, (b - a) / 2
+        vm, _ = value_and_slope(arb(_fmpq(mid)))
+        _, dT = value_and_slope(arb(_fmpq(mid), _fmpq(rad)))
+        enclosure = vm + dT * arb(0, _fmpq(rad))
+        if not enclosure.contains(0):
+            continue
+        if not dT.contains(0):                   # monotone on [a, b]
+            sa, sb = sign_at(a), sign_at(b)
+            if sa is None or sb is None:
+                ok = False
+                roots.append((a, b, 1))
+            elif sa == 0 or sb == 0:
+                r = a if sa == 0 else b
+                roots.append((r, r, 1))
+            elif sa != sb:
+                roots.append(_refine_monotone(sign_at, a, b, sa, width))
+            continue
+        if b - a < width or depth >= max_depth:
+            ok = False                           # a tangency or a root of even multiplicity?
+            roots.append((a, b, 2))
+            continue
+        stack += [(mid, b, depth + 1), (a, mid, depth + 1)]
+    roots = sorted({(_float_down(a), _float_up(b), mult) for a, b, mult in roots})
+    return roots, ok
+
+
+def _refine_monotone(sign_at, a, b, sa, width):
+    """Bisect ``[a, b]`` (exact rationals; one simple root of a function monotone there, sign
+    ``sa`` at ``a`` and the opposite at ``b``) until narrower than ``width``.
+
+    A split point whose sign the enclosure cannot decide lies within rounding distance of the
+    root; then the quarter points are tried (they are decided, being far from the root compared
+    with the enclosure's radius), and only if all three fail is the current bracket returned:
+    it contains the root in any case."""
+    while b - a >= width:
+        for c in ((a + b) / 2, (3 * a + b) / 4, (a + 3 * b) / 4):
+            sc = sign_at(c)
+            if sc is not None:
+                break
+        else:
+            return (a, b, 1)
+        if sc == 0:
+            return (c, c, 1)
+        a, b = (c, b) if sc == sa else (a, c)
+    return (a, b, 1)
 
 
 # -- the batched exclusion test ---------------------------------------------------------------------
@@ -745,6 +961,13 @@ def segments_free(target, A, B, exact=True):
     decided_by : (n,) str
         ``"bernstein"`` (all Bernstein coefficients of one certain sign, or certain opposite end
         signs), ``"exact"`` or ``"undecided"``.
+
+    Notes
+    -----
+    Both stages are independent of ``flint.ctx.prec``: the Bernstein stage is numpy floating
+    point with rigorous rounding bounds, the exact stage the rational root isolation of
+    :func:`check_path`. ``free[i]`` equals ``check_path(target, segment(A[i], B[i]))
+    .singularity_free`` for every decided row.
 
     Examples
     --------
