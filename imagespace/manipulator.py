@@ -1174,7 +1174,8 @@ class PlanarParallel:
                     cand[i, j] = x
         res = self._finish(Q, C, cand, row_ok, errors, special, L)
         half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])
-        distinct = np.array([_distinct_orientations(half[i][res.valid[i]]) for i in range(n)], dtype=int)
+        distinct = np.array([_distinct_orientations(half[i][res.valid[i]], tol.duplicate)
+                             for i in range(n)], dtype=int)
         # the spurious orientation phi_c + pi of a PP dyad is a root that carries no mode
         n_real = n_real - self._spurious_roots(C, theta)
         near = row_ok & ~special & (~separated | (distinct != n_real))
@@ -1525,8 +1526,9 @@ def _general_at(P, symbols, q_exact):
     return [sp.expand(c.subs(sub)) for c in _form_coeffs(P)]
 
 
-def _distinct_orientations(half_angles, tol=1e-9):
-    """Number of distinct orientations among half-angles in (-pi/2, pi/2] (the ends identified)."""
+def _distinct_orientations(half_angles, tol):
+    """Number of distinct orientations among half-angles in (-pi/2, pi/2] (the ends identified):
+    gaps above ``tol`` (``Tolerances.duplicate``) separate them."""
     h = np.sort(np.asarray(half_angles, dtype=float))
     if h.size == 0:
         return 0
