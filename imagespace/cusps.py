@@ -326,7 +326,9 @@ def _half_angle_gap(phi, theta):
 
 
 def _pose_at(m, q, theta):
-    modes = m.direct_kinematics(q)
+    # a cusp is a triple root: the float DK is near-singular there by construction, so the batch
+    # path (which flags instead of warning) gives the modes; the one nearest theta is the cusp's
+    modes = m.direct_kinematics_batch(np.asarray(q, dtype=float)[None, :], method="numpy").modes(0)
     if not modes:
         return np.full(3, np.nan)
     dist = [_half_angle_gap(mm.pose[2], theta) for mm in modes]

@@ -42,7 +42,8 @@ def near_pose(p, ref, tol):
 
 def exact_counts(m, Q):
     """Distinct real roots (projective line) of the exact kinematic polynomial at each row of Q,
-    evaluated in Fractions here from the general-q polynomial and counted by FLINT."""
+    evaluated exactly here (python-flint rationals) from the general-q polynomial and counted by
+    FLINT's isolation on the square-free factors."""
     import flint
 
     P = m.kinematic_polynomial()
@@ -52,21 +53,26 @@ def exact_counts(m, Q):
     terms = []
     for k in range(d + 1):
         c = sp.Poly(P.coeff_monomial(x0 ** (d - k) * x1 ** k), *qs)
-        terms.append([(tuple(e), Fraction(int(v.p), int(v.q))) for e, v in c.terms()])
+        terms.append([(tuple(int(v) for v in e), flint.fmpq(int(v.p), int(v.q))) for e, v in c.terms()])
+    top = max(max(e) for tk in terms for e, _ in tk)
     out = []
     for row in Q:
-        qq = [Fraction(float(v)) for v in row]
+        pw = []
+        for v in row:
+            f = Fraction(float(v))
+            b = flint.fmpq(f.numerator, f.denominator)
+            pw.append([flint.fmpq(1)] + [b ** j for j in range(1, top + 1)])
         coeffs = []
         for tk in terms:
-            acc = Fraction(0)
+            acc = flint.fmpq(0)
             for e, v in tk:
-                acc += v * qq[0] ** e[0] * qq[1] ** e[1] * qq[2] ** e[2]
+                acc += v * pw[0][e[0]] * pw[1][e[1]] * pw[2][e[2]]
             coeffs.append(acc)
         at_inf = 0
         while coeffs and coeffs[-1] == 0:
             coeffs.pop()
             at_inf = 1
-        poly = flint.fmpq_poly([flint.fmpq(c.numerator, c.denominator) for c in coeffs])
+        poly = flint.fmpq_poly(coeffs)
         real = sum(1 for r, _m in poly.complex_roots() if r.imag.is_zero())
         out.append(real + at_inf)
     return np.array(out)
