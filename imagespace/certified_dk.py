@@ -33,7 +33,7 @@ from typing import Optional
 import numpy as np
 import sympy as sp
 
-from .certify import _ball, _exact_path, flint_precision
+from .certify import to_arb, flint_precision
 
 __all__ = ["RootPlan", "plan_roots"]
 
@@ -150,14 +150,14 @@ def _arb_cramer(D, X2, X3, root, t):
         def ev(form, x):
             acc = flint.arb(0)
             for c in reversed(form):
-                acc = acc * x + _ball(c, ARB_BITS)
+                acc = acc * x + to_arb(sp.sympify(c), ARB_BITS)
             return acc
 
         if root is None:
-            d = _ball(D[-1], ARB_BITS)
+            d = to_arb(sp.sympify(D[-1]), ARB_BITS)
             if d.contains(0):
                 return None
-            x2, x3 = _ball(X2[-1], ARB_BITS) / d, _ball(X3[-1], ARB_BITS) / d
+            x2, x3 = to_arb(sp.sympify(X2[-1]), ARB_BITS) / d, to_arb(sp.sympify(X3[-1]), ARB_BITS) / d
             return float(x2.mid()), float(x3.mid())
         lo, hi = root
         mid = (lo + hi) / 2

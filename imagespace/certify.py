@@ -35,7 +35,8 @@ import sympy as sp
 from .exceptions import InputError
 
 __all__ = ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
-           "flint_precision", "arb_bounds", "outward_float_interval"]
+           "flint_precision", "arb_bounds", "outward_float_interval", "to_arb", "exact_is_zero",
+           "inclusion_discs"]
 
 #: Relative width (in bits) to which every certified real root is refined: the isolating interval
 #: of a root ``r`` ends narrower than ``2**-REFINE_BITS * max(1, |r|)``, far below double precision,
@@ -173,10 +174,25 @@ class RealRootCertificate:
         return any(lo <= t <= hi for lo, hi in self.intervals)
 
 
-def _is_zero(c):
+def exact_is_zero(c):
+    """Exact zero test of an exact sympy number: rationals directly; otherwise an arb ball
+    that excludes zero proves ``c != 0`` (fast), and only a ball containing zero goes to sympy's
+    symbolic test.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace.certify import exact_is_zero
+    >>> exact_is_zero(sp.sqrt(2) * sp.sqrt(8) - 4), exact_is_zero(sp.sqrt(181) - 13)
+    (True, False)
+    """
     c = sp.sympify(c)
     if c.is_Rational:
         return c == 0
+    with flint_precision(128):
+        ball = to_arb(c, 128)
+    if ball.is_finite() and not ball.contains(0):
+        return False
     z = c.equals(0)
     if z is None:
         raise InputError(f"cannot decide whether the coefficient {c} is zero")
@@ -256,6 +272,51 @@ def _exact_path(coeffs, bits=None):
     return out
 
 
+def to_arb(c, prec):
+    """A rigorous arb ball of an exact sympy number at the current working precision: built by
+    arb arithmetic on the expression tree (rationals, sums, products, integer and half-integer
+    powers, sqrt, pi, cos, sin); anything else through sympy's evaluation (:func:`_ball`).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace.certify import flint_precision, to_arb
+    >>> with flint_precision(100):
+    ...     b = to_arb(3 * sp.sqrt(181) / 2 + sp.cos(sp.Rational(1, 3)), 100)
+    >>> round(float(b.mid()), 12) == round(float(sp.N(3 * sp.sqrt(181) / 2 + sp.cos(sp.Rational(1, 3)), 30)), 12)
+    True
+    >>> float(b.rad()) < 1e-25
+    True
+    """
+    import flint
+
+    if c.is_Rational:
+        return flint.arb(flint.fmpq(int(c.p), int(c.q)))
+    if c.is_Add:
+        acc = flint.arb(0)
+        for a in c.args:
+            acc = acc + to_arb(a, prec)
+        return acc
+    if c.is_Mul:
+        acc = flint.arb(1)
+        for a in c.args:
+            acc = acc * to_arb(a, prec)
+        return acc
+    if c.is_Pow and c.exp.is_Rational:
+        b = to_arb(c.base, prec)
+        e = c.exp
+        if e.is_Integer:
+            return b ** int(e)
+        if e.q == 2 and c.base.is_positive:
+            return b.sqrt() ** int(e.p)
+    if c is sp.pi:
+        return flint.arb.pi()
+    if isinstance(c, (sp.cos, sp.sin)) and c.args[0].is_real:
+        x = to_arb(c.args[0], prec)
+        return x.cos() if isinstance(c, sp.cos) else x.sin()
+    return _ball(c, prec)
+
+
 def _ball(c, prec):
     import flint
 
@@ -270,12 +331,12 @@ def _ball(c, prec):
     return flint.arb(str(s)) + flint.arb(0, str(sp.Float(rad, 5)))
 
 
-def _arb_discs(coeffs, prec):
+def _arb_discs(coeffs, prec, tol=None):
     import flint
 
-    poly = flint.acb_poly([flint.acb(_ball(c, prec)) for c in coeffs])
+    poly = flint.acb_poly([flint.acb(to_arb(sp.sympify(c), prec)) for c in coeffs])
     try:
-        roots = poly.roots()
+        roots = poly.roots() if tol is None else poly.roots(tol=tol, maxprec=4 * prec)
     except ValueError:
         return None
     discs = []
@@ -303,33 +364,36 @@ def _arb_decide(discs):
 
 
 def _arb_path(coeffs, bits=None):
-    """Isolation of the real roots of a polynomial with irrational exact coefficients (arb)."""
+    """Isolation of the real roots of a polynomial with irrational exact coefficients (arb).
+
+    The working precision climbs 64 -> 1024 bits until every root is decided; the real roots
+    are then computed once more at ``bits + 64`` bits and each refined box matched to the
+    isolating one that contains it (kept as isolated if the match is not one to one)."""
     bits = REFINE_BITS if bits is None else bits
-    with flint_precision(64):
-        for prec in (64, 128, 256, 512, 1024):
+    for prec in (64, 128, 256, 512, 1024):
+        with flint_precision(prec):
             discs = _arb_discs(coeffs, prec)
-            if discs is None:
-                continue
-            intervals = _arb_decide(discs)
-            if intervals is None:
-                continue
-            # refine: the roots once more at the precision the refinement asks for; the real
-            # boxes found there are matched to the isolated ones (each lies inside exactly one)
-            fine = None if prec >= bits + 64 else _arb_discs(coeffs, bits + 64)
-            if fine is not None:
-                fine_iv = _arb_decide(fine)
-                if fine_iv is not None and len(fine_iv) == len(intervals):
-                    matched = []
-                    for lo, hi in intervals:
-                        inside = [(a, b) for a, b in fine_iv if lo <= a and b <= hi]
-                        if len(inside) != 1:
-                            break
-                        matched.append(inside[0])
-                    else:
-                        intervals = matched
-            intervals.sort()
-            return intervals, [1] * len(intervals), prec
-        return None, None, prec
+        intervals = None if discs is None else _arb_decide(discs)
+        if intervals is None:
+            continue
+        fine_iv = None
+        if prec < bits + 64:
+            with flint_precision(bits + 64):
+                fine = _arb_discs(coeffs, bits + 64, tol=2.0 ** -bits)
+            fine_iv = None if fine is None else _arb_decide(fine)
+        if fine_iv is not None and len(fine_iv) == len(intervals):
+            # both boxes contain the same root: the refined interval is their intersection
+            matched = []
+            for lo, hi in intervals:
+                meet = [(max(lo, a), min(hi, b)) for a, b in fine_iv if a <= hi and b >= lo]
+                if len(meet) != 1:
+                    break
+                matched.append(meet[0])
+            else:
+                intervals = matched
+        intervals.sort()
+        return intervals, [1] * len(intervals), prec
+    return None, None, prec
 
 
 def certify_real_roots(form):
@@ -381,10 +445,10 @@ def certify_real_roots(form):
     for k, c in enumerate(coeffs):
         if c.has(sp.nan, sp.zoo, sp.oo, -sp.oo) or c.free_symbols:
             raise InputError(f"coefficient {k} of the form must be a finite number, got {c}")
-    if len(coeffs) == 0 or all(_is_zero(c) for c in coeffs):
+    if len(coeffs) == 0 or all(exact_is_zero(c) for c in coeffs):
         raise InputError("form must not vanish identically (every coefficient is zero)")
     at_inf = 0
-    while _is_zero(coeffs[-1]):
+    while exact_is_zero(coeffs[-1]):
         coeffs = coeffs[:-1]
         at_inf += 1
     rational = all(sp.sympify(c).is_Rational for c in coeffs)

@@ -237,6 +237,34 @@ class CoefficientEnclosure:
         E[bad] = np.inf
         return F, E
 
+    def exact_sympy(self, q):
+        """Exact coefficients (sympy numbers) at exact rational joint values ``q``, for constants
+        that are not rational (e.g. in ``Q(sqrt(181))``); ``None`` with trigonometric features.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> import imagespace as isp
+        >>> from imagespace.compile import CoefficientEnclosure
+        >>> m = isp.examples.stigger_husty()
+        >>> enc = CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols)
+        >>> len(enc.exact_sympy([sp.Integer(10), sp.Integer(15), sp.Rational(53, 4)]))
+        7
+        """
+        if self._trig:
+            return None
+        qq = [sp.Rational(v) for v in q]
+        out = [sp.Integer(0)] * (self.degree + 1)
+        for a, row in enumerate(self._exact):
+            mono = sp.Integer(1)
+            for g, e in enumerate(self._expo[a]):
+                if e:
+                    mono *= qq[g] ** int(e)
+            for k, c in enumerate(row):
+                if c != 0:
+                    out[k] += c * mono
+        return [sp.expand(v) for v in out]
+
     def exact(self, q):
         """Exact coefficients (Fractions) at exact joint values ``q`` (Fractions, fmpq or floats), or
         ``None`` when the constants or features are not rational (use the sympy derivation).

@@ -12,7 +12,7 @@ import warnings
 
 from ._validate import as_exact, as_float_array, check_positive, is_symbolic
 from .constraints import Quadric, image_symbols
-from .certify import certify_real_roots, certify_real_roots_batch, inclusion_discs
+from .certify import exact_is_zero, certify_real_roots, certify_real_roots_batch, inclusion_discs
 from .certified_dk import plan_roots
 from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
 from .exceptions import DegenerateDesignError, InputError, NearSingularWarning
@@ -781,10 +781,10 @@ class PlanarParallel:
         return modes
 
     def _fast_exact_forms(self, q_exact):
-        """``(P, D, X2, X3)`` exact coefficient lists at rational ``q`` from the general-q
-        derivation (no sympy elimination per call), or None where that route does not apply
-        (symbolic or irrational input, trigonometric features, or a Cramer case at this ``q``
-        that the general formulas do not see: then ``_exact_forms`` decides)."""
+        """``(P, D, X2, X3)`` exact coefficient lists (sympy numbers) at rational ``q`` from the
+        general-q derivation (no sympy elimination per call), or None where that route does not
+        apply (symbolic or irrational input, trigonometric features, or a Cramer case at this
+        ``q`` that the general formulas do not see: then ``_exact_forms`` decides)."""
         if not all(v.is_Rational for v in q_exact) or any(leg.actuated_is_angle for leg in self.legs):
             return None                 # cos/sin of an actuated angle: not rational, sympy decides
         if "exact_evaluators" not in self._symbolic_cache:
@@ -793,23 +793,24 @@ class PlanarParallel:
                 from .compile import CoefficientEnclosure
 
                 _, el, case_a = self._exact_forms(None)
-                P = self.kinematic_polynomial()
                 if not case_a:
-                    encP = CoefficientEnclosure(P, self.joint_symbols)
-                    encC = CoefficientEnclosure(list(el.D) + list(el.X2) + list(el.X3), self.joint_symbols)
-                    if encP.rational and encC.rational:
-                        ev = (encP, encC)
+                    ev = (CoefficientEnclosure(self.kinematic_polynomial(), self.joint_symbols),
+                          CoefficientEnclosure(list(el.D) + list(el.X2) + list(el.X3), self.joint_symbols))
             self._symbolic_cache["exact_evaluators"] = ev
         ev = self._symbolic_cache["exact_evaluators"]
         if ev is None:
             return None
-        from fractions import Fraction
+        if ev[0].rational and ev[1].rational:
+            from fractions import Fraction
 
-        qq = [Fraction(int(v.p), int(v.q)) for v in q_exact]
-        P = ev[0].exact(qq)
-        rest = ev[1].exact(qq)
+            qq = [Fraction(int(v.p), int(v.q)) for v in q_exact]
+            P, rest = ev[0].exact(qq), ev[1].exact(qq)
+            P = [sp.Rational(v.numerator, v.denominator) for v in P]
+            rest = [sp.Rational(v.numerator, v.denominator) for v in rest]
+        else:
+            P, rest = ev[0].exact_sympy(q_exact), ev[1].exact_sympy(q_exact)
         D, X2, X3 = rest[:3], rest[3:7], rest[7:11]
-        if not any(D) or not any(P):
+        if all(v == 0 for v in D) or all(exact_is_zero(v) for v in P):
             return None
         return P, D, X2, X3
 
@@ -819,8 +820,7 @@ class PlanarParallel:
         q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
         fast = self._fast_exact_forms(q_exact)
         if fast is not None:
-            P = [sp.Rational(v.numerator, v.denominator) for v in fast[0]]
-            D, X2, X3 = ([sp.Rational(v.numerator, v.denominator) for v in f] for f in fast[1:])
+            P, D, X2, X3 = fast
             case_a = False
             cert = certify_real_roots(P)
         else:
