@@ -66,6 +66,22 @@ def _bf_derivative_angle(F, theta):
     return np.sum(F[..., None, :] * (b - a), axis=-1)
 
 
+_ROTATIONS = {}
+
+
+def _rotation_matrices(d):
+    """(8, d+1, d+1): row k of matrix j holds the coefficients of ``x0^(d-k) x1^k`` after the
+    substitution by the rotation ``_GAMMAS[j]`` (so rotated forms are one matrix product)."""
+    if d not in _ROTATIONS:
+        c, s = np.cos(_GAMMAS), np.sin(_GAMMAS)
+        mats = np.zeros((8, d + 1, d + 1))
+        for k in range(d + 1):
+            unit = [np.full(8, float(j == k)) for j in range(d + 1)]
+            mats[:, k, :] = np.stack(_rotate(unit, c, s), axis=1)
+        _ROTATIONS[d] = mats
+    return _ROTATIONS[d]
+
+
 def _rotated(F):
     F = np.asarray(F, dtype=float)
     n, d1 = F.shape
@@ -75,8 +91,8 @@ def _rotated(F):
     scale = np.max(np.abs(F), axis=1)
     best = vals[np.arange(n), j]
     ok = np.isfinite(scale) & (best > 0) & np.all(np.isfinite(F), axis=1)
-    c, s = np.cos(gamma), np.sin(gamma)
-    G = np.stack(_rotate([F[:, k] for k in range(d1)], c, s), axis=1)  # (n, d+1)
+    with np.errstate(invalid="ignore", over="ignore"):
+        G = np.einsum("nk,nkl->nl", F, _rotation_matrices(d1 - 1)[j])   # (n, d+1)
     return G, ok, gamma
 
 
