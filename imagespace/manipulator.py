@@ -1489,7 +1489,8 @@ def _root_clusters(Fn):
     good, real, z, hull_r = inclusion_discs(G, E)
     if good[0]:
         return []
-    z, h = z[0], hull_r[0]
+    z = z[0]
+    r = hull_r[0] - np.abs(z.imag)                 # the inclusion radius of each disc
     if not np.all(np.isfinite(z)):
         return [(0.0, np.pi, d)]
     parent = list(range(d))
@@ -1501,15 +1502,15 @@ def _root_clusters(Fn):
 
     for a in range(d):
         for b in range(a + 1, d):
-            if abs(z[a] - z[b]) <= h[a] + h[b]:
+            if abs(z[a] - z[b]) <= r[a] + r[b]:
                 parent[find(a)] = find(b)
     out = []
     for root in set(find(a) for a in range(d)):
         members = [a for a in range(d) if find(a) == root]
-        if len(members) < 2 or min(abs(z[a].imag) - h[a] for a in members) > 0:
+        if len(members) < 2 or min(abs(z[a].imag) - r[a] for a in members) > 0:
             continue
         c = float(np.mean([z[a].real for a in members]))
-        rad = max(abs(z[a].real - c) + h[a] for a in members)
+        rad = max(abs(z[a].real - c) + r[a] + abs(z[a].imag) for a in members)
         out.append((gamma + float(np.arctan(c)), float(rad), len(members)))
     return out
 
