@@ -73,6 +73,7 @@ def test_algebraic_coefficients_and_mechanisms():
     assert cm.certificate.count == 2 and cm.modes_per_root == (2, 2) and len(cm) == 4
 
 
+@pytest.mark.slow
 def test_certified_counts_on_mechanisms_agree_with_sturm(rng):
     """Mixed designs with rational geometry and joint values: flint's count = sympy's Sturm count."""
     checked, with_modes = 0, 0

@@ -194,6 +194,7 @@ def test_indices_on_textbook_matrices():
 
 
 # -- optimal design and sweeps ---------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_published_optimum_of_seed_004():
     grid = {"alpha": np.arange(30, 151, 10) * np.pi / 180, "r_over_R": np.round(np.arange(0.1, 1.01, 0.1), 1)}
     table = sweep(isp.examples.choi_3ppr_indices, grid, processes=2, progress=False)

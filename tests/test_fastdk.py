@@ -104,6 +104,7 @@ def test_kernel_counts_equal_certified_counts_on_100000_rows(seed002, hundred_th
     assert near.shape[0] == 4
 
 
+@pytest.mark.slow
 def test_kernel_roots_within_1e_10_of_the_exact_polynomial(seed002, hundred_thousand):
     """The reference: the exact kinematic polynomial (general in q, coefficients in Q(sqrt 181))
     evaluated at the float joint values with 50-digit mpmath arithmetic, its roots by
@@ -149,6 +150,7 @@ def test_kernel_roots_within_1e_10_of_the_exact_polynomial(seed002, hundred_thou
     print(f"checked {checked} rows, worst far-root error {worst_far:.2e}")
 
 
+@pytest.mark.slow
 def test_kernel_equals_numpy_path_and_per_call_on_10000_rows(seed002):
     rng = np.random.default_rng(7)
     q0 = np.asarray(seed002.q_example_float)
@@ -173,6 +175,7 @@ def test_kernel_equals_numpy_path_and_per_call_on_10000_rows(seed002):
             assert mm.aspect == ker.aspect[i, j]
 
 
+@pytest.mark.slow
 def test_kernel_on_other_leg_types(rng):
     """RRR, PRR, RRP legs with actuated angles and offsets: kernel = numpy path."""
     legs = [isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3.0, 2.5), actuated=0),

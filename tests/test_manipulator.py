@@ -96,6 +96,7 @@ def random_design(rng):
     return isp.PlanarParallel(legs)
 
 
+@pytest.mark.slow
 def test_against_brute_force_on_random_mixed_designs(rng):
     compared, total_modes = 0, 0
     while compared < 30:
