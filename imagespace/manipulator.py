@@ -1174,8 +1174,7 @@ class PlanarParallel:
                     cand[i, j] = x
         res = self._finish(Q, C, cand, row_ok, errors, special, L)
         half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])
-        distinct = np.array([_distinct_orientations(half[i][res.valid[i]], tol.duplicate)
-                             for i in range(n)], dtype=int)
+        distinct = _distinct_orientations_batch(half, res.valid, tol.duplicate)
         # the spurious orientation phi_c + pi of a PP dyad is a root that carries no mode
         n_real = n_real - self._spurious_roots(C, theta)
         near = row_ok & ~special & (~separated | (distinct != n_real))
@@ -1527,14 +1526,19 @@ def _general_at(P, symbols, q_exact):
     return [sp.expand(c.subs(sub)) for c in _form_coeffs(P)]
 
 
-def _distinct_orientations(half_angles, tol):
-    """Number of distinct orientations among half-angles in (-pi/2, pi/2] (the ends identified):
-    gaps above ``tol`` (``Tolerances.duplicate``) separate them."""
-    h = np.sort(np.asarray(half_angles, dtype=float))
-    if h.size == 0:
-        return 0
-    gaps = np.diff(np.concatenate([h, [h[0] + np.pi]]))
-    return max(1, int(np.sum(gaps > tol)))
+def _distinct_orientations_batch(half, valid, tol):
+    """Per row, the number of distinct orientations among the valid half-angles (n, k) in
+    (-pi/2, pi/2] (the ends identified): gaps above ``tol`` separate them (vectorised)."""
+    with np.errstate(invalid="ignore"):
+        h = np.sort(np.where(valid, half, np.inf), axis=1)
+        cnt = valid.sum(axis=1)
+        first = h[:, 0]
+        nxt = np.concatenate([h[:, 1:], np.full((h.shape[0], 1), np.inf)], axis=1)
+        idx = np.arange(h.shape[1])
+        # the gap after the last valid angle wraps around to the first one + pi
+        nxt = np.where(idx[None, :] == (cnt - 1)[:, None], first[:, None] + np.pi, nxt)
+        gaps = np.where(idx[None, :] < cnt[:, None], nxt - h, -np.inf)
+    return np.where(cnt > 0, np.maximum(1, np.sum(gaps > tol, axis=1)), 0)
 
 
 def _form_coeffs(poly):

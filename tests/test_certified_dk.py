@@ -401,3 +401,25 @@ def test_strings_are_not_coefficients(tmp_path):
     with pytest.raises(TypeError):
         isp.certify_real_roots([f"__import__('pathlib').Path({str(target)!r}).write_text('x') and 0", 0, -1])
     assert not target.exists()
+
+
+def test_distinct_orientation_count_equals_a_plain_loop(rng):
+    """The vectorised count of distinct orientations (used to decide near_singular) against a
+    plain per-row loop written here, with near-duplicates and the identified ends +-pi/2."""
+    from imagespace.manipulator import _distinct_orientations_batch
+
+    def plain(h, tol):
+        h = sorted(h)
+        if not h:
+            return 0
+        gaps = [b - a for a, b in zip(h, h[1:])] + [h[0] + np.pi - h[-1]]
+        return max(1, sum(g > tol for g in gaps))
+
+    H = rng.uniform(-np.pi / 2, np.pi / 2, (3000, 6))
+    H[:, 1] = H[:, 0] + rng.choice([0.0, 1e-9, 1e-3], 3000)
+    H[:, 2] = np.where(rng.random(3000) < 0.2, np.pi / 2, H[:, 2])
+    H[:, 3] = np.where(rng.random(3000) < 0.2, -np.pi / 2 + 1e-12, H[:, 3])
+    V = rng.random((3000, 6)) < 0.7
+    got = _distinct_orientations_batch(H, V, 1e-7)
+    want = np.array([plain(list(H[i][V[i]]), 1e-7) for i in range(3000)])
+    assert np.array_equal(got, want) and len(set(want.tolist())) >= 4
