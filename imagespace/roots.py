@@ -50,20 +50,26 @@ def bf_eval_angle(F, theta):
     >>> bf_eval_angle(np.array([[1.0, 0.0, 1.0]]), np.array([[0.3]]))   # x0^2 + x1^2
     array([[1.]])
     """
+    F = np.asarray(F, dtype=float)
     d = F.shape[-1] - 1
     c, s = np.cos(theta), np.sin(theta)
-    k = np.arange(d + 1)
-    return np.sum(F[..., None, :] * c[..., None] ** (d - k) * s[..., None] ** k, axis=-1)
+    # homogeneous Horner: (((f_d s + f_(d-1) c) s + f_(d-2) c^2) s + ...)
+    acc = np.broadcast_to(F[..., d][..., None], np.broadcast_shapes(F.shape[:-1] + (1,), c.shape)).copy()
+    cp = np.ones_like(acc)
+    for k in range(d - 1, -1, -1):
+        cp = cp * c
+        acc = acc * s + F[..., k][..., None] * cp
+    return acc
 
 
 def _bf_derivative_angle(F, theta):
+    # d/dtheta F(cos, sin) = (-x1 dF/dx0 + x0 dF/dx1) at (cos, sin): a binary form of degree d
+    # with coefficients g_j = (j + 1) f_(j+1) - (d - j + 1) f_(j-1)
     d = F.shape[-1] - 1
-    c, s = np.cos(theta), np.sin(theta)
-    k = np.arange(d + 1)
-    # d/dtheta of sum f_k c^(d-k) s^k = sum f_k [-(d-k) c^(d-k-1) s^(k+1) + k c^(d-k+1) s^(k-1)]
-    a = np.where(d - k > 0, (d - k), 0) * c[..., None] ** np.maximum(d - k - 1, 0) * s[..., None] ** (k + 1)
-    b = k * c[..., None] ** (d - k + 1) * s[..., None] ** np.maximum(k - 1, 0)
-    return np.sum(F[..., None, :] * (b - a), axis=-1)
+    j = np.arange(d + 1)
+    up = np.concatenate([F[..., 1:], np.zeros(F.shape[:-1] + (1,))], axis=-1) * (j + 1)
+    down = np.concatenate([np.zeros(F.shape[:-1] + (1,)), F[..., :-1]], axis=-1) * (d - j + 1)
+    return bf_eval_angle(up - down, theta)
 
 
 _ROTATIONS = {}
