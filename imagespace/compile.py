@@ -253,17 +253,21 @@ class CoefficientEnclosure:
         """
         if self._trig:
             return None
-        qq = [sp.Rational(v) for v in q]
-        out = [sp.Integer(0)] * (self.degree + 1)
-        for a, row in enumerate(self._exact):
-            mono = sp.Integer(1)
+        out = self._combine(self._exact, [sp.Rational(v) for v in q], sp.Integer(1), sp.Integer(0))
+        return [sp.expand(v) for v in out]
+
+    def _combine(self, rows, qq, one, zero):
+        """``sum_m c_m q^m`` per coefficient, in whatever exact number type ``rows``/``qq`` hold."""
+        out = [zero] * (self.degree + 1)
+        for a, row in enumerate(rows):
+            mono = one
             for g, e in enumerate(self._expo[a]):
                 if e:
-                    mono *= qq[g] ** int(e)
+                    mono = mono * qq[g] ** int(e)
             for k, c in enumerate(row):
                 if c != 0:
-                    out[k] += c * mono
-        return [sp.expand(v) for v in out]
+                    out[k] = out[k] + c * mono
+        return out
 
     def exact(self, q):
         """Exact coefficients (Fractions) at exact joint values ``q`` (Fractions, fmpq or floats), or
@@ -287,13 +291,5 @@ class CoefficientEnclosure:
         for v in q:
             f = v if isinstance(v, flint.fmpq) else Fraction(v)
             qq.append(f if isinstance(f, flint.fmpq) else flint.fmpq(f.numerator, f.denominator))
-        out = [flint.fmpq(0)] * (self.degree + 1)
-        for a, row in enumerate(self._Cq):
-            mono = flint.fmpq(1)
-            for g, e in enumerate(self._expo[a]):
-                if e:
-                    mono *= qq[g] ** int(e)
-            for k, c in enumerate(row):
-                if c != 0:
-                    out[k] += c * mono
+        out = self._combine(self._Cq, qq, flint.fmpq(1), flint.fmpq(0))
         return [Fraction(int(v.p), int(v.q)) for v in out]

@@ -62,13 +62,13 @@ import os
 import tempfile
 import threading
 import time
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
 from ._validate import as_float_array
+from .certify import flint_precision
 from .compile import compile_exprs
 from .exceptions import InputError
 
@@ -109,30 +109,12 @@ def _gamma(k):
     return k * _EPS / (1 - k * _EPS)
 
 
-_FLINT_LOCK = threading.RLock()
+_UMASK_LOCK = threading.Lock()
 
-
-@contextmanager
-def _flint_precision(bits):
-    """python-flint's working precision set to ``bits`` for a block, under a lock, restored after.
-
-    Correctness never depends on it (arb balls enclose the exact value at any precision); it only
-    decides how often a sign can be settled."""
-    try:
-        from .certify import flint_precision
-    except ImportError:            # pragma: no cover - older certify without the shared helper
-        import flint
-
-        with _FLINT_LOCK:
-            old = flint.ctx.prec
-            flint.ctx.prec = int(bits)
-            try:
-                yield
-            finally:
-                flint.ctx.prec = old
-        return
-    with flint_precision(bits):
-        yield
+# python-flint's working precision for a block, under imagespace's lock, restored after.
+# Correctness never depends on it (arb balls enclose the exact value at any precision); it only
+# decides how often a sign can be settled.
+_flint_precision = flint_precision
 
 
 # -- proven signs ---------------------------------------------------------------------------------
@@ -1312,7 +1294,7 @@ def _new_file_mode(path):
                     return 0o666 & ~int(line.split()[1], 8)
     except OSError:
         pass
-    with _FLINT_LOCK:                 # any lock: os.umask can only be read by setting it
+    with _UMASK_LOCK:                 # os.umask can only be read by setting it
         mask = os.umask(0o022)
         os.umask(mask)
     return 0o666 & ~mask

@@ -16,6 +16,7 @@ import sympy as sp
 
 import imagespace as isp
 from msolve_ref import msolve_available, planar_dk_reference
+from test_manipulator import any_leg
 
 needs_msolve = pytest.mark.skipif(not msolve_available(), reason="msolve not installed")
 
@@ -264,25 +265,6 @@ def scaled_leg(leg, k):
         else:
             out[key] = v                          # directions and angles
     return type(leg)(**out, actuated=leg.actuated)
-
-
-def any_leg(rng, kind, act):
-    A = rng.uniform(-5, 5, 2)
-    a = rng.uniform(-2, 2, 2)
-    d = rng.normal(size=2)
-    if kind == "RPR":
-        return isp.RPR(base=A, platform=a, actuated=act)
-    if kind == "RRR":
-        return isp.RRR(base=A, platform=a, lengths=rng.uniform(2, 5, 2), actuated=act)
-    if kind == "PRR":
-        return isp.PRR(base=A, axis=d, platform=a, length=rng.uniform(2, 5), actuated=act)
-    if kind == "RRP":
-        return isp.RRP(base=A, length=rng.uniform(2, 5), platform=a, direction=d, actuated=act)
-    if kind == "RPP":
-        return isp.RPP(base=A, platform=a, direction=d, angle=rng.uniform(0.4, 2.7), actuated=act)
-    if kind == "PRP":
-        return isp.PRP(base=A, axis=d, platform=a, direction=rng.normal(size=2), actuated=act)
-    return isp.PPR(base=A, axis=d, platform=a, angle=rng.uniform(0.4, 2.7), actuated=act)
 
 
 def unit_cases():
