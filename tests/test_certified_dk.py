@@ -405,3 +405,34 @@ def test_distinct_orientation_count_equals_a_plain_loop(rng):
     got = _distinct_orientations_batch(H, V, 1e-7)
     want = np.array([plain(list(H[i][V[i]]), 1e-7) for i in range(3000)])
     assert np.array_equal(got, want) and len(set(want.tolist())) >= 4
+
+
+@pytest.mark.parametrize("method", ["numpy", "kernel"])
+def test_certified_batch_at_and_near_half_turns(method):
+    """Rows whose modes sit at phi = pi exactly or within 1e-9 of it: certified counts equal the
+    exact count of the test, and every mode is accounted for on every row."""
+    m = isp.examples.general_3rpr()
+    rng = np.random.default_rng(5)
+    poses = np.column_stack([rng.uniform(-1, 1, 60), rng.uniform(-1, 1, 60),
+                             np.pi - rng.choice([0.0, 1e-9, -1e-9, 1e-12], 60)])
+    Q = m.inverse_kinematics(poses)
+    Q = Q[np.all(np.isfinite(Q) & (Q > 0), axis=1)]
+    b = m.direct_kinematics_batch(Q, certify=True, method=method)
+    exact = exact_counts(m, Q)
+    assert len(Q) >= 40 and np.all(b.row_ok)
+    assert np.array_equal(b.certified_roots, exact) and np.array_equal(b.count, exact)
+    assert b.consistent.all()
+    hits = sum(any(abs(abs(ph) - np.pi) < 1e-8 for ph in b.poses[i][b.valid[i]][:, 2]) for i in range(len(Q)))
+    assert hits == len(Q)                        # each row's own half-turn pose is among its modes
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("k", [1e-6, 1e6])
+def test_kernel_path_in_any_unit(k):
+    m = isp.examples.general_3rpr()
+    q = m.q_example_float
+    ms = isp.PlanarParallel([scaled_leg(leg, k) for leg in m.legs])
+    ref = [mm.pose for mm in m.direct_kinematics(q, certify=True)]
+    b = ms.direct_kinematics_batch(np.tile(k * q, (4, 1)), method="kernel")
+    assert all(same_modes(b.poses[i][b.valid[i]], ref, k) for i in range(4))
+    assert np.all(b.solver == "kernel") and not b.near_singular.any()
