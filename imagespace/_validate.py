@@ -15,6 +15,8 @@ __all__ = [
     "as_exact",
     "as_point",
     "check_positive",
+    "as_flag",
+    "as_count",
 ]
 
 
@@ -63,7 +65,24 @@ def as_float_array(value, name: str, last: int | None = None, allow_batch: bool 
             raise TypeError(f"{name} must be numeric, got the symbolic value {_short(value)}; "
                             "substitute numbers first or use the symbolic method") from None
     try:
-        arr = np.asarray(value, dtype=float)
+        raw = np.asarray(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be numeric array_like, got {_short(value)}") from None
+    if raw.dtype.kind == "c":
+        raise TypeError(f"{name} must be real, got the complex array {_short(value)}")
+    if raw.dtype.kind == "b":
+        raise TypeError(f"{name} must be numeric, got booleans {_short(value)}")
+    if raw.dtype.kind in "USV":
+        raise TypeError(f"{name} must be numeric, got strings {_short(value)}; strings are never parsed")
+    if raw.dtype.kind == "O" or (not isinstance(value, np.ndarray) and raw.size <= 4096):
+        # python sequences: a bool or a string among numbers would be silently converted
+        for v in np.asarray(value, dtype=object).ravel():
+            if isinstance(v, (str, bytes, bool, np.bool_)) or isinstance(v, complex):
+                raise TypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
+    try:
+        arr = np.asarray(raw, dtype=float)
+    except OverflowError:
+        raise InputError(f"{name} must be within the float range, got {_short(value)}") from None
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be numeric array_like, got {_short(value)}") from None
     if last is not None:
@@ -112,6 +131,36 @@ def as_point(value, name: str):
     if len(items) != 2:
         raise InputError(f"{name} must have shape (2,), got {len(items)} entries: {_short(value)}")
     return tuple(as_exact(v, f"{name}[{i}]") for i, v in enumerate(items))
+
+
+def as_flag(value, name: str) -> bool:
+    """A boolean option (``True``/``False``, numpy bools), refusing anything else ('yes', 1.0 ...).
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_flag
+    >>> as_flag(True, "certify")
+    True
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise TypeError(f"{name} must be True or False, got {type(value).__name__} {_short(value)}")
+
+
+def as_count(value, name: str, minimum: int = 1) -> int:
+    """A whole number ``>= minimum`` (ints, integral numpy ints); floats such as 2.5 are refused.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_count
+    >>> as_count(65536, "chunk_size")
+    65536
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
+        raise TypeError(f"{name} must be a whole number, got {type(value).__name__} {_short(value)}")
+    if int(value) < minimum:
+        raise InputError(f"{name} must be at least {minimum}, got {value}")
+    return int(value)
 
 
 def check_positive(value, name: str, allow_zero: bool = False):

@@ -103,6 +103,13 @@ def _check_not_absolute(x0, x1, name):
             f"and are not displacements; got such a point at row(s) {idx[:5].tolist()}")
 
 
+def _rescaled(p):
+    """The same homogeneous points divided by their largest entry, so that squaring neither
+    underflows (1e-300) nor overflows (1e200). Rows of zeros stay zeros."""
+    m = np.max(np.abs(p), axis=-1, keepdims=True)
+    return p / np.where(m > 0, m, 1.0)
+
+
 def pose_of(image_point):
     """Pose ``(x, y, phi)`` of an image point (any non-zero multiple).
 
@@ -134,7 +141,7 @@ def pose_of(image_point):
         n = x0**2 + x1**2
         return sp.Matrix([2 * (x0 * x3 + x1 * x2) / n, 2 * (-x0 * x2 + x1 * x3) / n,
                           2 * sp.atan2(x1, x0)])
-    p = as_float_array(image_point, "image_point", last=4)
+    p = _rescaled(as_float_array(image_point, "image_point", last=4))
     x0, x1, x2, x3 = (p[..., i] for i in range(4))
     _check_not_absolute(x0, x1, "image_point")
     n = x0**2 + x1**2
@@ -171,7 +178,7 @@ def normalize(image_point):
             if x[0] < 0 or (x[0] == 0 and x[1] < 0):
                 sign = -1
         return (sign * x / n).applyfunc(sp.radsimp)
-    p = as_float_array(image_point, "image_point", last=4)
+    p = _rescaled(as_float_array(image_point, "image_point", last=4))
     x0, x1 = p[..., 0], p[..., 1]
     _check_not_absolute(x0, x1, "image_point")
     n = np.sqrt(x0**2 + x1**2)
@@ -205,7 +212,7 @@ def transform_matrix(image_point):
         return sp.Matrix([[1, 0, 0],
                           [(2 * x0 * x3 + 2 * x1 * x2) / n, (x0**2 - x1**2) / n, -2 * x0 * x1 / n],
                           [(-2 * x0 * x2 + 2 * x1 * x3) / n, 2 * x0 * x1 / n, (x0**2 - x1**2) / n]])
-    p = as_float_array(image_point, "image_point", last=4)
+    p = _rescaled(as_float_array(image_point, "image_point", last=4))
     x0, x1, x2, x3 = (p[..., i] for i in range(4))
     _check_not_absolute(x0, x1, "image_point")
     n = x0**2 + x1**2
@@ -276,6 +283,8 @@ def compose(a, b):
     else:
         pa = as_float_array(a, "a", last=4)
         pb = as_float_array(b, "b", last=4)
+        _check_not_absolute(pa[..., 0], pa[..., 1], "a")
+        _check_not_absolute(pb[..., 0], pb[..., 1], "b")
         a0, a1, a2, a3 = (pa[..., i] for i in range(4))
         b0, b1, b2, b3 = (pb[..., i] for i in range(4))
     x0 = a0 * b0 - a1 * b1
@@ -308,4 +317,5 @@ def inverse(image_point):
         x0, x1, x2, x3 = _sym_vector(image_point, 4, "image_point")
         return sp.Matrix([x0, -x1, -x2, -x3])
     p = as_float_array(image_point, "image_point", last=4)
+    _check_not_absolute(p[..., 0], p[..., 1], "image_point")
     return p * np.array([1.0, -1.0, -1.0, -1.0])

@@ -10,7 +10,7 @@ import sympy as sp
 
 import warnings
 
-from ._validate import as_exact, as_float_array, check_positive, is_symbolic
+from ._validate import as_count, as_exact, as_flag, as_float_array, is_symbolic
 from .constraints import Quadric, image_symbols
 from .certify import exact_is_zero, certify_real_roots, certify_real_roots_batch, inclusion_discs
 from .certified_dk import plan_roots
@@ -320,6 +320,14 @@ class PlanarParallel:
     """
 
     def __init__(self, legs, name=None, tolerances: Tolerances = TOLERANCES):
+        if isinstance(legs, (str, bytes)) or legs is None or not (isinstance(legs, Leg) or hasattr(legs, "__iter__")):
+            raise TypeError(f"legs must be a sequence of three Leg objects (RPR, RRR, PRR, RRP, RPP, "
+                            f"PRP, PPR), got {type(legs).__name__} {legs!r}")
+        if not isinstance(tolerances, Tolerances):
+            raise TypeError(f"tolerances must be an imagespace.Tolerances, got {type(tolerances).__name__} "
+                            f"{tolerances!r}")
+        if name is not None and not isinstance(name, str):
+            raise TypeError(f"name must be a string, got {type(name).__name__} {name!r}")
         legs = list(legs) if not isinstance(legs, Leg) else [legs]
         if len(legs) != 3:
             raise InputError(f"legs must be a sequence of three legs, got {len(legs)}")
@@ -653,11 +661,17 @@ class PlanarParallel:
         array([10.  , 15.23, 13.25])
         """
         p = as_float_array(pose, "pose", last=3)
+        if working_modes is not None and (isinstance(working_modes, (str, bytes))
+                                          or not hasattr(working_modes, "__iter__")):
+            raise TypeError(f"working_modes must be a sequence of three whole numbers, got {working_modes!r}")
         wm = (0, 0, 0) if working_modes is None else tuple(working_modes)
         if len(wm) != 3:
             raise InputError(f"working_modes must have three entries, got {working_modes!r}")
         cols = []
         for i, (leg, b) in enumerate(zip(self.legs, wm)):
+            if isinstance(b, (bool, np.bool_)) or not isinstance(b, (int, np.integer)):
+                raise TypeError(f"working_modes[{i}] must be a whole number (a branch index), got "
+                                f"{type(b).__name__} {b!r}")
             if not 0 <= b < leg.n_branches:
                 raise InputError(f"working_modes[{i}] must be in 0..{leg.n_branches - 1} for "
                                  f"{leg.joints}, got {b}")
@@ -760,6 +774,8 @@ class PlanarParallel:
         >>> cm.certificate.count, sum(cm.modes_per_root)
         (6, 6)
         """
+        include_complex = as_flag(include_complex, "include_complex")
+        certify = as_flag(certify, "certify")
         qf = self._check_q([float(v) for v in np.ravel(np.asarray(q, dtype=object))]
                            if is_symbolic(q) else q)
         if qf.ndim != 1:
@@ -911,9 +927,10 @@ class PlanarParallel:
         ([6, 0], [True, False], ['numpy', 'invalid'])
         """
         Q = as_float_array(Q, "Q", last=3, finite=False)
+        certify = as_flag(certify, "certify")
         if Q.ndim == 1:
             Q = Q[None, :]
-        if method not in ("auto", "kernel", "numpy"):
+        if not isinstance(method, str) or method not in ("auto", "kernel", "numpy"):
             raise InputError(f"method must be 'auto', 'kernel' or 'numpy', got {method!r}")
         kernel = None
         if method == "kernel" or (method == "auto" and Q.shape[0] >= _KERNEL_MIN_ROWS):
@@ -954,7 +971,8 @@ class PlanarParallel:
         >>> [(s, r.count.tolist()) for s, r in m.direct_kinematics_chunks(Q, chunk_size=2)]
         [(0, [6, 6]), (2, [6, 6]), (4, [6])]
         """
-        chunk_size = int(check_positive(chunk_size, "chunk_size"))
+        chunk_size = as_count(chunk_size, "chunk_size")
+        certify = as_flag(certify, "certify")
         Q = np.asarray(Q)
         if Q.ndim != 2 or Q.shape[-1] != 3:
             raise InputError(f"Q must have shape (n, 3), got {Q.shape}")
