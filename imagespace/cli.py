@@ -3,7 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import math
+import os
+import re
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +19,139 @@ __all__ = ["main", "demo", "mesh_command", "plot_command", "default_box", "EXAMP
 
 EXAMPLES = {"stigger-husty": "stigger_husty", "general-3rpr": "general_3rpr",
             "collinear-3rpr": "collinear_3rpr", "choi-3ppr": "choi_3ppr"}
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser that reads ``-1e-3``, ``-2.5E+1``, ``-inf`` and ``-nan`` as (negative)
+    numbers, not as options; argparse's own rule only knows ``-1`` and ``-0.5``."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(
+            r"^-(?:\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?|inf|infinity|nan)$", re.IGNORECASE)
+
+
+class _CommandError(InputError):
+    """A one-line error of the command line (exit status 2): an output path that cannot be
+    written, or an option that would be ignored or is not finite."""
+
+
+def _reason(exc):
+    """The reason of an ``OSError`` in words, without the path."""
+    return exc.strerror or str(exc) or type(exc).__name__
+
+
+def _write_error(path, exc):
+    """A :class:`_CommandError` naming ``path`` and why it could not be written."""
+    return _CommandError(f"cannot write {os.fspath(path)}: {_reason(exc)}")
+
+
+def _blocking_ancestor(path):
+    """The first existing ancestor of ``path`` that is not a folder, or None."""
+    for parent in Path(path).parents:
+        if parent.exists():
+            return None if parent.is_dir() else parent
+    return None
+
+
+def _check_output_file(path):
+    """Refuse, before any computation, an output file that cannot be written: an existing
+    folder, a path under a file, a missing or read-only folder.
+
+    Raises
+    ------
+    InputError
+        Naming the path and the reason.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise _CommandError(f"cannot write {path}: it is an existing folder; give a file name")
+    blocker = _blocking_ancestor(path)
+    if blocker is not None:
+        raise _CommandError(f"cannot write {path}: {blocker} is a file, not a folder")
+    parent = path.parent
+    if not parent.exists():
+        raise _CommandError(f"cannot write {path}: the folder {parent} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise _CommandError(f"cannot write {path}: permission denied on the folder {parent}")
+
+
+def _check_output_dir(path):
+    """Refuse, before any computation, an output folder that is a file or lies under one."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise _CommandError(f"cannot write to {path}: it is a file, not a folder")
+    blocker = _blocking_ancestor(path)
+    if blocker is not None:
+        raise _CommandError(f"cannot write to {path}: {blocker} is a file, not a folder")
+
+
+def _new_file_mode(path):
+    """The permission bits ``open(path, "w")`` would give: the existing file's, else ``0o666``
+    less the process umask (read from ``/proc``; ``0o644`` where that is not available)."""
+    try:
+        return os.stat(path).st_mode & 0o7777
+    except FileNotFoundError:
+        pass
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return 0o666 & ~int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    return 0o644
+
+
+def _save_figure(fig, path, dpi=110):
+    """Save a matplotlib figure atomically and return the path written.
+
+    The figure goes to a temporary file made by :func:`tempfile.mkstemp` in the target's folder
+    (format from the suffix, as ``savefig`` would choose it; no suffix: ``savefig.format`` and
+    that suffix appended), which is flushed, synced and renamed over the target with
+    :func:`os.replace`. On any error, or an interrupt, the temporary file is removed and an
+    existing file at ``path`` is left unchanged.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> from imagespace.cli import _save_figure
+    >>> fig = plt.figure()
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _save_figure(fig, folder / "f.png").name, sorted(p.name for p in folder.iterdir())
+    ('f.png', ['f.png'])
+    >>> plt.close(fig)
+    """
+    import matplotlib
+
+    path = Path(path)
+    fmt = path.suffix[1:].lower()
+    if not fmt:
+        fmt = matplotlib.rcParams["savefig.format"]
+        path = path.with_name(path.name.rstrip(".") + "." + fmt)
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise _write_error(path, exc) from exc
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fig.savefig(fh, format=fmt, dpi=dpi)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, _new_file_mode(path))
+        os.replace(tmp, path)
+    except BaseException as exc:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        if isinstance(exc, OSError):
+            raise _write_error(path, exc) from exc
+        raise
+    return path
 
 
 def _table(rows, headers):
@@ -38,7 +175,13 @@ def demo(out_dir="imagespace-demo", stream=None):
     Returns
     -------
     Path
-        The PNG written.
+        The PNG written (atomically: an existing picture is replaced whole or left unchanged).
+
+    Raises
+    ------
+    InputError
+        If ``out_dir`` is a file, lies under one, or the picture cannot be written; the message
+        names the path and the reason.
 
     Examples
     --------
@@ -56,6 +199,7 @@ def demo(out_dir="imagespace-demo", stream=None):
     from .plotting import plot_assembly_modes
 
     stream = stream or sys.stdout
+    _check_output_dir(out_dir)
     m = examples.stigger_husty()
     q = m.q_example
     x0 = image_symbols()[0]
@@ -79,13 +223,18 @@ def demo(out_dir="imagespace-demo", stream=None):
     p(f"\n{len(modes)} real assembly modes (image point with x0 = 1; pose; sign of det J; joint residual):")
     p(_table(rows, ["mode", "x1", "x2", "x3", "x", "y", "phi [rad]", "aspect", "residual"]))
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise _CommandError(f"cannot create the folder {out}: {_reason(exc)}") from exc
     path = out / "assembly_modes.png"
     fig = plot_assembly_modes(m, q, modes)
-    fig.savefig(path, dpi=110)
     import matplotlib.pyplot as plt
 
-    plt.close(fig)
+    try:
+        path = _save_figure(fig, path, dpi=110)
+    finally:
+        plt.close(fig)
     p(f"\npicture of the assembly modes: {path}")
     return path
 
@@ -126,12 +275,31 @@ def default_box(m, chart):
     return ((-L, L), (-L, L), (-np.pi, np.pi))
 
 
-def _surface(m, args):
-    if args.q is not None:
-        return m.singularity_surface(q=args.q)
-    if args.working_modes is not None:
-        return m.singularity_surface(working_modes=args.working_modes)
-    return m.singularity_surface()
+def _check_finite(values, option):
+    if values is not None and not all(math.isfinite(v) for v in values):
+        raise _CommandError(f"{option} must be finite numbers, got {' '.join(map(repr, values))}")
+
+
+def _surface(m, args, q_draws_modes=False):
+    """The singularity surface the options ask for. ``--q`` or ``--working-modes`` for a surface
+    that does not depend on the joint values is refused rather than ignored, except ``--q`` where
+    it also places the drawn assembly modes (``q_draws_modes``; there ``--working-modes``, when
+    given, chooses the surface and ``--q`` only the modes)."""
+    q, wm = args.q, args.working_modes
+    if q_draws_modes and wm is not None:
+        q = None
+    if q is None and wm is None:
+        return m.singularity_surface()
+    S = m.singularity_surface(q=q, working_modes=wm)
+    if S.kind == "joint-free":
+        given = [o for o, v in (("--q", q), ("--working-modes", wm)) if v is not None]
+        if q_draws_modes:
+            given = [o for o in given if o != "--q"]
+        if given:
+            given = " and ".join(given)
+            raise _CommandError(f"{given}: the singularity surface of {m.name} does not depend on the "
+                                f"joint values (joint-free), so {given} would be ignored; leave it out")
+    return S
 
 
 def _box(m, args):
@@ -149,6 +317,11 @@ def mesh_command(args, stream=None):
     were removed (or kept, ``--keep-uncertified``), and the precision the export format stores
     (PLY/OBJ float64; STL/GLB float32 by format). Returns 1 with ``--strict`` when any vertex
     was removed or left uncertified, else 0.
+
+    The output path is checked before any computation (an existing folder, a path under a file or
+    a missing folder is refused), and ``--q`` or ``--working-modes`` for a surface that does not
+    depend on the joint values is refused rather than ignored; both raise :class:`InputError`
+    (``main`` turns it into a one-line message and exit status 2).
 
     Examples
     --------
@@ -169,6 +342,7 @@ def mesh_command(args, stream=None):
     if suffix not in EXPORT_FORMATS:
         raise InputError(f"-o/--output must end in one of {', '.join(EXPORT_FORMATS)} (the format is "
                          f"taken from the suffix), got {args.output!r}")
+    _check_output_file(args.output)
     m = _example(args.example)
     S = _surface(m, args)
     box = _box(m, args)
@@ -176,7 +350,10 @@ def mesh_command(args, stream=None):
     keep = getattr(args, "keep_uncertified", False)
     mesh = mesh_surface(S, box, chart=args.chart, resolution=args.resolution, tol=getattr(args, "tol", 1e-9),
                         on_uncertified="keep" if keep else "remove")
-    path = export_mesh(mesh, args.output)
+    try:
+        path = export_mesh(mesh, args.output)
+    except OSError as exc:
+        raise _write_error(args.output, exc) from exc
     t = time.perf_counter() - t
     md = mesh.metadata["imagespace"]
     n_uncert, n_removed = md["uncertified"], md["removed"]
@@ -213,6 +390,11 @@ def mesh_command(args, stream=None):
 def plot_command(args, stream=None):
     """``imagespace plot``: the figures of seed 002 for an example, written to a file.
 
+    The picture is written atomically (see :func:`_save_figure`). ``--q`` places the drawn
+    assembly modes; ``--working-modes`` chooses the surface of the ``surface`` and ``conic``
+    figures and is refused where it would be ignored (the other figures, or a surface that does
+    not depend on the joint values).
+
     Examples
     --------
     >>> import io, tempfile, pathlib
@@ -229,6 +411,10 @@ def plot_command(args, stream=None):
     from . import plotting
 
     stream = stream or sys.stdout
+    if args.working_modes is not None and args.figure in ("modes", "quadrics"):
+        raise _CommandError(f"--working-modes: the {args.figure} figure does not use it (only surface "
+                            "and conic do); leave it out")
+    _check_output_file(args.output)
     m = _example(args.example)
     q = m.q_example_float if args.q is None else np.array(args.q)
     if args.figure == "modes":
@@ -237,18 +423,20 @@ def plot_command(args, stream=None):
         fig = plotting.plot_constraint_quadrics(m, q, _box(m, argparse.Namespace(box=args.box, chart="image")),
                                                 resolution=args.resolution)
     elif args.figure == "surface":
-        S = _surface(m, args)
+        S = _surface(m, args, q_draws_modes=True)
         fig = plotting.plot_singularity_surface(S, _box(m, args), chart=args.chart,
                                                 resolution=args.resolution, q=q)
     else:
-        S = _surface(m, args)
+        S = _surface(m, args, q_draws_modes=True)
         modes = m.direct_kinematics(q)
         phi = args.phi if args.phi is not None else (modes[0].pose[2] if modes else 0.0)
         L = _design_scale(m)
         fig = plotting.plot_conic_section(S, phi, (-L, L), (-L, L), modes=modes)
-    fig.savefig(args.output, dpi=110)
-    plt.close(fig)
-    print(f"written: {args.output}", file=stream)
+    try:
+        path = _save_figure(fig, args.output, dpi=110)
+    finally:
+        plt.close(fig)
+    print(f"written: {path}", file=stream)
     return 0
 
 
@@ -262,7 +450,7 @@ def main(argv=None, stream=None):
     """
     from . import __version__
 
-    parser = argparse.ArgumentParser(prog="imagespace",
+    parser = _Parser(prog="imagespace",
                                      description="Kinematics of planar parallel manipulators in the kinematic image space.")
     parser.add_argument("--version", action="version", version=f"imagespace {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -302,6 +490,10 @@ def main(argv=None, stream=None):
     from .exceptions import ImageSpaceError
 
     try:
+        opts = vars(args)
+        _check_finite(opts.get("q"), "--q")
+        _check_finite(opts.get("box"), "--box")
+        _check_finite(None if opts.get("phi") is None else [opts["phi"]], "--phi")
         if args.command == "demo":
             demo(args.out, stream=stream)
         elif args.command == "mesh":
@@ -310,6 +502,10 @@ def main(argv=None, stream=None):
             return plot_command(args, stream)
     except (ImageSpaceError, ValueError) as exc:
         print(f"imagespace {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        where = f"{os.fsdecode(exc.filename)}: " if exc.filename is not None else ""
+        print(f"imagespace {args.command}: error: {where}{_reason(exc)}", file=sys.stderr)
         return 2
     return 0
 
