@@ -1,9 +1,12 @@
 """Design sweeps and the fuzzy min-max optimal design of seed 004.
 
-:func:`sweep` evaluates any module-level function ``f(**params) -> dict of numbers`` over a grid of
-design parameters: in local processes by default (``concurrent.futures``, a tqdm progress bar),
-serially with ``processes=0``, or on a Dask cluster when given a ``dask.distributed.Client``
-(install ``imagespace[dask]``). The rows come back in grid order whichever way they ran.
+:func:`sweep` evaluates any function ``f(**params) -> dict of numbers`` over a grid of design
+parameters: serially by default (a tqdm progress bar), in ``processes=N`` local processes
+(``concurrent.futures`` with cloudpickled payloads, so notebook-defined functions and unguarded
+scripts work), or on a Dask cluster when given a ``dask.distributed.Client`` (install
+``imagespace[dask]``). The rows come back in grid order whichever way they ran; a failing design
+raises with its parameters named (``on_error="raise"``) or is recorded in the table
+(``on_error="record"``), never discarding the finished rows.
 
 :func:`fuzzy_minmax` is Choi's composite index: each index is normalised over the grid to
 ``u in [0, 1]`` (1 = the best design for that index; ``"max"`` or ``"min"`` says which is better),
@@ -18,13 +21,18 @@ Choi (seed 004): kinematic analysis and optimal design of the 3-PPR planar manip
 from __future__ import annotations
 
 import itertools
+import sys
+import threading
+import types
+from collections.abc import Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
 
-from .exceptions import InputError
+from .exceptions import ImageSpaceError, InputError
 
-__all__ = ["DesignTable", "sweep", "fuzzy_minmax", "FuzzyResult"]
+__all__ = ["DesignTable", "DesignEvaluationError", "sweep", "fuzzy_minmax", "FuzzyResult"]
 
 
 @dataclass(frozen=True)
@@ -41,12 +49,33 @@ class DesignTable:
         The grid's shape (one axis per parameter, in the order given).
     how : str
         ``"serial"``, ``"processes (k)"`` or ``"dask (address)"``.
+    errors : (n,) object array of str
+        Why each row failed (``""`` for a good row; a failed row's values are NaN). Only a sweep
+        with ``on_error="record"`` returns failed rows.
     """
 
     params: dict
     values: dict
     shape: tuple
     how: str
+    errors: np.ndarray = None
+
+    def __post_init__(self):
+        n = int(np.prod(self.shape))
+        errs = np.full(n, "", dtype=object) if self.errors is None else np.asarray(self.errors, dtype=object)
+        object.__setattr__(self, "errors", errs)
+
+    @property
+    def failed(self):
+        """The rows that failed (indices in grid order).
+
+        Examples
+        --------
+        >>> from imagespace.design import sweep, _demo_index
+        >>> sweep(_demo_index, {"a": [1, 2], "b": [0, 1]}).failed
+        []
+        """
+        return [i for i, e in enumerate(self.errors) if e]
 
     def grid(self, name):
         """A value reshaped to the grid, ``shape``.
@@ -65,7 +94,43 @@ class DesignTable:
         return (self.shape == other.shape and self.params.keys() == other.params.keys()
                 and all(np.array_equal(self.params[k], other.params[k]) for k in self.params)
                 and self.values.keys() == other.values.keys()
-                and all(np.array_equal(self.values[k], other.values[k], equal_nan=True) for k in self.values))
+                and all(np.array_equal(self.values[k], other.values[k], equal_nan=True) for k in self.values)
+                and np.array_equal(self.errors, other.errors))
+
+
+class DesignEvaluationError(ImageSpaceError, RuntimeError):
+    """A design of a :func:`sweep` failed (``on_error="raise"``).
+
+    The message names the failing design's parameters and the original exception is chained
+    (``__cause__``). Nothing finished is lost: ``table`` holds every row computed before the
+    sweep stopped (see :class:`DesignTable` ``errors`` for the rows that failed or did not run).
+
+    Attributes
+    ----------
+    params : dict
+        The failing design's parameters.
+    index : int
+        Its row in grid order.
+    table : DesignTable
+        The finished rows (the others NaN, with their ``errors`` entry set).
+    """
+
+    def __init__(self, message, params=None, index=None, table=None):
+        super().__init__(message)
+        self.params = params
+        self.index = index
+        self.table = table
+
+
+class _RemoteTraceback(Exception):
+    """The traceback of an exception raised in a worker process (chained as its cause)."""
+
+    def __init__(self, tb):
+        super().__init__(tb)
+        self.tb = tb
+
+    def __str__(self):
+        return self.tb
 
 
 def _demo_index(a, b):
@@ -73,46 +138,187 @@ def _demo_index(a, b):
     return {"sum": float(a + b), "product": float(a * b)}
 
 
-def _call(args):
-    func, kw = args
-    return func(**kw)
+def _as_number(v):
+    """``float(v)`` for a real scalar; None for anything else (strings, complex, arrays, None)."""
+    if isinstance(v, (str, bytes)) or v is None:
+        return None
+    try:
+        a = np.asarray(v)
+        if a.ndim != 0 or np.iscomplexobj(a):
+            return None
+        return float(v)
+    except (TypeError, ValueError, OverflowError):
+        return None
 
 
-def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1):
+def _check_output(out):
+    """``(dict of floats, None)`` for a valid task output, else ``(None, what is wrong)``."""
+    if not isinstance(out, Mapping):
+        return None, f"returned {type(out).__name__} {out!r:.80}, not a dict of numbers"
+    values = {}
+    for k, v in out.items():
+        x = _as_number(v)
+        if x is None:
+            return None, f"returned a non-number for {k!r}: {type(v).__name__} {v!r:.80}"
+        values[k] = x
+    return values, None
+
+
+def _evaluate(func, kw):
+    """One design: ``(values, None, None)``, or ``(None, message, exception or None)``."""
+    try:
+        out = func(**kw)
+    except Exception as e:  # noqa: BLE001 -- reported per design, chained when raised
+        return None, f"{type(e).__name__}: {e}", e
+    values, problem = _check_output(out)
+    return values, problem, None
+
+
+def _evaluate_remote(func_blob, kws_blob):
+    """Worker side: a chunk of designs from cloudpickled payloads; exceptions travel as data."""
+    import traceback
+
+    import cloudpickle
+
+    func = cloudpickle.loads(func_blob)
+    out = []
+    for kw in cloudpickle.loads(kws_blob):
+        values, message, exc = _evaluate(func, kw)
+        if exc is None:
+            out.append((values, message, None, None))
+            continue
+        tb = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
+        try:
+            blob = cloudpickle.dumps(exc)
+        except Exception:  # noqa: BLE001 -- an unpicklable exception still reports its text
+            blob = None
+        out.append((None, message, blob, tb))
+    return out
+
+
+def _revive(blob, message, tb):
+    """The worker's exception (its remote traceback chained), or a RuntimeError with its text."""
+    import cloudpickle
+
+    exc = None
+    if blob is not None:
+        try:
+            exc = cloudpickle.loads(blob)
+        except Exception:  # noqa: BLE001
+            exc = None
+    if not isinstance(exc, BaseException):
+        exc = RuntimeError(message)
+    if tb:
+        exc.__cause__ = _RemoteTraceback(tb)
+    return exc
+
+
+@contextmanager
+def _main_not_reimported():
+    """Start spawned workers without re-running the user's ``__main__`` (script or notebook).
+
+    ``spawn`` re-imports the main script in every worker, which runs an unguarded script's
+    top level again (multiprocessing's bootstrapping error). Payloads are cloudpickled by value,
+    so the workers never need ``__main__``: it is hidden while they start.
+    """
+    main = sys.modules.get("__main__")
+    stub = types.ModuleType("__main__")
+    with _MAIN_LOCK:
+        sys.modules["__main__"] = stub
+        try:
+            yield
+        finally:
+            if sys.modules.get("__main__") is stub:
+                sys.modules["__main__"] = main
+
+
+_MAIN_LOCK = threading.Lock()
+
+
+def _plain(v):
+    return v.item() if isinstance(v, np.generic) else v
+
+
+def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, on_error="raise"):
     """Evaluate ``func(**params)`` over every combination of the grid's parameter values.
+
+    Serial by default. Parallelism is opt-in: ``processes=N`` local worker processes, or a Dask
+    ``client``. Functions are shipped by value (cloudpickle), so a function defined in a notebook
+    cell, a closure, or a script without an ``if __name__ == "__main__"`` guard works in both.
+    One failing design never discards the others.
 
     Parameters
     ----------
     func : callable
-        Returns a dict of numbers. Must be picklable (defined at module level) for processes
-        and Dask.
+        ``func(**params)`` returns a dict name -> real number, with the same names for every
+        design.
     grid : dict of name -> sequence
         Each parameter's values; the grid is their Cartesian product (row-major).
     client : dask.distributed.Client, optional
-        Run on this cluster.
+        Run on this cluster (install ``imagespace[dask]``); takes precedence over ``processes``.
     processes : int or None
-        Local worker processes (``None``: ``os.cpu_count()``; ``0``: serial in this process).
+        ``None`` or ``0`` (default): serial in this process; ``N >= 1``: ``N`` local worker
+        processes (spawned; workers do not re-run the caller's ``__main__``).
     progress : bool or None
         tqdm bar (``None``: shown after a second).
+    chunksize : int
+        Designs per task sent to a worker.
+    on_error : {"raise", "record"}
+        What a failing design does. A design fails when ``func`` raises, or returns something
+        other than a dict of real numbers (a string, None, complex, an array...), or returns
+        other names than most designs do (a missing or an extra key; ties go to the names of the
+        first such design in grid order).
+
+        - ``"raise"`` (default): stop at the first failure found (pending designs are cancelled)
+          and raise :class:`DesignEvaluationError`, whose message names the design's parameters,
+          with the original exception chained and the finished rows in its ``table``.
+        - ``"record"``: evaluate every design and return the table with every finished row;
+          a failed row has NaN values and its error text in ``table.errors`` (``""`` for good
+          rows).
 
     Returns
     -------
     DesignTable
+        Rows in grid order whichever way they ran.
 
     Raises
     ------
     InputError
-        An empty grid, a parameter with no values, or a grid of a single design.
+        An empty grid, a parameter with no values, a grid of a single design, or a bad
+        ``processes``, ``chunksize`` or ``on_error``.
+    DesignEvaluationError
+        A design failed and ``on_error="raise"``.
 
     Examples
     --------
     >>> from imagespace.design import sweep, _demo_index
-    >>> t = sweep(_demo_index, {"a": [1.0, 2.0], "b": [10.0, 20.0]}, processes=0)
+    >>> t = sweep(_demo_index, {"a": [1.0, 2.0], "b": [10.0, 20.0]})
     >>> t.values["sum"].tolist(), t.how
     ([11.0, 21.0, 12.0, 22.0], 'serial')
+
+    A failing design is recorded instead of losing the sweep:
+
+    >>> def f(a, b):
+    ...     if a == 2.0 and b == 20.0:
+    ...         raise ValueError("no design here")
+    ...     return {"sum": a + b}
+    >>> t = sweep(f, {"a": [1.0, 2.0], "b": [10.0, 20.0]}, on_error="record")
+    >>> t.values["sum"].tolist(), t.errors.tolist()
+    ([11.0, 21.0, 12.0, nan], ['', '', '', 'ValueError: no design here'])
+    >>> sweep(f, {"a": [1.0, 2.0], "b": [10.0, 20.0]})
+    Traceback (most recent call last):
+    ...
+    imagespace.design.DesignEvaluationError: design 3 {'a': 2.0, 'b': 20.0} failed: ValueError: no design here
     """
     if not isinstance(grid, dict) or not grid:
         raise InputError(f"grid must be a non-empty dict of parameter name -> values, got {grid!r}")
+    if on_error not in ("raise", "record"):
+        raise InputError(f"on_error must be 'raise' or 'record', got {on_error!r}")
+    if processes is not None and (isinstance(processes, bool) or not isinstance(processes, (int, np.integer))
+                                  or processes < 0):
+        raise InputError(f"processes must be None or an int >= 0, got {processes!r}")
+    if isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer)) or chunksize < 1:
+        raise InputError(f"chunksize must be an int >= 1, got {chunksize!r}")
     names = list(grid)
     axes = []
     for k in names:
@@ -125,42 +331,106 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1):
         raise InputError(f"the grid has a single design {dict(zip(names, [a[0] for a in axes]))}; "
                          "a sweep needs at least two")
     rows = [dict(zip(names, combo)) for combo in itertools.product(*axes)]
-    tasks = [(func, r) for r in rows]
+    n = len(rows)
+    params = {k: np.array([r[k] for r in rows]) for k in names}
+    results = [None] * n          # values dict per finished row
+    errors = [""] * n             # error text per failed row
+    causes = [None] * n           # the exception behind a failure, if any
+    done = [False] * n
+
+    def table(not_run=""):
+        keys = list(dict.fromkeys(k for r in results if r is not None for k in r))
+        vals = {k: np.array([r[k] if r is not None and k in r else np.nan for r in results], dtype=float)
+                for k in keys}
+        errs = [e if e or done[i] else not_run for i, e in enumerate(errors)]
+        return DesignTable(params, vals, shape, how, np.array(errs, dtype=object))
+
+    def fail(i):
+        p = {k: _plain(v) for k, v in rows[i].items()}
+        err = DesignEvaluationError(f"design {i} {p} failed: {errors[i]}", p, i,
+                                    table("not run: the sweep stopped at a failing design"))
+        raise err from causes[i]
+
+    def finish(i, values, message, cause):
+        done[i] = True
+        if message is None:
+            results[i] = values
+            return False
+        errors[i], causes[i] = message, cause
+        return on_error == "raise"
+
     from tqdm import tqdm
 
-    bar = tqdm(total=len(rows), delay=1.0, desc="design sweep", leave=False,
-               disable=progress is False)
-    if client is not None:
-        futures = client.map(_call, tasks, pure=False)
-        results = []
-        for f in futures:
-            results.append(f.result())
-            bar.update()
-        how = f"dask ({getattr(client.scheduler, 'address', 'cluster')})"
-    elif processes == 0:
-        results = []
-        for t in tasks:
-            results.append(_call(t))
-            bar.update()
-        how = "serial"
-    else:
-        import concurrent.futures as cf
-        import multiprocessing as mp
-        import os
-
-        n = processes or os.cpu_count() or 1
-        ctx = mp.get_context("spawn")
-        with cf.ProcessPoolExecutor(max_workers=n, mp_context=ctx) as ex:
-            results = []
-            for r in ex.map(_call, tasks, chunksize=chunksize):
-                results.append(r)
+    bar = tqdm(total=n, delay=1.0, desc="design sweep", leave=False, disable=progress is False)
+    chunks = [list(range(s, min(s + chunksize, n))) for s in range(0, n, chunksize)]
+    try:
+        if client is None and not processes:
+            how = "serial"
+            for i in range(n):
+                if finish(i, *_evaluate(func, rows[i])):
+                    fail(i)
                 bar.update()
-        how = f"processes ({n})"
-    bar.close()
-    keys = list(results[0])
-    values = {k: np.array([float(r[k]) for r in results]) for k in keys}
-    params = {k: np.array([r[k] for r in rows]) for k in names}
-    return DesignTable(params, values, shape, how)
+        else:
+            import cloudpickle
+
+            func_blob = cloudpickle.dumps(func)
+            blobs = [cloudpickle.dumps([rows[i] for i in c]) for c in chunks]
+            if client is not None:
+                from distributed import as_completed
+
+                how = f"dask ({getattr(client.scheduler, 'address', 'cluster')})"
+                futures = [client.submit(_evaluate_remote, func_blob, b, pure=False) for b in blobs]
+                ex = None
+            else:
+                import concurrent.futures as cf
+                import multiprocessing as mp
+
+                how = f"processes ({int(processes)})"
+                ex = cf.ProcessPoolExecutor(max_workers=int(processes), mp_context=mp.get_context("spawn"))
+                with _main_not_reimported():
+                    futures = [ex.submit(_evaluate_remote, func_blob, b) for b in blobs]
+                as_completed = cf.as_completed
+            chunk_of = {id(f): c for f, c in zip(futures, chunks)}
+            stop = None
+            try:
+                for f in as_completed(futures):
+                    c = chunk_of[id(f)]
+                    try:
+                        out = f.result()
+                    except Exception as e:  # noqa: BLE001 -- the pool or the cluster lost the task
+                        out = [(None, f"{type(e).__name__}: {e}", e, None)] * len(c)
+                    else:
+                        out = [(v, m, None if b is None and tb is None else _revive(b, m, tb), None)
+                               for v, m, b, tb in out]
+                    for i, (v, m, cause, _) in zip(c, out):
+                        if finish(i, v, m, cause) and stop is None:
+                            stop = i
+                    bar.update(len(c))
+                    if stop is not None:
+                        break
+            finally:
+                if ex is not None:
+                    ex.shutdown(wait=True, cancel_futures=True)
+                elif stop is not None:
+                    client.cancel([f for f in futures if not f.done()])
+            if stop is not None:
+                fail(stop)
+    finally:
+        bar.close()
+    # every design returns the same names: those most designs return (ties: the first in grid order)
+    sets = [frozenset(r) for r in results if r is not None]
+    keys = max(sets, key=lambda k: (sets.count(k), -sets.index(k))) if sets else frozenset()
+    order = next((list(r) for r in results if r is not None and frozenset(r) == keys), [])
+    for i, r in enumerate(results):
+        if r is not None and frozenset(r) != keys:
+            missing, extra = sorted(keys - set(r)), sorted(set(r) - keys)
+            errors[i] = ("returned " + (f"no value for {missing}" if missing else "")
+                         + (" and " if missing and extra else "") + (f"unexpected {extra}" if extra else "")
+                         + f" (the other designs return {order})")
+            results[i] = None
+            if on_error == "raise":
+                fail(i)
+    return table()
 
 
 @dataclass(frozen=True)
