@@ -210,7 +210,7 @@ def test_dask_and_local_sweeps_return_the_same_table():
     grid = {"alpha": np.array([60, 70, 80]) * np.pi / 180, "r_over_R": np.array([0.4, 0.5])}
     local = sweep(isp.examples.choi_3ppr_indices, grid, processes=0, progress=False)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         remote = sweep(isp.examples.choi_3ppr_indices, grid, client=client, progress=False)
     assert remote.how.startswith("dask") and local.equals(remote)
 
