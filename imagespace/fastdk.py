@@ -33,6 +33,14 @@ careful and certified per-row paths.
 Designs the kernel does not take (the caller uses the numpy path): a PP dyad (its pair of planes
 carries a spurious root that only the leg's inverse kinematics can discard) and designs whose
 Cramer denominator vanishes identically (case (a), e.g. seed 003).
+
+The compiled kernel is cached on disk (``$IMAGESPACE_CACHE/kernels`` or
+``~/.cache/imagespace/kernels``) only in a directory private to the user (created 0700; refused,
+with a :class:`KernelCacheWarning`, when owned by someone else, writable by group or others, or a
+symbolic link). The cached ``k_<key>.py`` is never executed: the source just generated is
+compared with it (rewritten when it differs) and executed from memory. A corrupted numba cache
+entry is deleted and rebuilt when the kernel is built; with no writable place the kernel is
+compiled in memory.
 """
 
 from __future__ import annotations
