@@ -1367,26 +1367,19 @@ class PlanarParallel:
         rank = int(np.sum(S > tol.rank * max(1.0, S[0] if len(S) else 0.0)))
         if rank == 2:
             p = np.linalg.lstsq(L2, rhs, rcond=None)[0]
-            return [np.array([x0, x1, p[0], p[1]])]
+            out = [np.array([x0, x1, p[0], p[1]])]
+            if circles and S[1] <= tol.cramer_small * S[0]:
+                # nearly case (b): the two positions of the line-circle treatment are candidates
+                # too (Newton and the legs' check keep the true ones, duplicates are dropped)
+                out += self._line_circle(L2, rhs, circles[0], x0, x1, tol, flags, strict=False)
+            return out
         if rank == 1:
             p0 = np.linalg.lstsq(L2, rhs, rcond=None)[0]
             if np.max(np.abs(L2 @ p0 - rhs), initial=0.0) > 10 * tol.rank * max(1.0, np.max(np.abs(rhs), initial=0.0)):
                 return []
-            d = np.linalg.svd(L2)[2][1]
             if not circles:
                 return self._continuum(q, np.array([x0, x1, p0[0], p0[1]]), L)
-            c, al, be, ka = circles[0]
-            A2 = c * (d @ d)
-            A1 = 2 * c * (p0 @ d) + al * d[0] + be * d[1]
-            A0 = c * (p0 @ p0) + al * p0[0] + be * p0[1] + ka
-            disc = A1 * A1 - 4 * A2 * A0
-            if abs(disc) <= tol.near_singular_condition * (A1 * A1 + abs(4 * A2 * A0)):
-                if flags is not None:
-                    flags.append("merging positions")   # the count is not to be trusted
-            if disc < -tol.rank * max(1.0, A1 * A1):
-                return []
-            r = np.sqrt(max(disc, 0.0))
-            return [np.array([x0, x1, *(p0 + s * d)]) for s in ((-A1 + r) / (2 * A2), (-A1 - r) / (2 * A2))]
+            return self._line_circle(L2, rhs, circles[0], x0, x1, tol, flags)
         consistent = all(abs(r) <= tol.rank for r in rhs)
         if not consistent:
             return []
@@ -1398,6 +1391,25 @@ class PlanarParallel:
                 return []
             return self._continuum(q, np.array([x0, x1, centre[0] + np.sqrt(r2), centre[1]]), L)
         return self._continuum(q, np.array([x0, x1, 0.0, 0.0]), L)
+
+    @staticmethod
+    def _line_circle(L2, rhs, circle, x0, x1, tol, flags=None, strict=True):
+        """The (up to two) points of the circle row on the line of the rank-1 linear rows."""
+        U, S, Vt = np.linalg.svd(L2)
+        # the rank-1 least-squares point and the line's direction
+        p0 = Vt[0] * ((U[:, 0] @ rhs) / S[0])
+        d = Vt[1]
+        c, al, be, ka = circle
+        A2 = c * (d @ d)
+        A1 = 2 * c * (p0 @ d) + al * d[0] + be * d[1]
+        A0 = c * (p0 @ p0) + al * p0[0] + be * p0[1] + ka
+        disc = A1 * A1 - 4 * A2 * A0
+        if strict and flags is not None and abs(disc) <= tol.near_singular_condition * (A1 * A1 + abs(4 * A2 * A0)):
+            flags.append("merging positions")   # the count is not to be trusted
+        if disc < -tol.rank * max(1.0, A1 * A1):
+            return []
+        r = np.sqrt(max(disc, 0.0))
+        return [np.array([x0, x1, *(p0 + t * d)]) for t in ((-A1 + r) / (2 * A2), (-A1 - r) / (2 * A2))]
 
     def _continuum(self, q, X, L):
         Xw = np.array([X[0], X[1], X[2] * L, X[3] * L])
