@@ -7,7 +7,6 @@ import math
 import os
 import re
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -86,23 +85,6 @@ def _check_output_dir(path):
         raise _CommandError(f"cannot write to {path}: {blocker} is a file, not a folder")
 
 
-def _new_file_mode(path):
-    """The permission bits ``open(path, "w")`` would give: the existing file's, else ``0o666``
-    less the process umask (read from ``/proc``; ``0o644`` where that is not available)."""
-    try:
-        return os.stat(path).st_mode & 0o7777
-    except FileNotFoundError:
-        pass
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith("Umask:"):
-                    return 0o666 & ~int(line.split()[1], 8)
-    except (OSError, ValueError):
-        pass
-    return 0o644
-
-
 def _save_figure(fig, path, dpi=110):
     """Save a matplotlib figure atomically and return the path written.
 
@@ -132,25 +114,12 @@ def _save_figure(fig, path, dpi=110):
     if not fmt:
         fmt = matplotlib.rcParams["savefig.format"]
         path = path.with_name(path.name.rstrip(".") + "." + fmt)
+    from ._files import atomic_write
+
     try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        atomic_write(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))
     except OSError as exc:
         raise _write_error(path, exc) from exc
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fig.savefig(fh, format=fmt, dpi=dpi)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, _new_file_mode(path))
-        os.replace(tmp, path)
-    except BaseException as exc:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        if isinstance(exc, OSError):
-            raise _write_error(path, exc) from exc
-        raise
     return path
 
 

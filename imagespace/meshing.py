@@ -59,8 +59,6 @@ Only this module (and :mod:`imagespace.plotting`) imports scikit-image and trime
 from __future__ import annotations
 
 import os
-import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -68,6 +66,7 @@ import numpy as np
 import sympy as sp
 
 from ._validate import as_float_array
+from ._files import atomic_write
 from .certify import flint_precision
 from .compile import compile_exprs
 from .exceptions import InputError
@@ -109,7 +108,6 @@ def _gamma(k):
     return k * _EPS / (1 - k * _EPS)
 
 
-_UMASK_LOCK = threading.Lock()
 
 # python-flint's working precision for a block, under imagespace's lock, restored after.
 # Correctness never depends on it (arb balls enclose the exact value at any precision); it only
@@ -1245,12 +1243,12 @@ def export_mesh(mesh, path):
     F = np.ascontiguousarray(mesh.faces, dtype=np.int64)
     path.parent.mkdir(parents=True, exist_ok=True)
     if suffix == ".ply":
-        _atomic_write(path, lambda f: _write_ply(f, V, F))
+        atomic_write(path, lambda f: _write_ply(f, V, F))
     elif suffix == ".obj":
-        _atomic_write(path, lambda f: _write_obj(f, V, F))
+        atomic_write(path, lambda f: _write_obj(f, V, F))
     else:
         data = trimesh.Trimesh(V, F, process=False).export(file_type=suffix[1:])
-        _atomic_write(path, lambda f: f.write(data))
+        atomic_write(path, lambda f: f.write(data))
     return path
 
 
@@ -1278,54 +1276,3 @@ def _write_obj(f, V, F):
         f.write(("\n".join("f %d %d %d" % tuple(r) for r in (F + 1).tolist()) + "\n").encode("ascii"))
 
 
-def _new_file_mode(path):
-    """The permission bits a plain ``open(path, "w")`` would give: the existing file's, else
-    ``0o666`` less the process umask."""
-    try:
-        import stat
-
-        return stat.S_IMODE(os.stat(path).st_mode)
-    except FileNotFoundError:
-        pass
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith("Umask:"):
-                    return 0o666 & ~int(line.split()[1], 8)
-    except OSError:
-        pass
-    with _UMASK_LOCK:                 # os.umask can only be read by setting it
-        mask = os.umask(0o022)
-        os.umask(mask)
-    return 0o666 & ~mask
-
-
-def _atomic_write(path, write):
-    """Write a file atomically: ``write(f)`` fills a temporary file in the same folder, which is
-    flushed, synced and renamed over ``path``; on any error the temporary file is removed and
-    ``path`` is untouched."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            write(f)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, _new_file_mode(path))
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    try:                              # make the rename itself durable (POSIX)
-        dfd = os.open(path.parent, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(dfd)
-    except OSError:
-        pass
-    finally:
-        os.close(dfd)
