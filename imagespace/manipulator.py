@@ -1070,7 +1070,10 @@ class PlanarParallel:
         if "enclosure" not in self._symbolic_cache:
             from .compile import CoefficientEnclosure
 
-            self.compiled()                     # checks the design is numeric
+            free = set().union(*(leg.free_symbols for leg in self.legs))
+            if free:
+                raise InputError(f"certified batches need a numeric design; the design has the "
+                                 f"symbols {sorted(map(str, free))}")
             self._symbolic_cache["enclosure"] = CoefficientEnclosure(self.kinematic_polynomial(),
                                                                      self.joint_symbols)
         return self._symbolic_cache["enclosure"]
@@ -1479,22 +1482,29 @@ def _cache_key(q):
                  for i, v in enumerate(items))
 
 
-def _separated(Fn):
-    """Inclusion-disc separation of the roots of float binary forms ``Fn`` (n, d+1), in the
-    chart where each form's leading coefficient is largest (the rotation of
-    :func:`imagespace.roots.projective_roots`). Returns ``(separated (n,), real roots (n,))``:
-    where ``separated`` is False, roots could not be told apart in floating point."""
+def _rotated_with_bound(Fn):
+    """Each form in the chart of its largest leading coefficient
+    (:func:`imagespace.roots.rotated_forms`), with a generous bound on the rounding of the
+    rotation for every rotated coefficient: ``(G, ok, gamma, E)``."""
     from .roots import rotated_forms
 
+    G, ok, gamma = rotated_forms(Fn)
+    d = G.shape[1] - 1
+    E = (4 * d + 8) * 2.0**-53 * np.max(np.abs(G), axis=1, keepdims=True) * np.ones_like(G)
+    return G, ok, gamma, E
+
+
+def _separated(Fn):
+    """Inclusion-disc separation of the roots of float binary forms ``Fn`` (n, d+1), in the
+    chart where each form's leading coefficient is largest. Returns ``(separated (n,), real
+    roots (n,))``: where ``separated`` is False, roots could not be told apart in floating point."""
     n = Fn.shape[0]
     sep = np.zeros(n, dtype=bool)
     nreal = np.zeros(n, dtype=int)
-    G, ok = rotated_forms(Fn)
+    G, ok, _, E = _rotated_with_bound(Fn)
     d = G.shape[1] - 1
     if d < 1:
         return ok, nreal
-    # the rotation itself rounds: a generous relative bound on each rotated coefficient
-    E = (4 * d + 8) * 2.0**-53 * np.max(np.abs(G), axis=1, keepdims=True) * np.ones_like(G)
     use = ok & (np.abs(G[:, d]) > E[:, d])
     if np.any(use):
         good, real, _, _ = inclusion_discs(G[use], E[use])
@@ -1507,14 +1517,11 @@ def _root_clusters(Fn):
     """Clusters of roots that inclusion discs cannot separate, for one float binary form ``Fn``
     (d+1,): a list of ``(theta, radius, size)`` (half-angle centre, half-angle radius, number of
     roots) for each group of two or more overlapping discs that meets the real axis."""
-    from .roots import rotated_forms
-
-    G, ok = rotated_forms(Fn[None, :])
+    G, ok, gamma, E = _rotated_with_bound(Fn[None, :])
     d = G.shape[1] - 1
     if not ok[0] or d < 2:
         return []
-    gamma = _rotation_of(Fn)
-    E = (4 * d + 8) * 2.0**-53 * np.max(np.abs(G)) * np.ones_like(G)
+    gamma = float(gamma[0])
     good, real, z, hull_r = inclusion_discs(G, E)
     if good[0]:
         return []
@@ -1542,12 +1549,6 @@ def _root_clusters(Fn):
         rad = max(abs(z[a].real - c) + r[a] + abs(z[a].imag) for a in members)
         out.append((gamma + float(np.arctan(c)), float(rad), len(members)))
     return out
-
-
-def _rotation_of(Fn):
-    from .roots import projective_roots
-
-    return float(projective_roots(Fn[None, :])[1][0])
 
 
 def _general_at(P, symbols, q_exact):

@@ -116,17 +116,18 @@ def rotated_forms(F):
         ``t = y1/y0``) is the largest of the eight values, so the roots are well scaled.
     ok : (n,) bool
         False where the form vanishes identically or is not finite.
+    gamma : (n,) float
+        The rotation: ``t = y1/y0`` of the rotated form is the half-angle ``gamma + arctan(t)``.
 
     Examples
     --------
     >>> import numpy as np
     >>> from imagespace.roots import rotated_forms
-    >>> G, ok = rotated_forms(np.array([[0.0, 1.0, 0.0]]))     # x0 x1
+    >>> G, ok, gamma = rotated_forms(np.array([[0.0, 1.0, 0.0]]))     # x0 x1
     >>> ok.tolist(), bool(abs(G[0, 2]) > 0)
     ([True], True)
     """
-    G, ok, _ = _rotated(F)
-    return G, ok
+    return _rotated(F)
 
 
 def projective_roots(F):
