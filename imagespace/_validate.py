@@ -172,3 +172,50 @@ def check_positive(value, name: str, allow_zero: bool = False):
         expected = "a non-negative number" if allow_zero else "a positive number"
         raise InputError(f"{name} must be {expected}, got {value}")
     return value
+
+
+def as_sympy_entry(value, name: str):
+    """One scalar entry of a symbolic input as a sympy object, without ever parsing a string.
+
+    Sympy expressions pass unchanged (sympy booleans, ``nan``, ``zoo``, infinities and
+    non-real numbers such as ``I`` are refused); python and numpy integers become
+    :class:`sympy.Integer`, fractions :class:`sympy.Rational` and floats :class:`sympy.Float`
+    (as :func:`sympy.sympify` would make them). Strings, bytes, ``None``, bools, complex numbers,
+    sequences and non-finite floats are refused: a string handed to ``sympify`` is evaluated as
+    Python code.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace._validate import as_sympy_entry
+    >>> as_sympy_entry(2, "x"), as_sympy_entry(0.5, "x"), as_sympy_entry(sp.Symbol("a"), "x")
+    (2, 0.500000000000000, a)
+    """
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, (str, bytes, np.str_, np.bytes_)):
+        raise TypeError(f"{name} must be a number or sympy expression, got the string {_short(value)}; "
+                        "strings are never parsed")
+    if isinstance(value, sp.Basic):
+        if not isinstance(value, sp.Expr):
+            raise TypeError(f"{name} must be a number or sympy expression, got the sympy "
+                            f"{type(value).__name__} {_short(value)}")
+        if value.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+            raise InputError(f"{name} must be finite, got {_short(value)}")
+        if value.has(sp.I) and not value.free_symbols:
+            raise TypeError(f"{name} must be real, got the complex number {_short(value)}")
+        return value
+    if value is None or isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
+    if isinstance(value, (complex, np.complexfloating)):
+        raise TypeError(f"{name} must be real, got the complex number {_short(value)}")
+    if isinstance(value, (numbers.Integral, np.integer)):
+        return sp.Integer(int(value))
+    if isinstance(value, numbers.Rational):
+        return sp.Rational(value.numerator, value.denominator)
+    if isinstance(value, (numbers.Real, np.floating)):
+        v = float(value)
+        if not np.isfinite(v):
+            raise InputError(f"{name} must be finite, got {v}")
+        return sp.Float(v)
+    raise TypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ._validate import as_float_array, is_symbolic
+from ._validate import as_float_array, as_sympy_entry, is_symbolic
 from .exceptions import InputError
 
 __all__ = [
@@ -41,10 +41,32 @@ __all__ = [
 
 
 def _sym_vector(value, n, name):
-    items = list(value)
+    """The ``n`` entries of a symbolic input as sympy objects; strings are refused, never parsed."""
+    if isinstance(value, sp.MatrixBase):
+        if 1 not in value.shape:
+            raise InputError(f"{name} must be a vector of {n} entries, got a {value.shape} matrix")
+        items = list(value)
+    elif isinstance(value, (list, tuple, np.ndarray)):
+        items = list(np.ravel(np.asarray(value, dtype=object))) if isinstance(value, np.ndarray) else list(value)
+        if isinstance(value, np.ndarray) and value.ndim != 1:
+            raise InputError(f"{name} must have shape ({n},) in the symbolic face, got shape {value.shape}")
+    else:
+        raise TypeError(f"{name} must be a sequence of {n} numbers or sympy expressions, "
+                        f"got {type(value).__name__} {value!r:.80}")
     if len(items) != n:
         raise InputError(f"{name} must have {n} entries, got {len(items)}")
-    return [sp.sympify(v) for v in items]
+    return [as_sympy_entry(v, f"{name}[{i}]") for i, v in enumerate(items)]
+
+
+def _exact_zero(x):
+    return x == 0 or (x.is_Number and x.is_zero)
+
+
+def _sym_check_not_absolute(x0, x1, name):
+    """Refuse a symbolic point with ``x0 = x1 = 0`` where that is decidable (both exact zeros)."""
+    if _exact_zero(x0) and _exact_zero(x1):
+        raise InputError(f"{name} must have (x0, x1) != (0, 0): points with x0 = x1 = 0 lie on the "
+                         f"absolute line and are not displacements; got x0 = {x0}, x1 = {x1}")
 
 
 def image_point(pose):
@@ -136,8 +158,7 @@ def pose_of(image_point):
     """
     if is_symbolic(image_point):
         x0, x1, x2, x3 = _sym_vector(image_point, 4, "image_point")
-        if x0 == 0 and x1 == 0:
-            raise InputError("image_point must have (x0, x1) != (0, 0): not a displacement")
+        _sym_check_not_absolute(x0, x1, "image_point")
         n = x0**2 + x1**2
         return sp.Matrix([2 * (x0 * x3 + x1 * x2) / n, 2 * (-x0 * x2 + x1 * x3) / n,
                           2 * sp.atan2(x1, x0)])
@@ -170,8 +191,7 @@ def normalize(image_point):
     """
     if is_symbolic(image_point):
         x = sp.Matrix(_sym_vector(image_point, 4, "image_point"))
-        if x[0] == 0 and x[1] == 0:
-            raise InputError("image_point must have (x0, x1) != (0, 0): not a displacement")
+        _sym_check_not_absolute(x[0], x[1], "image_point")
         n = sp.sqrt(x[0]**2 + x[1]**2)
         sign = 1
         if x[0].is_number and x[1].is_number:
@@ -208,6 +228,7 @@ def transform_matrix(image_point):
     """
     if is_symbolic(image_point):
         x0, x1, x2, x3 = _sym_vector(image_point, 4, "image_point")
+        _sym_check_not_absolute(x0, x1, "image_point")
         n = x0**2 + x1**2
         return sp.Matrix([[1, 0, 0],
                           [(2 * x0 * x3 + 2 * x1 * x2) / n, (x0**2 - x1**2) / n, -2 * x0 * x1 / n],
@@ -231,14 +252,15 @@ def transform_points(image_point, points):
 
     Parameters
     ----------
-    image_point : (4,) or (n, 4) float
-    points : (2,) or (m, 2) float
+    image_point : (4,) or (n, 4) float, or four sympy expressions
+    points : (2,) or (m, 2) float, or two sympy expressions
         Platform points in the moving frame.
 
     Returns
     -------
-    (..., 2) float
-        Shape ``image_point.shape[:-1] + points.shape``.
+    (..., 2) float, or sympy.Matrix (2, 1)
+        Shape ``image_point.shape[:-1] + points.shape``; the symbolic face (any sympy entry)
+        maps one point.
 
     Examples
     --------
@@ -246,6 +268,11 @@ def transform_points(image_point, points):
     >>> isp.transform_points(isp.image_point([1.0, 0.0, 3.141592653589793]), [1.0, 0.0])
     array([0., 0.])
     """
+    if is_symbolic(image_point) or is_symbolic(points):
+        m = transform_matrix(_sym_vector(image_point, 4, "image_point"))
+        px, py = _sym_vector(points, 2, "points")
+        out = m * sp.Matrix([1, px, py])
+        return sp.Matrix([out[1], out[2]])
     m = transform_matrix(image_point)
     pts = as_float_array(points, "points", last=2)
     h = np.concatenate([np.ones(pts.shape[:-1] + (1,)), pts], axis=-1)
@@ -280,11 +307,16 @@ def compose(a, b):
     if is_symbolic(a) or is_symbolic(b):
         a0, a1, a2, a3 = _sym_vector(a, 4, "a")
         b0, b1, b2, b3 = _sym_vector(b, 4, "b")
+        _sym_check_not_absolute(a0, a1, "a")
+        _sym_check_not_absolute(b0, b1, "b")
     else:
         pa = as_float_array(a, "a", last=4)
         pb = as_float_array(b, "b", last=4)
         _check_not_absolute(pa[..., 0], pa[..., 1], "a")
         _check_not_absolute(pb[..., 0], pb[..., 1], "b")
+        if pa.ndim == 2 and pb.ndim == 2 and len(pa) != len(pb) and 1 not in (len(pa), len(pb)):
+            raise InputError(f"a and b must be single points or batches of the same length, got shapes "
+                             f"{pa.shape} and {pb.shape}")
         a0, a1, a2, a3 = (pa[..., i] for i in range(4))
         b0, b1, b2, b3 = (pb[..., i] for i in range(4))
     x0 = a0 * b0 - a1 * b1
@@ -315,6 +347,7 @@ def inverse(image_point):
     """
     if is_symbolic(image_point):
         x0, x1, x2, x3 = _sym_vector(image_point, 4, "image_point")
+        _sym_check_not_absolute(x0, x1, "image_point")
         return sp.Matrix([x0, -x1, -x2, -x3])
     p = as_float_array(image_point, "image_point", last=4)
     _check_not_absolute(p[..., 0], p[..., 1], "image_point")
