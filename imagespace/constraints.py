@@ -32,11 +32,16 @@ Checked against eqs. (5)-(7) of Stigger & Husty in ``tests/test_constraints.py``
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import sympy as sp
+
+from ._validate import _short, as_sympy_entry
+from .exceptions import InputError
 
 __all__ = [
     "Quadric",
@@ -48,6 +53,88 @@ __all__ = [
 ]
 
 _X = sp.symbols("x0:4", real=True)
+_KINDS = ("RR", "PR", "RP", "PP")
+_NAMES = ("c", "a0", "a1", "b0", "b1", "k0", "k1", "k2")
+_INT_LIMIT = 2**1023
+
+
+def _entry(value, name):
+    """One coefficient or geometric input: a sympy expression, a finite real number, or a real
+    float array (a batch; NaN or inf there marks rows a batch caller already knows are invalid).
+    Strings are refused, never parsed. Returns the value unchanged (numbers stay numbers)."""
+    if type(value) is float or isinstance(value, np.float64):   # the hot path
+        if not math.isfinite(value):
+            raise InputError(f"{name} must be finite, got {value}")
+        return value
+    if type(value) is int:
+        if abs(value) > _INT_LIMIT:
+            raise InputError(f"{name} must be within the float range, got {_short(value)}; "
+                             "give exact large values as sympy.Integer")
+        return value
+    if isinstance(value, np.ndarray) and value.ndim > 0:
+        kind = value.dtype.kind
+        if kind in "iuf":
+            return value
+        if kind == "b":
+            raise TypeError(f"{name} must be numeric, got booleans {_short(value)}")
+        if kind == "c":
+            raise TypeError(f"{name} must be real, got the complex array {_short(value)}")
+        if kind in "USV":
+            raise TypeError(f"{name} must be numeric, got strings {_short(value)}; strings are never parsed")
+        raise TypeError(f"{name} must be a number, a sympy expression or a float array, got an array of "
+                        f"dtype {value.dtype}: {_short(value)}")
+    if isinstance(value, sp.Basic):
+        return as_sympy_entry(value, name)
+    if isinstance(value, np.ndarray):             # 0-d
+        value = value[()]
+    if isinstance(value, (numbers.Real, np.floating, np.integer)) and not isinstance(value, (bool, np.bool_)):
+        if isinstance(value, (numbers.Integral, np.integer)):
+            return _entry(int(value), name) if not isinstance(value, np.integer) else value
+        try:
+            finite = math.isfinite(float(value))
+        except OverflowError:
+            finite = False
+        if not finite:
+            raise InputError(f"{name} must be finite and within the float range, got {_short(value)}")
+        return value
+    as_sympy_entry(value, name)                   # raises the right TypeError (str, None, bool, complex ...)
+    raise TypeError(f"{name} must be a number, a sympy expression or a float array, got "
+                    f"{type(value).__name__} {_short(value)}")
+
+
+def _pair(value, name):
+    """A 2-vector (x, y) of entries (numbers, sympy expressions or float arrays, per coordinate)."""
+    if isinstance(value, (str, bytes)) or value is None or isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a 2-vector (x, y), got {type(value).__name__} {_short(value)}")
+    if isinstance(value, np.ndarray) and value.ndim == 1 and value.dtype.kind != "O":
+        items = list(value)
+    else:
+        try:
+            items = list(value)
+        except TypeError:
+            raise TypeError(f"{name} must be a 2-vector (x, y), got {type(value).__name__} "
+                            f"{_short(value)}") from None
+    if len(items) != 2:
+        raise InputError(f"{name} must have two entries (x, y), got {len(items)}: {_short(value)}")
+    return tuple(_entry(v, f"{name}[{i}]") for i, v in enumerate(items))
+
+
+def _exact_zero(v):
+    if isinstance(v, sp.Basic):
+        return v == 0 or (v.is_Number and v.is_zero)
+    return v == 0
+
+
+def _check_nonzero_pair(x, y, name):
+    """Refuse a pair that is (0, 0): exactly for sympy, in every row for arrays."""
+    if isinstance(x, sp.Basic) or isinstance(y, sp.Basic):
+        if _exact_zero(x) and _exact_zero(y):
+            raise InputError(f"{name} must be non-zero, got ({x}, {y})")
+        return
+    zero = (np.asarray(x) == 0) & (np.asarray(y) == 0)
+    if np.any(zero):
+        where = "" if zero.ndim == 0 else f" in row(s) {np.flatnonzero(zero)[:5].tolist()}"
+        raise InputError(f"{name} must be non-zero, got (0, 0){where}")
 
 
 def image_symbols():
@@ -71,7 +158,17 @@ class Quadric:
     kind : str
         ``"RR"``, ``"PR"``, ``"RP"`` or ``"PP"``.
     c, a0, a1, b0, b1, k0, k1, k2 : sympy expression, float or (n,) float array
-        The coefficients (arrays for a batch of quadrics, one per row).
+        The coefficients (arrays for a batch of quadrics, one per row; all arrays of one shape).
+
+    Raises
+    ------
+    TypeError
+        ``kind`` is not a string; a coefficient is a string (never parsed), ``None``, a bool, a
+        complex number, a sympy boolean or an array of such.
+    InputError
+        ``kind`` is not one of the four; a number or sympy coefficient is NaN or infinite; the
+        arrays differ in shape. In an array (a batch) NaN and inf are left alone: batch callers
+        mark the rows they know to be invalid that way.
     """
 
     kind: str
@@ -83,6 +180,26 @@ class Quadric:
     k0: Any
     k1: Any
     k2: Any
+
+    def __post_init__(self):
+        if not isinstance(self.kind, str):
+            raise TypeError(f"kind must be one of {', '.join(_KINDS)}, got {type(self.kind).__name__} "
+                            f"{_short(self.kind)}")
+        if self.kind not in _KINDS:
+            raise InputError(f"kind must be one of {', '.join(_KINDS)}, got {self.kind!r}")
+        shape = None
+        for name, v in zip(_NAMES, self.coefficients()):
+            try:
+                _entry(v, f"Quadric coefficient {name}")
+            except InputError as exc:
+                raise InputError(f"{exc} (an overflow of the inputs beyond the float range?)"
+                                 if "finite" in str(exc) else str(exc)) from None
+            if isinstance(v, np.ndarray) and v.ndim > 0:
+                if shape is None:
+                    shape = (name, v.shape)
+                elif v.shape != shape[1]:
+                    raise InputError(f"the Quadric coefficients must be numbers or arrays of one common "
+                                     f"shape, got {shape[0]} of shape {shape[1]} and {name} of shape {v.shape}")
 
     def coefficients(self):
         """The eight coefficients ``(c, a0, a1, b0, b1, k0, k1, k2)`` as a tuple.
@@ -104,8 +221,17 @@ class Quadric:
         >>> isp.rr_quadric((0, 0), 100, (0, 0)).expr()
         -100*x0**2 - 100*x1**2 + 4*x2**2 + 4*x3**2
         """
-        x0, x1, x2, x3 = _X if x is None else x
-        c, a0, a1, b0, b1, k0, k1, k2 = (sp.sympify(v) for v in self.coefficients())
+        if x is None:
+            x0, x1, x2, x3 = _X
+        else:
+            if isinstance(x, (str, bytes)) or not hasattr(x, "__len__") or len(x) != 4:
+                raise TypeError(f"x must be four sympy symbols or expressions, got {_short(x)}")
+            x0, x1, x2, x3 = (as_sympy_entry(v, f"x[{i}]") for i, v in enumerate(x))
+        batch = [n for n, v in zip(_NAMES, self.coefficients()) if isinstance(v, np.ndarray) and v.ndim > 0]
+        if batch:
+            raise InputError(f"expr needs one quadric, but this Quadric is a batch (coefficient {batch[0]} "
+                             f"is an array); take one row first")
+        c, a0, a1, b0, b1, k0, k1, k2 = (as_sympy_entry(v, n) for n, v in zip(_NAMES, self.coefficients()))
         return sp.expand(c * (x2**2 + x3**2) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
                          + k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2)
 
@@ -118,11 +244,41 @@ class Quadric:
         >>> float(isp.rr_quadric((0, 0), 4.0, (0, 0)).evaluate([1.0, 0.0, 0.0, 1.0]))
         0.0
         """
-        p = np.asarray(points, dtype=float)
+        p = self._points(points)
         x0, x1, x2, x3 = (p[..., i] for i in range(4))
-        c, a0, a1, b0, b1, k0, k1, k2 = (np.asarray(v, dtype=float) for v in self.coefficients())
-        return (c * (x2**2 + x3**2) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
-                + k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2)
+        c, a0, a1, b0, b1, k0, k1, k2 = self._float_coefficients("evaluate")
+        try:
+            return (c * (x2**2 + x3**2) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
+                    + k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2)
+        except ValueError:
+            raise InputError(f"points of shape {p.shape} do not match this batch of quadrics "
+                             f"(coefficients of shape {np.shape(self._batch_size())})") from None
+
+    @staticmethod
+    def _points(points):
+        from ._validate import as_float_array
+
+        p = as_float_array(points, "points", finite=False)
+        if p.ndim == 0 or p.shape[-1] != 4:
+            raise InputError(f"points must have shape (..., 4) (image points), got shape {p.shape}")
+        return p
+
+    def _float_coefficients(self, what):
+        out = []
+        for name, v in zip(_NAMES, self.coefficients()):
+            if isinstance(v, sp.Basic):
+                if v.free_symbols:
+                    raise TypeError(f"{what} needs numeric coefficients, but {name} = {_short(v)} has the "
+                                    f"symbols {sorted(map(str, v.free_symbols))}; substitute numbers first")
+                v = float(v)
+            out.append(np.asarray(v, dtype=float))
+        return out
+
+    def _batch_size(self):
+        for v in self.coefficients():
+            if isinstance(v, np.ndarray) and v.ndim > 0:
+                return v
+        return 0.0
 
     def gradient(self, points):
         """Gradient with respect to ``(x0, x1, x2, x3)`` at image points, shape ``(..., 4)``.
@@ -133,14 +289,18 @@ class Quadric:
         >>> isp.rr_quadric((0, 0), 4.0, (0, 0)).gradient([1.0, 0.0, 0.0, 1.0])
         array([-8.,  0.,  0.,  8.])
         """
-        p = np.asarray(points, dtype=float)
+        p = self._points(points)
         x0, x1, x2, x3 = (p[..., i] for i in range(4))
-        c, a0, a1, b0, b1, k0, k1, k2 = (np.asarray(v, dtype=float) for v in self.coefficients())
-        g0 = a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1
-        g1 = a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1
-        g2 = 2 * c * x2 + a0 * x0 + a1 * x1
-        g3 = 2 * c * x3 + b0 * x0 + b1 * x1
-        return np.stack(np.broadcast_arrays(g0, g1, g2, g3), axis=-1)
+        c, a0, a1, b0, b1, k0, k1, k2 = self._float_coefficients("gradient")
+        try:
+            g0 = a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1
+            g1 = a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1
+            g2 = 2 * c * x2 + a0 * x0 + a1 * x1
+            g3 = 2 * c * x3 + b0 * x0 + b1 * x1
+            return np.stack(np.broadcast_arrays(g0, g1, g2, g3), axis=-1)
+        except ValueError:
+            raise InputError(f"points of shape {p.shape} do not match this batch of quadrics "
+                             f"(coefficients of shape {np.shape(self._batch_size())})") from None
 
 
 def rr_quadric(centre, radius_squared, point):
@@ -164,8 +324,9 @@ def rr_quadric(centre, radius_squared, point):
     >>> isp.rr_quadric((7, 0), 232, (5, 0)).expr()
     -228*x0**2 - 8*x0*x3 - 88*x1**2 - 48*x1*x2 + 4*x2**2 + 4*x3**2
     """
-    mx, my = centre
-    px, py = point
+    mx, my = _pair(centre, "centre")
+    px, py = _pair(point, "point")
+    radius_squared = _entry(radius_squared, "radius_squared")
     r0, r1 = px - mx, -(py + my)
     i0, i1 = py - my, px + mx
     return Quadric("RR", 4 + 0 * px, -4 * i0, -4 * i1, 4 * r0, 4 * r1,
@@ -189,10 +350,12 @@ def pr_quadric(point, line_point, line_direction):
     >>> isp.pr_quadric((0, 0), (0, 1), (1, 0)).expr()   # the origin of the platform on y = 1
     -x0**2 - 2*x0*x2 - x1**2 + 2*x1*x3
     """
-    px, py = point
-    wx, wy = line_direction
+    px, py = _pair(point, "point")
+    lx, ly = _pair(line_point, "line_point")
+    wx, wy = _pair(line_direction, "line_direction")
+    _check_nonzero_pair(wx, wy, "line_direction")
     nx, ny = -wy, wx
-    d = nx * line_point[0] + ny * line_point[1]
+    d = nx * lx + ny * ly
     s = px * nx + py * ny
     return Quadric("PR", 0 * px, -2 * ny, 2 * nx, 2 * nx, 2 * ny,
                    s - d, 2 * (px * ny - py * nx), -s - d)
@@ -211,10 +374,12 @@ def rp_quadric(line_point, line_direction, base_point):
     >>> isp.rp_quadric((0, 0), (1, 0), (0, 0)).expr()   # the platform x axis through the base origin
     2*x0*x2 + 2*x1*x3
     """
-    bx, by = base_point
-    vx, vy = line_direction
+    lx, ly = _pair(line_point, "line_point")
+    vx, vy = _pair(line_direction, "line_direction")
+    bx, by = _pair(base_point, "base_point")
+    _check_nonzero_pair(vx, vy, "line_direction")
     mx, my = -vy, vx
-    e = mx * line_point[0] + my * line_point[1]
+    e = mx * lx + my * ly
     s = bx * mx + by * my
     return Quadric("RP", 0 * bx, 2 * my, 2 * mx, -2 * mx, 2 * my,
                    s - e, 2 * (by * mx - bx * my), -s - e)
@@ -236,5 +401,8 @@ def pp_quadric(cos_phi, sin_phi):
     >>> isp.pp_quadric(0, 1).expr()      # phi_c = pi/2
     -x0**2 + x1**2
     """
+    cos_phi = _entry(cos_phi, "cos_phi")
+    sin_phi = _entry(sin_phi, "sin_phi")
+    _check_nonzero_pair(cos_phi, sin_phi, "(cos_phi, sin_phi)")
     z = 0 * cos_phi
     return Quadric("PP", z, z, z, z, z, -sin_phi, 2 * cos_phi, sin_phi)
