@@ -32,6 +32,7 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
+from ._validate import as_float_array
 from .exceptions import InputError
 
 __all__ = ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
@@ -425,8 +426,18 @@ def certify_real_roots(form):
     else:
         if isinstance(form, (str, bytes)):
             raise TypeError(f"form must be a sympy Poly or a sequence of numbers, got {form!r}")
+        if isinstance(form, np.ndarray) and form.ndim != 1:
+            raise InputError(f"form must be one binary form, a 1-d sequence of coefficients, got an "
+                             f"array of shape {form.shape}; use certify_real_roots_batch for rows")
+        try:
+            entries = list(form)
+        except TypeError:
+            raise TypeError(f"form must be a sympy Poly or a sequence of numbers, got "
+                            f"{type(form).__name__} {form!r}") from None
         coeffs = []
-        for k, c in enumerate(form):
+        for k, c in enumerate(entries):
+            if isinstance(c, (bool, np.bool_, sp.logic.boolalg.Boolean)):
+                raise TypeError(f"form[{k}] must be a number or a sympy expression, got the boolean {c!r}")
             if isinstance(c, (str, bytes)):
                 raise TypeError(f"form[{k}] must be a number or a sympy expression, got the string {c!r}")
             if isinstance(c, (float, np.floating)):
@@ -612,7 +623,7 @@ def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):
     >>> counts.tolist(), path.tolist()     # x1^2 - 2 x0^2 (two roots); (x1 - x0)^2 (one double)
     ([2, 1], ['discs', 'flint'])
     """
-    F = np.asarray(F, dtype=float)
+    F = as_float_array(F, "F", finite=False)       # non-finite rows are reported "invalid"
     if F.ndim != 2 or F.shape[1] < 2:
         raise InputError(f"F must have shape (n, d+1) with d >= 1, got {F.shape}")
     n, d1 = F.shape
@@ -620,7 +631,9 @@ def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):
     if err is None:
         E = np.zeros_like(F)
     else:
-        E = np.asarray(err, dtype=float)
+        E = as_float_array(err, "err", finite=False)
+        if np.any(E < 0):
+            raise InputError("err must hold non-negative error bounds, got a negative entry")
         if E.shape != F.shape:
             raise InputError(f"err must have the shape of F {F.shape}, got {E.shape}")
         if exact is None and np.any(E != 0):
