@@ -72,8 +72,11 @@ def _exact(v):
     """A coordinate as an exact Fraction: floats as the binary rationals they are, sympy rationals as such."""
     if isinstance(v, Fraction):
         return v
+    if isinstance(v, (str, bytes, bool, np.bool_, complex)) or v is None:
+        raise TypeError(f"path coefficients must be real numbers, got {type(v).__name__} {v!r}; "
+                        "strings are never parsed")
     if isinstance(v, sp.Basic):
-        r = sp.nsimplify(v, rational=True)
+        r = sp.Rational(v) if isinstance(v, sp.Float) else v      # a Float is its binary rational
         if not r.is_Rational:
             raise InputError(f"path coefficients must be rational, got {v}")
         return Fraction(int(r.p), int(r.q))
@@ -129,8 +132,15 @@ class ImagePath:
 
             p0, p1 = self.pieces[piece]
             return image_point(p0[None, :] + t[:, None] * (p1 - p0)[None, :])
-        C = np.array(self.pieces[piece], dtype=float)
-        return np.stack([np.polyval(C[::-1, j], t) for j in range(4)], axis=-1)
+        B = _bernstein_floats(self.pieces[piece])
+        # de Casteljau on the Bernstein coefficients (computed exactly, rounded once): stable where
+        # the monomial form cancels, e.g. (1 - t) a + t b with |a| >> |b| at t = 1
+        pts = np.broadcast_to(B[None, :, :], (len(t), *B.shape)).copy()
+        tt = t[:, None]
+        for r in range(1, B.shape[0]):
+            pts[:, : B.shape[0] - r, :] = (1 - tt[:, :, None]) * pts[:, : B.shape[0] - r, :] \
+                + tt[:, :, None] * pts[:, 1: B.shape[0] - r + 1, :]
+        return pts[:, 0, :]
 
     def sample(self, per_piece=64):
         """Points along the whole path: ``(len(self) * per_piece + 1, 4)`` float, and their
@@ -165,6 +175,19 @@ class ImagePath:
         P = pose_of(X)
         P[:, 2] = np.unwrap(P[:, 2])
         return P
+
+
+def _bernstein_floats(C):
+    """Bernstein coefficients ``(deg + 1, 4)`` on ``[0, 1]`` of the exact monomial rows ``C``,
+    computed in rational arithmetic and rounded once to float:
+    ``b_i = sum_{k <= i} binom(i, k) / binom(n, k) c_k``."""
+    n = len(C) - 1
+    out = np.empty((n + 1, 4))
+    for i in range(n + 1):
+        for j in range(4):
+            out[i, j] = float(sum(Fraction(math.comb(i, k), math.comb(n, k)) * _exact(C[k][j])
+                                  for k in range(i + 1)))
+    return out
 
 
 def _point(v, name):
@@ -227,7 +250,8 @@ def polyline(points):
         a, b = _point(P[k], f"points[{k}]"), _point(P[k + 1], f"points[{k + 1}]")
         if np.array_equal(a, b):
             raise InputError(f"points[{k}] and points[{k + 1}] are equal: a zero-length segment")
-        if a[0] * b[1] - a[1] * b[0] == 0 and a[0] * b[0] + a[1] * b[1] < 0:
+        sa, sb = a / np.max(np.abs(a)), b / np.max(np.abs(b))      # signs only: no overflow
+        if sa[0] * sb[1] - sa[1] * sb[0] == 0 and sa[0] * sb[0] + sa[1] * sb[1] < 0:
             raise InputError(f"the segment from points[{k}] to points[{k + 1}] passes through x0 = x1 = 0 "
                              "(not a displacement); flip the sign of one representative")
         C = np.empty((2, 4), dtype=object)
@@ -260,7 +284,7 @@ def polynomial_curve(coefficients):
     rows = np.array(coefficients, dtype=object)
     if rows.ndim != 2 or rows.shape[1] != 4 or rows.shape[0] < 1:
         raise InputError(f"coefficients must be (deg + 1, 4), got shape {rows.shape}")
-    flo = as_float_array(np.array(rows, dtype=float), "coefficients", last=4)
+    flo = as_float_array(rows, "coefficients", last=4)
     if flo.shape[0] == 1 or not np.any(flo[1:]):
         raise InputError("coefficients describe a constant curve (a zero-length path)")
     C = np.empty(rows.shape, dtype=object)
@@ -738,6 +762,7 @@ def check_path(target, path, joint_limits=None, manipulator=None):
             crossings.append(Crossing(k, (lo, hi), mult))
     exits = _domain_exits(m, path, joint_limits) if m is not None else []
     X, _ = path.sample(128)
+    X = X / np.max(np.abs(X), axis=1)[:, None]           # scale first: representatives may be huge
     X = X / np.hypot(X[:, 0], X[:, 1])[:, None]
     v, G = _value_and_gradient(quartic, X)
     with np.errstate(divide="ignore", invalid="ignore"):
