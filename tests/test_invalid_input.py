@@ -116,3 +116,22 @@ def test_strings_never_reach_an_evaluator(tmp_path):
         with pytest.raises(TypeError):
             call()
     assert not target.exists()
+
+
+def test_symbolic_joint_value_is_refused_by_name(m):
+    import sympy as sp
+    with pytest.raises(TypeError, match="q must be numeric, got the symbolic value"):
+        m.direct_kinematics([sp.Symbol("a"), 5, 10])
+    # exact sympy numbers are numbers: the same six modes as the floats
+    assert len(m.direct_kinematics([sp.sqrt(121), sp.Integer(5), sp.Rational(10)], certify=True)) == 6
+
+
+def test_a_batch_too_large_for_memory_points_to_the_chunks(m, monkeypatch):
+    """2e7 rows with 1 GB available: refused before allocating, naming the way out."""
+    from imagespace import _memory
+    monkeypatch.setattr(_memory, "available_memory", lambda: 1e9)
+    Q = np.broadcast_to(m.q_example_float, (20_000_000, 3))
+    with pytest.raises(isp.InputError, match=r"20,000,000 rows needs about .* GB .*direct_kinematics_chunks"):
+        m.direct_kinematics_batch(Q, method="numpy")
+    (start, r), = list(m.direct_kinematics_chunks(Q[:5], chunk_size=8, method="numpy"))
+    assert start == 0 and r.count.tolist() == [6] * 5
