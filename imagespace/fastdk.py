@@ -641,6 +641,25 @@ def _refusal(path):
     return None
 
 
+def _ancestor_refusal(path):
+    """Why a directory above ``path`` makes the cache unsafe (None when none does): every
+    ancestor (symbolic links resolved) must be owned by this user or root, and writable by group
+    or others only with the sticky bit (as ``/tmp``), else someone else could swap the cache for
+    a directory of their own."""
+    euid = os.geteuid() if hasattr(os, "geteuid") else None
+    p = os.path.dirname(os.path.realpath(path))
+    while True:
+        st = os.stat(p)
+        if euid is not None and st.st_uid not in (euid, 0):
+            return f"lies under {p}, owned by uid {st.st_uid} (neither this user nor root)"
+        if st.st_mode & _FOREIGN_WRITE and not st.st_mode & stat.S_ISVTX:
+            return f"lies under {p}, writable by group or others (mode {stat.S_IMODE(st.st_mode):o})"
+        parent = os.path.dirname(p)
+        if parent == p:
+            return None
+        p = parent
+
+
 def _cache_dir():
     """Where generated kernels live, so numba's on-disk cache can keep them between sessions;
     None when it cannot be created (then kernels are compiled in memory) or is refused (with one
@@ -648,7 +667,7 @@ def _cache_dir():
     path = _cache_root()
     try:
         _make_private_dirs(path)
-        reason = _refusal(path)
+        reason = _refusal(path) or _ancestor_refusal(path)
     except OSError:
         return None
     if reason is None:

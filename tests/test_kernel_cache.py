@@ -129,6 +129,38 @@ def test_unsafe_cache_directory_is_refused_with_one_warning(tmp_path, monkeypatc
     assert reason in str(w.message) and str(d) in str(w.message)
 
 
+def _writable_parent(root):
+    root.chmod(0o777)                       # anyone could rename "kernels" away and plant theirs
+
+
+def _foreign_parent(root):
+    if os.geteuid() != 0:
+        pytest.skip("changing a directory's owner needs root")
+    os.chown(root, 65534, 65534)
+
+
+@pytest.mark.parametrize("make, reason", [(_writable_parent, "writable by group or others"),
+                                          (_foreign_parent, "owned by uid 65534")])
+def test_unsafe_parent_directory_is_refused(tmp_path, monkeypatch, make, reason):
+    root = tmp_path / "cacheroot"
+    root.mkdir(mode=0o700)
+    monkeypatch.setenv("IMAGESPACE_CACHE", str(root))
+    make(root)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        assert fastdk._cache_dir() is None
+    (w,) = cache_warnings(rec)
+    assert reason in str(w.message) and str(root) in str(w.message)
+
+
+def test_sticky_world_writable_parent_is_accepted(tmp_path, monkeypatch):
+    root = tmp_path / "shared"
+    root.mkdir()
+    root.chmod(0o1777)                      # like /tmp: others cannot rename our entries
+    monkeypatch.setenv("IMAGESPACE_CACHE", str(root / "mine"))
+    assert fastdk._cache_dir() == str(root / "mine" / "kernels")
+
+
 def test_refused_directory_gets_no_files_and_the_kernel_still_works(tmp_path, monkeypatch):
     monkeypatch.setenv("IMAGESPACE_CACHE", str(tmp_path))
     d = tmp_path / "kernels"
