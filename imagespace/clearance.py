@@ -23,10 +23,41 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import as_float_array
+import numbers
+
+from ._validate import _short, as_count, as_float_array
 from .exceptions import InputError
 
-__all__ = ["BacklashAnalysis", "backlash", "released_curve"]
+__all__ = ["BacklashAnalysis", "backlash", "released_curve", "MAX_MEMORY"]
+
+MAX_MEMORY = 2 * 1024**3
+"""Default limit (bytes) for the estimated memory of :func:`released_curve` and :func:`backlash`."""
+_BYTES_PER_SAMPLE = {"released_curve": 320, "backlash": 1024}
+"""Measured peak memory per orientation sample (tracemalloc, 40,000 samples: 273 and 757 bytes)."""
+
+
+def _check_leg(leg):
+    if isinstance(leg, (bool, np.bool_)) or not isinstance(leg, (numbers.Integral, np.integer)):
+        raise TypeError(f"leg must be the whole number 0, 1 or 2 (the leg with play), got "
+                        f"{type(leg).__name__} {_short(leg)}")
+    if leg not in (0, 1, 2):
+        raise InputError(f"leg must be 0, 1 or 2 (the leg with play), got {leg!r}")
+    return int(leg)
+
+
+def _check_samples(samples, max_memory, what):
+    samples = as_count(samples, "samples", 100)
+    if isinstance(max_memory, (bool, np.bool_)) or not isinstance(max_memory, numbers.Real):
+        raise TypeError(f"max_memory must be a number of bytes, got {type(max_memory).__name__} "
+                        f"{_short(max_memory)}")
+    if not (np.isfinite(float(max_memory)) and max_memory > 0):
+        raise InputError(f"max_memory must be a positive finite number of bytes, got {max_memory!r}")
+    need = float(samples) * _BYTES_PER_SAMPLE[what]
+    if need > max_memory:
+        raise InputError(f"samples={samples} needs about {need / 1e9:.3g} GB for {what}, above the limit "
+                         f"max_memory={max_memory / 1e9:.3g} GB; lower samples (at most "
+                         f"{int(max_memory // _BYTES_PER_SAMPLE[what])}) or raise max_memory")
+    return samples
 
 
 def _pair_points(qa, qb, theta):
@@ -72,7 +103,7 @@ def _pair_points(qa, qb, theta):
     return X
 
 
-def released_curve(manipulator, q, leg, samples=20000):
+def released_curve(manipulator, q, leg, samples=20000, max_memory=MAX_MEMORY):
     """The configuration curve of the two legs other than ``leg`` with their joints at ``q``.
 
     Parameters
@@ -83,6 +114,9 @@ def released_curve(manipulator, q, leg, samples=20000):
         The released leg.
     samples : int
         Half-angles ``theta`` in ``[-pi/2, pi/2]``.
+    max_memory : float
+        Limit (bytes) for the estimated memory (about 320 bytes per sample); default
+        :data:`MAX_MEMORY`, 2 GiB.
 
     Returns
     -------
@@ -99,13 +133,14 @@ def released_curve(manipulator, q, leg, samples=20000):
     >>> X.shape
     (1000, 2, 4)
     """
+    from .singularities import _check_manipulator
+
+    _check_manipulator(manipulator)
+    samples = _check_samples(samples, max_memory, "released_curve")
     qf = manipulator._check_q(q)
     if qf.shape != (3,):
         raise InputError(f"q must have shape (3,), got {qf.shape}")
-    if isinstance(leg, bool) or leg not in (0, 1, 2):
-        raise InputError(f"leg must be 0, 1 or 2 (the leg with play), got {leg!r}")
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 100:
-        raise InputError(f"samples must be an int >= 100, got {samples!r}")
+    leg = _check_leg(leg)
     others = [j for j in range(3) if j != leg]
     quads = [manipulator.legs[j].dyad(float(qf[j])) for j in others]
     if any(Q.kind == "PP" for Q in quads):
@@ -204,7 +239,7 @@ def _edges(X):
     return edges
 
 
-def backlash(manipulator, q, leg, delta=0.0, samples=20000):
+def backlash(manipulator, q, leg, delta=0.0, samples=20000, max_memory=MAX_MEMORY):
     """Play ``+-delta`` in the actuated joint of ``leg``: which assembly modes it connects, and from what play on.
 
     Parameters
@@ -218,6 +253,9 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000):
         The play to analyse (``>= 0``).
     samples : int
         Orientations sampled on the released curve.
+    max_memory : float
+        Limit (bytes) for the estimated memory (about 1 kB per sample); default
+        :data:`MAX_MEMORY`, 2 GiB.
 
     Returns
     -------
@@ -232,10 +270,19 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000):
     >>> res.thresholds.shape, bool(np.all(np.diag(res.thresholds) == 0))
     ((6, 6), True)
     """
-    if not np.isfinite(delta) or delta < 0:
+    from .singularities import _check_manipulator
+
+    _check_manipulator(manipulator)
+    samples = _check_samples(samples, max_memory, "backlash")
+    d = as_float_array(delta, "delta", finite=False)
+    if d.ndim != 0:
+        raise InputError(f"delta must be a single number, got shape {d.shape}")
+    if not np.isfinite(d) or d < 0:
         raise InputError(f"delta must be a finite play >= 0, got {delta!r}")
+    delta = float(d)
+    leg = _check_leg(leg)
     qf = manipulator._check_q(q)
-    theta, X = released_curve(manipulator, qf, leg, samples)
+    theta, X = released_curve(manipulator, qf, leg, samples, max_memory=max_memory)
     L = manipulator.legs[leg]
     modes = manipulator.direct_kinematics(qf)
     # the released leg's branch: the one reproducing q at the modes

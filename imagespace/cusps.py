@@ -30,7 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ._validate import as_float_array
+import numbers
+
+from ._validate import _short, as_count, as_float_array
 from .compile import compile_exprs
 from .exceptions import InputError
 
@@ -82,17 +84,40 @@ class ModeCountMap:
 
 
 def _free(fixed):
-    if isinstance(fixed, bool) or fixed not in (0, 1, 2):
+    if isinstance(fixed, (bool, np.bool_)) or not isinstance(fixed, (numbers.Integral, np.integer)):
+        raise TypeError(f"fixed must be the whole number 0, 1 or 2 (the joint held constant), got "
+                        f"{type(fixed).__name__} {_short(fixed)}")
+    if fixed not in (0, 1, 2):
         raise InputError(f"fixed must be the index 0, 1 or 2 of the joint held constant, got {fixed!r}")
     return tuple(i for i in range(3) if i != fixed)
 
 
-def _grid(fixed, value, window, resolution):
+def _window(window):
     w = as_float_array(window, "window")
     if w.shape != (2, 2) or np.any(w[:, 1] <= w[:, 0]):
-        raise InputError(f"window must be ((min, max), (min, max)) of the two free joints, got {np.asarray(window).tolist()}")
-    if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or not 8 <= resolution <= 2000:
-        raise InputError(f"resolution must be an int in 8..2000, got {resolution!r}")
+        raise InputError(f"window must be ((min, max), (min, max)) of the two free joints, got {w.tolist()}")
+    return w
+
+
+def _scalar(value, name):
+    v = as_float_array(value, name)
+    if v.ndim != 0:
+        raise InputError(f"{name} must be a single number, got shape {v.shape}")
+    return float(v)
+
+
+def _resolution(resolution, name="resolution"):
+    resolution = as_count(resolution, name, 8)
+    if not 8 <= resolution <= 2000:
+        raise InputError(f"{name} must be an int in 8..2000, got {resolution!r}")
+    return resolution
+
+
+def _grid(fixed, value, window, resolution):
+    _free(fixed)
+    value = _scalar(value, "value")
+    w = _window(window)
+    resolution = _resolution(resolution)
     a = np.linspace(w[0, 0], w[0, 1], resolution)
     b = np.linspace(w[1, 0], w[1, 1], resolution)
     A, B = np.meshgrid(a, b, indexing="ij")
@@ -128,6 +153,9 @@ def mode_count_map(manipulator, fixed, value, window, resolution=120):
     >>> int(cm.counts.max()) <= 6
     True
     """
+    from .singularities import _check_manipulator
+
+    _check_manipulator(manipulator)
     a, b, Q = _grid(fixed, value, window, resolution)
     for i, leg in enumerate(manipulator.legs):
         ok = leg.joint_values_ok(Q[:, i])
@@ -257,8 +285,13 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
     >>> all(c.residual < 1e-9 for c in found)
     True
     """
+    tol = _scalar(tol, "tol")
+    if not tol > 0:
+        raise InputError(f"tol must be a positive relative residual, got {tol!r}")
+    max_seeds = as_count(max_seeds, "max_seeds")
     cm = mode_count_map(manipulator, fixed, value, window, resolution)
-    w = np.asarray(window, float)
+    value = _scalar(value, "value")
+    w = _window(window)
     fa, fb = cm.free
     comp = manipulator.compiled()
     d = comp.degree
@@ -437,9 +470,16 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     >>> loop.changed, loop.continuous, bool(np.all(loop.aspects == loop.aspects[0]))
     (True, True, True)
     """
+    from .singularities import _check_manipulator
+
+    _check_manipulator(manipulator)
+    if not isinstance(cusp, Cusp):
+        raise TypeError(f"cusp must be a Cusp (an item of cusps(...)), got {type(cusp).__name__} {_short(cusp)}")
     fa, fb = _free(fixed)
+    radius = _scalar(radius, "radius")
     if not radius > 0:
         raise InputError(f"radius must be positive, got {radius!r}")
+    steps = as_count(steps, "steps", 8)
     ang = np.linspace(0, 2 * np.pi, steps + 1)[:-1]
     Q = np.repeat(cusp.q[None], steps, axis=0)
     Q[:, fa] += radius * np.cos(ang)
@@ -526,8 +566,12 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     vals = as_float_array(values, "values")
     if vals.ndim != 1 or len(vals) < 2 or np.any(np.diff(vals) <= 0):
         raise InputError(f"values must be at least two increasing numbers, got {np.asarray(values).tolist()}")
+    from .singularities import _check_manipulator
+
+    _check_manipulator(manipulator)
     fa, fb = _free(fixed)
-    w = np.asarray(window, float)
+    w = _window(window)
+    _resolution(resolution)
     reach = 0.1 * float(np.max(w[:, 1] - w[:, 0]))
     sections = [cusps(manipulator, fixed, v, window, resolution) for v in vals]
 
@@ -582,12 +626,20 @@ def linking_number(loop, curves):
     1
     """
     L = as_float_array(loop, "loop", last=3)
+    if L.ndim != 2 or len(L) < 3:
+        raise InputError(f"loop must be a (n, 3) polyline of at least three points, got shape {L.shape}")
     if not np.allclose(L[0], L[-1]):
         L = np.vstack([L, L[:1]])
     apex = L.mean(axis=0)
+    if curves is None or isinstance(curves, (str, bytes)) or not hasattr(curves, "__iter__"):
+        raise TypeError(f"curves must be a sequence of (k, 3) polylines, got {type(curves).__name__} "
+                        f"{_short(curves)}")
     total = 0
-    for curve in curves:
-        C = as_float_array(curve, "curves[i]", last=3)
+    for k, curve in enumerate(curves):
+        C = as_float_array(curve, f"curves[{k}]", last=3)
+        if C.ndim != 2:
+            raise InputError(f"curves[{k}] must be a (k, 3) polyline, got shape {C.shape} (pass a list "
+                             "of polylines, even for one curve)")
         for P0, P1 in zip(C[:-1], C[1:]):
             d = P1 - P0
             for A, B in zip(L[:-1], L[1:]):

@@ -28,8 +28,11 @@ from collections.abc import Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+import numbers
+
 import numpy as np
 
+from ._validate import _short, as_count, as_flag
 from .exceptions import ImageSpaceError, InputError
 
 __all__ = ["DesignTable", "DesignEvaluationError", "sweep", "fuzzy_minmax", "FuzzyResult"]
@@ -310,15 +313,24 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
     ...
     imagespace.design.DesignEvaluationError: design 3 {'a': 2.0, 'b': 20.0} failed: ValueError: no design here
     """
-    if not isinstance(grid, dict) or not grid:
-        raise InputError(f"grid must be a non-empty dict of parameter name -> values, got {grid!r}")
-    if on_error not in ("raise", "record"):
+    if not callable(func):
+        raise TypeError(f"func must be callable (func(**params) -> dict of numbers), got "
+                        f"{type(func).__name__} {_short(func)}")
+    if not isinstance(grid, dict):
+        raise TypeError(f"grid must be a dict of parameter name -> values, got {type(grid).__name__} {_short(grid)}")
+    if not grid:
+        raise InputError("grid must be a non-empty dict of parameter name -> values, got {}")
+    for k in grid:
+        if not isinstance(k, str) or not k.isidentifier():
+            raise TypeError(f"grid keys must be parameter names (identifiers, passed as func(**params)), "
+                            f"got {_short(k)}")
+    if not isinstance(on_error, str) or on_error not in ("raise", "record"):
         raise InputError(f"on_error must be 'raise' or 'record', got {on_error!r}")
-    if processes is not None and (isinstance(processes, bool) or not isinstance(processes, (int, np.integer))
-                                  or processes < 0):
-        raise InputError(f"processes must be None or an int >= 0, got {processes!r}")
-    if isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer)) or chunksize < 1:
-        raise InputError(f"chunksize must be an int >= 1, got {chunksize!r}")
+    if processes is not None:
+        processes = as_count(processes, "processes", 0)
+    if progress is not None:
+        progress = as_flag(progress, "progress")
+    chunksize = as_count(chunksize, "chunksize")
     names = list(grid)
     axes = []
     for k in names:
@@ -473,22 +485,32 @@ def fuzzy_minmax(table, criteria):
     >>> [(float(t.params["a"][i]), float(t.params["b"][i])) for i in res.best]
     [(3.0, 1.0)]
     """
-    if not isinstance(criteria, dict) or not criteria:
-        raise InputError("criteria must be a non-empty dict name -> (weight, 'max'|'min')")
+    if not isinstance(table, DesignTable):
+        raise TypeError(f"table must be a DesignTable (the result of sweep), got {type(table).__name__} "
+                        f"{_short(table)}")
+    if not isinstance(criteria, Mapping):
+        raise TypeError(f"criteria must be a dict name -> (weight, 'max'|'min'), got "
+                        f"{type(criteria).__name__} {_short(criteria)}")
+    if not criteria:
+        raise InputError("criteria must be a non-empty dict name -> (weight, 'max'|'min'), got {}")
     z = {}
     for name, spec in criteria.items():
         if name not in table.values:
             raise InputError(f"criteria names {name!r}, not an index of the table ({sorted(table.values)})")
-        try:
-            g, sense = spec
-        except (TypeError, ValueError):
-            raise InputError(f"criteria[{name!r}] must be (weight, 'max'|'min'), got {spec!r}") from None
+        if isinstance(spec, (str, bytes)) or not isinstance(spec, (tuple, list)) or len(spec) != 2:
+            raise InputError(f"criteria[{name!r}] must be (weight, 'max'|'min'), got {_short(spec)}")
+        g, sense = spec
+        if isinstance(g, (bool, np.bool_)) or not isinstance(g, numbers.Real):
+            raise TypeError(f"the weight of {name!r} (criteria[{name!r}][0]) must be a number in [0, 1], "
+                            f"got {type(g).__name__} {_short(g)}")
         g = float(g)
         if not 0 <= g <= 1:
             raise InputError(f"the weight of {name!r} must be in [0, 1], got {g}")
-        if sense not in ("max", "min"):
+        if not isinstance(sense, str) or sense not in ("max", "min"):
             raise InputError(f"criteria[{name!r}] sense must be 'max' or 'min', got {sense!r}")
         v = np.asarray(table.values[name], dtype=float)
+        if not np.any(np.isfinite(v)):
+            raise InputError(f"criteria names {name!r}, which has no finite value in the table")
         lo, hi = np.nanmin(v), np.nanmax(v)
         u = np.ones_like(v) if hi == lo else (v - lo) / (hi - lo)
         if sense == "min":

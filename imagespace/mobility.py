@@ -14,8 +14,10 @@ Grübler number is a lower bound on the mobility of a generic member of the fami
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
+from ._validate import _short, as_count, as_flag
 from .exceptions import InputError
 
 __all__ = ["Mobility", "gruebler", "mechanism_mobility", "manipulator_mobility", "JOINT_FREEDOMS"]
@@ -55,9 +57,13 @@ class Mobility:
 
 
 def _int(v, name, minimum=0):
-    if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
-        raise InputError(f"{name} must be an int >= {minimum}, got {v!r}")
-    return v
+    return as_count(v, name, minimum)
+
+
+def _sequence(v, name, what):
+    if v is None or isinstance(v, (bytes, numbers.Number)) or not hasattr(v, "__iter__"):
+        raise TypeError(f"{name} must be {what}, got {type(v).__name__} {_short(v)}")
+    return list(v)
 
 
 def gruebler(n, joints, D=3):
@@ -86,14 +92,17 @@ def gruebler(n, joints, D=3):
     >>> gruebler(8, "RPS" * 3, D=6).M          # 3-RPS
     3
     """
+    if isinstance(D, (bool, float)) or not isinstance(D, numbers.Integral):
+        raise TypeError(f"D must be the whole number 3 (planar) or 6 (spatial), got {type(D).__name__} {_short(D)}")
     if D not in (3, 6):
         raise InputError(f"D must be 3 (planar) or 6 (spatial), got {D!r}")
     _int(n, "n", 1)
-    if isinstance(joints, int) and not isinstance(joints, bool):
+    if isinstance(joints, numbers.Integral) and not isinstance(joints, bool):
         fs = [1] * _int(joints, "joints")
     else:
         fs = []
-        for k, j in enumerate(joints):
+        for k, j in enumerate(_sequence(joints, "joints", "a number of joints or a sequence of joint "
+                                        "letters/freedoms")):
             if isinstance(j, str):
                 if j not in JOINT_FREEDOMS:
                     raise InputError(f"joints[{k}] = {j!r} is not a known joint; use one of "
@@ -136,12 +145,19 @@ def mechanism_mobility(links, joints, D=3):
     ...                     ("coupler", "rocker", "R"), ("rocker", "ground", "R")]).M
     1
     """
-    names = list(links)
+    names = _sequence(links, "links", "a sequence of link names")
+    if not names:
+        raise InputError("links must name at least one link (the ground), got an empty sequence")
+    for k, nm in enumerate(names):
+        try:
+            hash(nm)
+        except TypeError:
+            raise TypeError(f"links[{k}] must be a hashable name, got {type(nm).__name__} {_short(nm)}") from None
     if len(set(names)) != len(names):
         raise InputError("links must have distinct names")
     used = set()
     kinds = []
-    for k, item in enumerate(joints):
+    for k, item in enumerate(_sequence(joints, "joints", "a sequence of (link_a, link_b, joint)")):
         try:
             a, b, j = item
         except (TypeError, ValueError):
@@ -183,6 +199,10 @@ def manipulator_mobility(manipulator, locked=False):
     >>> manipulator_mobility(m).M, manipulator_mobility(m, locked=True).M
     (3, 0)
     """
+    from .singularities import _check_manipulator
+
+    _check_manipulator(manipulator)
+    locked = as_flag(locked, "locked")
     n = 2 + sum(len(leg.joints) - 1 for leg in manipulator.legs)
     fs = []
     for leg in manipulator.legs:

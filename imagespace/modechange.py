@@ -29,7 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import as_float_array
+import numbers
+
+from ._validate import _short, as_count, as_float_array
 from .exceptions import InputError
 from .kinematic_map import image_point, normalize
 from .paths import ImagePath, PathCheck, check_path, polyline, segments_free
@@ -68,6 +70,16 @@ class ModeChangePlan:
     candidates: int = 0
 
 
+MAX_SAMPLES = 1_000_000
+"""The largest ``samples`` :func:`plan_mode_change` accepts (a round draws ``4 * samples`` poses)."""
+
+
+def _check_manipulator(manipulator):
+    from .singularities import _check_manipulator as check
+
+    return check(manipulator)
+
+
 def joint_trajectory(manipulator, path, q_start, per_piece=64):
     """Joint values along a path, each leg's IK branch followed continuously from ``q_start``.
 
@@ -96,6 +108,11 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     >>> bool(np.allclose(Q[0], q0)), Q.shape
     (True, (5, 3))
     """
+    per_piece = as_count(per_piece, "per_piece")
+    _check_manipulator(manipulator)
+    if not isinstance(path, ImagePath):
+        raise TypeError(f"path must be an ImagePath (isp.segment, isp.polyline ...), got "
+                        f"{type(path).__name__} {_short(path)}")
     q0 = as_float_array(q_start, "q_start", last=3, allow_batch=False)
     P = path.poses(per_piece)
     r = manipulator.joint_residual(P[0], q0)
@@ -164,6 +181,17 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     >>> plan_mode_change(m, m.q_example_float, modes[0], modes[1]).found
     False
     """
+    _check_manipulator(manipulator)
+    samples = as_count(samples, "samples")
+    if samples > MAX_SAMPLES:
+        raise InputError(f"samples must be at most MAX_SAMPLES = {MAX_SAMPLES} (each round draws and tests "
+                         f"4 * samples poses), got {samples}")
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (numbers.Integral, np.integer)):
+        raise TypeError(f"seed must be a whole number, got {type(seed).__name__} {_short(seed)}")
+    if seed < 0:
+        raise InputError(f"seed must be a non-negative whole number, got {seed}")
+    if box is not None:
+        _check_box(box)
     qf = as_float_array(q, "q", last=3, allow_batch=False)
     Xa, Xb = _as_image(mode_a, "mode_a"), _as_image(mode_b, "mode_b")
     if np.allclose(Xa, Xb, atol=1e-12):
@@ -188,9 +216,7 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
         L = max(1.0, float(np.max(np.abs(np.concatenate([Pa[:2], Pb[:2]])))))
         lo, hi = np.minimum(Pa[:2], Pb[:2]) - L, np.maximum(Pa[:2], Pb[:2]) + L
         box = [(lo[0], hi[0]), (lo[1], hi[1]), (-np.pi, np.pi)]
-    b = as_float_array(box, "box")
-    if b.shape != (3, 2) or np.any(b[:, 1] <= b[:, 0]):
-        raise InputError(f"box must be (3, 2) with min < max, got {b.tolist()}")
+    b = _check_box(box)
     tried = 0
     pool = np.zeros((0, 4))
     for _round in range(2):
@@ -205,6 +231,13 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
         return plan
     return ModeChangePlan(False, f"no certified path found among {tried} sampled points (seed {seed}); "
                                  "try another seed, more samples or a larger box", candidates=tried)
+
+
+def _check_box(box):
+    b = as_float_array(box, "box")
+    if b.shape != (3, 2) or np.any(b[:, 1] <= b[:, 0]):
+        raise InputError(f"box must be (3, 2) with min < max, got {b.tolist()}")
+    return b
 
 
 def _sample(rng, b, n, S, sign):

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from ._validate import as_exact, as_float_array, is_symbolic
+from ._validate import _short, as_exact, as_flag, as_float_array, is_symbolic
 from .compile import compile_exprs
 from .constraints import image_symbols
 from .exceptions import InputError
@@ -112,6 +112,49 @@ def image_chart_point(U):
     dX = np.zeros((len(U), 4, 3))
     dX[:, 2, 0] = dX[:, 3, 1] = dX[:, 1, 2] = 1.0
     return X, dX
+
+
+# -- input checks shared by the analysis modules ------------------------------------------------
+def _check_manipulator(manipulator, name="manipulator"):
+    """Refuse anything but a :class:`PlanarParallel` with a clear ``TypeError``."""
+    from .manipulator import PlanarParallel
+
+    if not isinstance(manipulator, PlanarParallel):
+        raise TypeError(f"{name} must be a PlanarParallel (e.g. isp.examples.general_3rpr()), got "
+                        f"{type(manipulator).__name__} {_short(manipulator)}")
+    return manipulator
+
+
+def _check_working_modes(manipulator, working_modes, name="working_modes"):
+    """Three branch indices, one per leg (as :meth:`PlanarParallel.inverse_kinematics` wants)."""
+    if isinstance(working_modes, (str, bytes)) or not hasattr(working_modes, "__iter__"):
+        raise TypeError(f"{name} must be a sequence of three whole numbers (branch indices), got "
+                        f"{type(working_modes).__name__} {_short(working_modes)}")
+    wm = tuple(working_modes)
+    if len(wm) != 3:
+        raise InputError(f"{name} must have three entries, got {_short(working_modes)}")
+    for i, (leg, b) in enumerate(zip(manipulator.legs, wm)):
+        if isinstance(b, (bool, np.bool_)) or not isinstance(b, (int, np.integer)):
+            raise TypeError(f"{name}[{i}] must be a whole number (a branch index), got "
+                            f"{type(b).__name__} {_short(b)}")
+        if not 0 <= b < leg.n_branches:
+            raise InputError(f"{name}[{i}] must be in 0..{leg.n_branches - 1} for {leg.joints}, got {b}")
+    return tuple(int(b) for b in wm)
+
+
+def _check_joint_values(manipulator, q, name="q"):
+    """One set of joint values ``(3,)``: exact sympy numbers/expressions or checked floats."""
+    if is_symbolic(q):
+        if not isinstance(q, (list, tuple, np.ndarray, sp.MatrixBase)):
+            raise TypeError(f"{name} must be a sequence of three joint values, got {_short(q)}")
+        items = list(q)
+        if len(items) != 3:
+            raise InputError(f"{name} must have shape (3,), got {len(items)} entries: {_short(q)}")
+        return tuple(as_exact(v, f"{name}[{i}]") for i, v in enumerate(items))
+    qa = manipulator._check_q(q, name)
+    if qa.shape != (3,):
+        raise InputError(f"{name} must have shape (3,), got {qa.shape}")
+    return tuple(as_exact(float(v), f"{name}[{i}]") for i, v in enumerate(qa))
 
 
 # -- compiled constraint functions ----------------------------------------------------------------
@@ -492,22 +535,18 @@ def singularity_surface(manipulator, q=None, working_modes=None):
     >>> isp.singularity_surface(m, working_modes=(1, 0, 0))
     SingularitySurface('RRR-RPR-RPR', kind='working-mode', working_modes=(1, None, None))
     """
+    _check_manipulator(manipulator)
+    if q is not None and working_modes is not None:
+        raise InputError("give either q (the surface at given joint values) or working_modes (the "
+                         "joint values eliminated through the leg inverse kinematics), not both")
+    qs = None if q is None else _check_joint_values(manipulator, q)
+    wm = None if working_modes is None else _check_working_modes(manipulator, working_modes)
     P = manipulator.singularity_polynomial()
     joint_syms = manipulator.joint_symbols
     depends = _dependent_legs(manipulator)
     if not depends:
         return SingularitySurface(manipulator, P, "joint-free")
-    if q is not None and working_modes is not None:
-        raise InputError("give either q (the surface at given joint values) or working_modes (the "
-                         "joint values eliminated through the leg inverse kinematics), not both")
-    if q is not None:
-        if is_symbolic(q):
-            qs = tuple(sp.sympify(v) for v in q)
-        else:
-            qa = manipulator._check_q(q)
-            if qa.shape != (3,):
-                raise InputError(f"q must have shape (3,), got {qa.shape}")
-            qs = tuple(as_exact(float(v), f"q[{i}]") for i, v in enumerate(qa))
+    if qs is not None:
         Pq = sp.Poly(P.as_expr().xreplace(dict(zip(joint_syms, qs))), *image_symbols())
         return SingularitySurface(manipulator, Pq, "given-joints", q=tuple(qs))
     if working_modes is None:
@@ -517,14 +556,6 @@ def singularity_surface(manipulator, q=None, working_modes=None):
                          f"{legs}: pass q=... for the surface at given joint values, or "
                          "working_modes=(b0, b1, b2) to eliminate them through the leg inverse "
                          "kinematics (singularity_surfaces() lists every working mode)")
-    wm = tuple(working_modes)
-    if len(wm) != 3:
-        raise InputError(f"working_modes must have three entries, got {working_modes!r}")
-    for i in depends:
-        nb = manipulator.legs[i].n_branches
-        if isinstance(wm[i], bool) or not isinstance(wm[i], (int, np.integer)) or not 0 <= wm[i] < nb:
-            raise InputError(f"working_modes[{i}] must be an int in 0..{nb - 1} for "
-                             f"{manipulator.legs[i].joints}, got {wm[i]!r}")
     used = tuple(int(wm[i]) if i in depends else None for i in range(3))
     return SingularitySurface(manipulator, P, "working-mode", working_modes=used, eliminated=depends)
 
@@ -548,6 +579,7 @@ def singularity_surfaces(manipulator):
     >>> len(isp.singularity_surfaces(isp.examples.stigger_husty()))
     1
     """
+    _check_manipulator(manipulator)
     depends = _dependent_legs(manipulator)
     if not depends:
         return [singularity_surface(manipulator)]
@@ -683,11 +715,20 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
     >>> jac.kind.tolist()
     ['regular']
     """
+    _check_manipulator(manipulator)
     P = np.atleast_2d(as_float_array(pose, "pose", last=3))
+    if working_modes is not None:
+        working_modes = _check_working_modes(manipulator, working_modes)
     if q is None:
         Q = np.atleast_2d(manipulator.inverse_kinematics(P, working_modes))
     else:
-        Q = np.broadcast_to(np.atleast_2d(manipulator._check_q(q)), P.shape).copy()
+        Q = np.atleast_2d(manipulator._check_q(q))
+        if len(Q) != len(P) and len(Q) != 1 and len(P) != 1:
+            raise InputError(f"q must have shape (3,) or (n, 3) with n = {len(P)} (one row per pose), "
+                             f"got shape {Q.shape}")
+        n = max(len(P), len(Q))
+        P = np.broadcast_to(P, (n, 3)).copy()
+        Q = np.broadcast_to(Q, (n, 3)).copy()
     valid = np.all(np.isfinite(Q), axis=-1)
     X, dX = pose_chart_point(P)
     _, dQdx, dQdq = _constraint_values(manipulator, X, Q)
@@ -738,6 +779,7 @@ def symbolic_jacobians(manipulator):
     >>> sp.simplify(Jx.det() - 16 * 2 * sp.sin(phi) * (2 * y + x * sp.sin(phi) - y * sp.cos(phi)))
     0
     """
+    _check_manipulator(manipulator)
     x, y, phi = sp.symbols("x y phi", real=True)
     x0, x1, x2, x3 = image_symbols()
     c, s = sp.cos(phi / 2), sp.sin(phi / 2)
