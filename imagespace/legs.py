@@ -52,7 +52,8 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ._validate import as_exact, as_float_array, as_point, check_positive, is_symbolic
+from ._validate import (as_count, as_exact, as_flag, as_float_array, as_point, as_sympy_entry,
+                        check_positive, is_symbolic)
 from .constraints import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric
 from .exceptions import DegenerateDesignError, InputError
 
@@ -83,7 +84,33 @@ def _exact_cs(angle, name):
         if angle.has(sp.pi):
             return c, s
     a = float(as_exact(angle, name))
+    if not np.isfinite(a):
+        raise InputError(f"{name} must be an angle within the float range, got {_short(angle)}")
     return sp.Rational(np.cos(a)), sp.Rational(np.sin(a))
+
+
+def _short(value):
+    text = str(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _in_float_range(values, name):
+    """Geometry is kept exact, but every numeric method works on its floats: refuse numbers whose
+    float is infinite (``2**1100``), naming the entry."""
+    single = not isinstance(values, tuple)
+    for i, v in enumerate((values,) if single else values):
+        if isinstance(v, sp.Basic) and not v.free_symbols and not np.isfinite(float(v)):
+            raise InputError(f"{name if single else f'{name}[{i}]'} must be within the float range, "
+                             f"got {_short(v)}")
+    return values
+
+
+def _geom_point(value, name):
+    return _in_float_range(as_point(value, name), name)
+
+
+def _geom_number(value, name):
+    return _in_float_range(as_exact(value, name), name)
 
 
 def _unit(value, name):
@@ -93,7 +120,7 @@ def _unit(value, name):
     ``(-10, -9)/sqrt(181)``); float input is normalised in floating point and then taken as exact
     binary rationals, so that no square roots of long rationals enter the symbolic paths.
     """
-    vx, vy = as_point(value, name)
+    vx, vy = _geom_point(value, name)
     n2 = sp.expand(vx**2 + vy**2)
     if n2 == 0 or (n2.is_number and float(n2) == 0.0):
         raise InputError(f"{name} must be a non-zero direction vector, got ({vx}, {vy})")
@@ -147,9 +174,12 @@ class Leg:
     def __init__(self, actuated=None):
         if actuated is None:
             actuated = self.default_actuated
-        if isinstance(actuated, bool) or not isinstance(actuated, (int, np.integer)) or not 0 <= actuated <= 2:
+        if isinstance(actuated, (bool, np.bool_)) or not isinstance(actuated, (int, np.integer)):
+            raise TypeError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
+                            f"{self.joints}), got {type(actuated).__name__} {_short(repr(actuated))}")
+        if not 0 <= actuated <= 2:
             raise InputError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
-                             f"{self.joints}), got {actuated!r}")
+                             f"{self.joints}), got {_short(repr(actuated))}")
         self.actuated = int(actuated)
         self._float = None
 
@@ -168,7 +198,7 @@ class Leg:
         {'base': (1.0, 2.0), 'platform': (0.0, 0.0)}
         """
         g = self._geometry()
-        if exact:
+        if as_flag(exact, "exact"):
             return dict(g)
         if self._float is None:
             fl = {k: _floatify(v) for k, v in g.items()}
@@ -205,7 +235,8 @@ class Leg:
 
     # -- the dyad ---------------------------------------------------------------
     def joint_values_ok(self, q):
-        """Boolean mask: which actuated joint values are inside the joint's domain (all, by default).
+        """Boolean mask: which actuated joint values are inside the joint's domain (every finite
+        value, by default; NaN and infinities never are).
 
         Examples
         --------
@@ -213,10 +244,10 @@ class Leg:
         >>> isp.RPR(base=(0, 0), platform=(0, 0)).joint_values_ok([-1.0, 2.0]).tolist()
         [False, True]
         """
-        return np.ones(np.shape(q), dtype=bool)
+        return np.isfinite(as_float_array(q, "q", finite=False))
 
     def check_joint_value(self, q, name="q"):
-        """Raise InputError if a value of the actuated joint is outside its domain.
+        """Raise InputError if a value of the actuated joint is not finite or outside its domain.
 
         Examples
         --------
@@ -224,7 +255,11 @@ class Leg:
         >>> isp.RPR(base=(0, 0), platform=(0, 0)).check_joint_value(2.0)
         2.0
         """
-        if not np.all(self.joint_values_ok(np.asarray(q, dtype=float))):
+        arr = as_float_array(q, name, finite=False)
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{name} (the actuated joint {self.actuated_name} of {self.joints}) must be "
+                             f"finite, got {q}")
+        if not np.all(self.joint_values_ok(arr)):
             raise InputError(f"{name} is outside the domain of the actuated joint "
                              f"{self.actuated_name} of {self.joints}, got {q}")
         return q
@@ -249,17 +284,32 @@ class Leg:
         >>> leg.dyad(10).expr()
         -100*x0**2 - 100*x1**2 + 4*x2**2 + 4*x3**2
         """
-        symbolic = is_symbolic(q) or isinstance(q, (int, np.integer)) and not isinstance(q, bool)
+        symbolic = is_symbolic(q) or isinstance(q, (int, np.integer)) and not isinstance(q, (bool, np.bool_))
         if symbolic:
+            if isinstance(q, sp.Basic):
+                q = as_sympy_entry(q, "q")
             q = as_exact(q, "q")
             if not q.free_symbols:
-                self.check_joint_value(float(q))
+                if self.actuated_is_angle:
+                    _in_float_range(q, "q")      # its cosine and sine are taken in float
+                qf = float(q)
+                self.check_joint_value(qf if np.isfinite(qf) else float(np.sign(qf)))
             g = self._geometry()
-        else:
-            q = as_float_array(q, "q", finite=False)
-            self.check_joint_value(q)
-            g = self.geometry(exact=False)
-        return self._dyad(q, g, _Ops(symbolic))
+            return self._dyad(q, g, _Ops(symbolic))
+        q = as_float_array(q, "q", finite=False)
+        if q.ndim > 1:
+            raise InputError(f"q must be a number or a 1-d array of values of the actuated joint, "
+                             f"got shape {q.shape}")
+        self.check_joint_value(q)
+        g = self.geometry(exact=False)
+        with np.errstate(over="ignore", invalid="ignore"):
+            try:
+                return self._dyad(q, g, _Ops(symbolic))
+            except InputError as exc:
+                if q.ndim == 0 and "finite" in str(exc):
+                    raise InputError(f"q = {float(q)} is too large for the float dyad of the {self.joints} "
+                                     f"leg: {exc}") from None
+                raise
 
     def _dyad(self, q, g, ops) -> Quadric:
         raise NotImplementedError
@@ -289,7 +339,7 @@ class Leg:
         p = as_float_array(pose, "pose", last=3)
         single = p.ndim == 1
         p2 = np.atleast_2d(p)
-        with np.errstate(invalid="ignore", divide="ignore"):
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             out = self._ik(p2[:, 0], p2[:, 1], p2[:, 2], self.geometry(exact=False))
         return out[0] if single else out
 
@@ -318,6 +368,11 @@ class Leg:
                [3., 4.]])
         """
         p = as_float_array(pose, "pose", last=3, allow_batch=False)
+        branch = as_count(branch, "branch", minimum=0)
+        if branch >= self.n_branches:
+            raise InputError(f"branch must be below {self.n_branches} (the {self.joints} leg's inverse "
+                             f"kinematics has {self.n_branches} branch{'es' if self.n_branches > 1 else ''}), "
+                             f"got {branch}")
         q = self.inverse_kinematics(p)[branch]
         return self._points(p, q, self.geometry(exact=False))
 
@@ -388,18 +443,21 @@ class RPR(Leg):
 
     def __init__(self, base, platform, actuated=None):
         super().__init__(actuated)
-        self.base = as_point(base, "base")
-        self.platform = as_point(platform, "platform")
+        self.base = _geom_point(base, "base")
+        self.platform = _geom_point(platform, "platform")
 
     def _geometry(self):
         return {"base": self.base, "platform": self.platform}
 
     def joint_values_ok(self, q):
-        q = np.asarray(q, dtype=float)
-        return q >= 0 if self.actuated == 1 else np.ones(q.shape, dtype=bool)
+        q = as_float_array(q, "q", finite=False)
+        return (np.isfinite(q) & (q >= 0)) if self.actuated == 1 else np.isfinite(q)
 
     def check_joint_value(self, q, name="q"):
-        if not np.all(self.joint_values_ok(q)):
+        arr = as_float_array(q, name, finite=False)
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{name} (the actuated joint {self.actuated_name} of RPR) must be finite, got {q}")
+        if not np.all(self.joint_values_ok(arr)):
             raise InputError(f"{name} (the RPR leg length rho) must be >= 0, got {q}")
         return q
 
@@ -455,9 +513,9 @@ class RRR(Leg):
 
     def __init__(self, base, platform, lengths, actuated=None):
         super().__init__(actuated)
-        self.base = as_point(base, "base")
-        self.platform = as_point(platform, "platform")
-        l1, l2 = as_point(lengths, "lengths")
+        self.base = _geom_point(base, "base")
+        self.platform = _geom_point(platform, "platform")
+        l1, l2 = _geom_point(lengths, "lengths")
         self.lengths = (check_positive(l1, "lengths[0]"), check_positive(l2, "lengths[1]"))
 
     def _geometry(self):
@@ -525,10 +583,10 @@ class PRR(Leg):
 
     def __init__(self, base, axis, platform, length, actuated=None):
         super().__init__(actuated)
-        self.base = as_point(base, "base")
+        self.base = _geom_point(base, "base")
         self.axis = _unit(axis, "axis")
-        self.platform = as_point(platform, "platform")
-        self.length = check_positive(as_exact(length, "length"), "length")
+        self.platform = _geom_point(platform, "platform")
+        self.length = check_positive(_geom_number(length, "length"), "length")
 
     def _geometry(self):
         return {"base": self.base, "axis": self.axis, "platform": self.platform, "length": self.length}
@@ -588,9 +646,9 @@ class RRP(Leg):
 
     def __init__(self, base, length, platform, direction, actuated=None):
         super().__init__(actuated)
-        self.base = as_point(base, "base")
-        self.length = check_positive(as_exact(length, "length"), "length")
-        self.platform = as_point(platform, "platform")
+        self.base = _geom_point(base, "base")
+        self.length = check_positive(_geom_number(length, "length"), "length")
+        self.platform = _geom_point(platform, "platform")
         self.direction = _unit(direction, "direction")
 
     def _geometry(self):
@@ -652,10 +710,10 @@ class RPP(Leg):
 
     def __init__(self, base, platform, direction, angle, actuated=None):
         super().__init__(actuated)
-        self.base = as_point(base, "base")
-        self.platform = as_point(platform, "platform")
+        self.base = _geom_point(base, "base")
+        self.platform = _geom_point(platform, "platform")
         self.direction = _unit(direction, "direction")
-        self.angle = as_exact(angle, "angle")
+        self.angle = _geom_number(angle, "angle")
         self._beta_cs = _exact_cs(angle, "angle")
         if not self._beta_cs[1].free_symbols and float(self._beta_cs[1]) == 0.0:
             raise DegenerateDesignError(f"angle (between the two sliders of RPP) must not be 0 or pi, got {angle}")
@@ -719,9 +777,9 @@ class PRP(Leg):
 
     def __init__(self, base, axis, platform, direction, actuated=None):
         super().__init__(actuated)
-        self.base = as_point(base, "base")
+        self.base = _geom_point(base, "base")
         self.axis = _unit(axis, "axis")
-        self.platform = as_point(platform, "platform")
+        self.platform = _geom_point(platform, "platform")
         self.direction = _unit(direction, "direction")
 
     def _geometry(self):
@@ -782,10 +840,10 @@ class PPR(Leg):
 
     def __init__(self, base, axis, platform, angle, actuated=None):
         super().__init__(actuated)
-        self.base = as_point(base, "base")
+        self.base = _geom_point(base, "base")
         self.axis = _unit(axis, "axis")
-        self.platform = as_point(platform, "platform")
-        self.angle = as_exact(angle, "angle")
+        self.platform = _geom_point(platform, "platform")
+        self.angle = _geom_number(angle, "angle")
         cb, sb = _exact_cs(angle, "angle")
         if not sb.free_symbols and float(sb) == 0.0:
             raise DegenerateDesignError(f"angle (between the two sliders of PPR) must not be 0 or pi, got {angle}")
