@@ -443,9 +443,7 @@ class PlanarParallel:
         -100*x0**2 - 100*x1**2 + 4*x2**2 + 4*x3**2
         """
         if q is not None and not is_symbolic(q):
-            items = list(np.ravel(np.asarray(q, dtype=object)))
-            if len(items) != 3:
-                raise InputError(f"q must have shape (3,), got {len(items)} entries")
+            items = _three_joint_values(q)
             as_float_array([float(v) for v in items], "q", last=3)
             q = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
         return [qd.expr() for qd in self.quadrics(q)]
@@ -716,7 +714,13 @@ class PlanarParallel:
         """
         p = as_float_array(pose, "pose", last=3)
         qa = as_float_array(q, "q", last=3)
-        length = np.asarray(length, dtype=float)
+        length = as_float_array(length, "length")
+        if np.any(length <= 0):
+            raise InputError(f"length must be positive (a length scale), got {length.tolist()}")
+        if length.ndim > 1 or (length.ndim == 1 and (p.ndim < 2 and qa.ndim < 2
+                                                      or length.shape[0] != max(len(p) if p.ndim == 2 else 1,
+                                                                                len(qa) if qa.ndim == 2 else 1))):
+            raise InputError(f"length must be a number or one per row (n,), got shape {length.shape}")
         if length.ndim:
             length = length[..., None]
         errs = []
@@ -982,9 +986,17 @@ class PlanarParallel:
         """
         chunk_size = as_count(chunk_size, "chunk_size")
         certify = as_flag(certify, "certify")
-        Q = np.asarray(Q)
+        if not isinstance(method, str) or method not in ("auto", "kernel", "numpy"):
+            raise InputError(f"method must be 'auto', 'kernel' or 'numpy', got {method!r}")
+        if not isinstance(Q, np.ndarray):               # a memmap is validated chunk by chunk
+            Q = as_float_array(Q, "Q", last=3, finite=False)
+        elif Q.dtype.kind not in "iuf":
+            raise TypeError(f"Q must be a real float or integer array, got dtype {Q.dtype}")
         if Q.ndim != 2 or Q.shape[-1] != 3:
             raise InputError(f"Q must have shape (n, 3), got {Q.shape}")
+        return self._chunks(Q, chunk_size, certify, method)    # validated now, solved lazily
+
+    def _chunks(self, Q, chunk_size, certify, method):
         for start in range(0, Q.shape[0], chunk_size):
             yield start, self.direct_kinematics_batch(Q[start:start + chunk_size], certify, method)
 
@@ -1466,15 +1478,32 @@ class PlanarParallel:
         [(2, 2), (2, 2), (3, 2)]
         """
         p = as_float_array(pose, "pose", last=3, allow_batch=False)
+        qv = None
+        if q is not None:
+            qv = as_float_array(q, "q", last=3, allow_batch=False)
         out = []
         for i, leg in enumerate(self.legs):
             branch = 0
-            if q is not None:
+            if qv is not None:
                 vals = leg.actuated_values(p)
-                d = np.abs(vals - float(np.asarray(q, float)[i]))
+                d = np.abs(vals - qv[i])
                 branch = int(np.nanargmin(np.where(np.isnan(d), np.inf, d)))
             out.append(leg.joint_points(p, branch))
         return out
+
+
+def _three_joint_values(q, name="q"):
+    """The three entries of one joint vector ``q`` (numbers or sympy expressions), refusing
+    other shapes, strings and None by name."""
+    if isinstance(q, (str, bytes)) or q is None or isinstance(q, sp.MatrixBase) and min(q.shape) > 1:
+        raise TypeError(f"{name} must be three joint values, got {type(q).__name__} {q!r:.80}")
+    try:
+        items = list(q)
+    except TypeError:
+        raise TypeError(f"{name} must be three joint values, got {type(q).__name__} {q!r:.80}") from None
+    if len(items) != 3 or any(np.ndim(v) != 0 or isinstance(v, (list, tuple)) for v in items):
+        raise InputError(f"{name} must have shape (3,), got {np.shape(np.asarray(q, dtype=object))}")
+    return items
 
 
 def _cache_key(q):
@@ -1486,7 +1515,7 @@ def _cache_key(q):
     """
     if q is None:
         return None
-    items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
+    items = _three_joint_values(q)
     return tuple(sp.sympify(v) if isinstance(v, sp.Basic) else as_exact(v, f"q[{i}]")
                  for i, v in enumerate(items))
 

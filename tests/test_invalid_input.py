@@ -135,3 +135,23 @@ def test_a_batch_too_large_for_memory_points_to_the_chunks(m, monkeypatch):
         m.direct_kinematics_batch(Q, method="numpy")
     (start, r), = list(m.direct_kinematics_chunks(Q[:5], chunk_size=8, method="numpy"))
     assert start == 0 and r.count.tolist() == [6] * 5
+
+
+@pytest.mark.parametrize("call, exc, words", [
+    (lambda m: m.direct_kinematics_chunks(None), TypeError, "Q must be numeric"),         # raised at the call,
+    (lambda m: m.direct_kinematics_chunks(np.zeros((2, 3)), chunk_size="a"), TypeError, "chunk_size"),  # not at
+    (lambda m: m.direct_kinematics_chunks(np.zeros((2, 3)), method="x"), isp.InputError, "method"),     # the first
+    (lambda m: m.direct_kinematics_chunks(np.zeros((2, 3), dtype=complex)), TypeError, "Q must be real"),  # chunk
+    (lambda m: m.joint_residual([0.1, 0.2, 0.3], m.q_example_float, length=-1), isp.InputError, "length must be positive"),
+    (lambda m: m.joint_residual([0.1, 0.2, 0.3], m.q_example_float, length=np.nan), isp.InputError, "length must be finite"),
+    (lambda m: m.joint_residual([0.1, 0.2, 0.3], m.q_example_float, length=[1, 2]), isp.InputError, "one per row"),
+    (lambda m: m.joint_residual([0.1, 0.2, 0.3], m.q_example_float, length=2**1100), isp.InputError, "float range"),
+    (lambda m: m.leg_points([0.1, 0.2, 0.3], q=2.5), isp.InputError, r"q must have shape \(3,\)"),
+    (lambda m: m.leg_points([0.1, 0.2, 0.3], q=[1, 2]), isp.InputError, r"q must have shape \(3,\)"),
+    (lambda m: m.constraint_equations([[1, 2, 3]]), isp.InputError, r"q must have shape \(3,\)"),
+    (lambda m: m.kinematic_polynomial([[11, 5, 10]]), isp.InputError, r"q must have shape \(3,\)"),
+    (lambda m: m.kinematic_polynomial("abc"), TypeError, "q must be three joint values"),
+])
+def test_more_manipulator_options_of_the_wrong_kind(m, call, exc, words):
+    with pytest.raises(exc, match=words):
+        call(m)
