@@ -141,7 +141,7 @@ def test_a_batch_too_large_for_memory_points_to_the_chunks(m, monkeypatch):
     (lambda m: m.direct_kinematics_chunks(None), TypeError, "Q must be numeric"),         # raised at the call,
     (lambda m: m.direct_kinematics_chunks(np.zeros((2, 3)), chunk_size="a"), TypeError, "chunk_size"),  # not at
     (lambda m: m.direct_kinematics_chunks(np.zeros((2, 3)), method="x"), isp.InputError, "method"),     # the first
-    (lambda m: m.direct_kinematics_chunks(np.zeros((2, 3), dtype=complex)), TypeError, "Q must be real"),  # chunk
+    (lambda m: m.direct_kinematics_chunks(np.zeros((2, 3), dtype=complex)), TypeError, "Q must be a real"),  # chunk
     (lambda m: m.joint_residual([0.1, 0.2, 0.3], m.q_example_float, length=-1), isp.InputError, "length must be positive"),
     (lambda m: m.joint_residual([0.1, 0.2, 0.3], m.q_example_float, length=np.nan), isp.InputError, "length must be finite"),
     (lambda m: m.joint_residual([0.1, 0.2, 0.3], m.q_example_float, length=[1, 2]), isp.InputError, "one per row"),
