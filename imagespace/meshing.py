@@ -58,14 +58,17 @@ Only this module (and :mod:`imagespace.plotting`) imports scikit-image and trime
 
 from __future__ import annotations
 
+import math
+import numbers
 import os
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
-from ._validate import as_float_array
+from ._validate import _short, as_count, as_flag, as_float_array, as_sympy_entry
 from ._files import atomic_write
 from .certify import flint_precision
 from .compile import compile_exprs
@@ -420,6 +423,27 @@ class _ArbBudget:
 
 
 # -- implicit functions ---------------------------------------------------------------------------
+def _points3(P, name="P"):
+    """Points ``(n, 3)`` (or one ``(3,)``) as a float array; NaN allowed (its value is NaN)."""
+    if isinstance(P, np.ndarray) and P.dtype == np.float64 and P.ndim == 2 and P.shape[1] == 3:
+        return P                                               # the internal hot path
+    arr = as_float_array(P, name, last=3, finite=False)
+    return np.atleast_2d(arr)
+
+
+def _axes3(axes):
+    """Three 1-d float grid axes."""
+    if isinstance(axes, (str, bytes)) or not hasattr(axes, "__len__") or len(axes) != 3:
+        raise TypeError(f"axes must be three 1-d float arrays (u, v, w), got {_short(axes)}")
+    out = []
+    for i, a in enumerate(axes):
+        arr = as_float_array(a, f"axes[{i}]")
+        if arr.ndim != 1:
+            raise InputError(f"axes[{i}] must be a 1-d array of grid values, got shape {arr.shape}")
+        out.append(arr)
+    return out
+
+
 class Implicit:
     """A scalar function on 3-space that :func:`mesh_implicit` can mesh (its zero set).
 
@@ -466,7 +490,7 @@ class Implicit:
         >>> s.tolist(), known.tolist()
         ([1, 0], [True, False])
         """
-        f = self.value(np.atleast_2d(P))
+        f = self.value(_points3(P))
         known = np.isfinite(f) & (f != 0)
         return np.where(known, np.sign(f), 0).astype(np.int8), known
 
@@ -475,7 +499,7 @@ class Implicit:
 
         ``block(k, n)`` is called after each of ``n`` slabs (progress reporting).
         """
-        u, v, w = axes
+        u, v, w = _axes3(axes)
         out = np.empty((len(u), len(v), len(w)))
         U, V = np.meshgrid(u, v, indexing="ij")
         for k, wk in enumerate(w):
@@ -523,10 +547,26 @@ class PolynomialImplicit(Implicit):
     """
 
     def __init__(self, expr, symbols):
+        if isinstance(symbols, (str, bytes)) or not hasattr(symbols, "__iter__"):
+            raise TypeError(f"symbols must be three sympy symbols, got {type(symbols).__name__} "
+                            f"{_short(symbols)}; strings are never parsed")
         symbols = tuple(symbols)
         if len(symbols) != 3:
-            raise InputError(f"symbols must be three sympy symbols, got {symbols!r}")
-        expr = sp.sympify(expr)
+            raise InputError(f"symbols must be three sympy symbols, got {len(symbols)}: {_short(symbols)}")
+        for i, s_ in enumerate(symbols):
+            if not isinstance(s_, sp.Symbol):
+                raise TypeError(f"symbols[{i}] must be a sympy Symbol, got {type(s_).__name__} {_short(s_)}")
+        if len(set(symbols)) != 3:
+            raise InputError(f"symbols must be three distinct sympy symbols, got {symbols}")
+        expr = as_sympy_entry(expr, "expr")          # a string is refused, never sympified
+        if expr.has(sp.I):
+            raise TypeError(f"expr must be real, got {_short(expr)}")
+        chart = set(symbols)
+        poles = [a for a in expr.atoms(sp.Pow) if a.base.free_symbols & chart and a.exp.is_negative]
+        poles += [a for a in expr.atoms(sp.tan, sp.cot, sp.sec, sp.csc, sp.log) if a.free_symbols & chart]
+        if poles:
+            raise InputError(f"expr must be continuous in {symbols} (the mesher brackets sign changes, and "
+                             f"a pole changes sign too), got {_short(poles[0])} in it; clear the denominators")
         extra = expr.free_symbols - set(symbols)
         if extra:
             raise InputError(f"expr has symbols {sorted(map(str, extra))} besides {symbols}")
@@ -562,10 +602,10 @@ class PolynomialImplicit(Implicit):
         return super()._value_bound(P) if ev is None else ev.filter(P)
 
     def proven_sign(self, P, _budget=None):
+        P = _points3(P)
         ev = self._sign_evaluator()
         if ev is None:
             return super().proven_sign(P, _budget)
-        P = np.atleast_2d(np.asarray(P, dtype=float))
         F, bound, zero = ev.filter(P)
         known = zero | (np.abs(F) > bound)
         sign = np.where(zero, 0, np.sign(F)).astype(np.int8)
@@ -578,18 +618,18 @@ class PolynomialImplicit(Implicit):
         return sign, known
 
     def value_and_gradient(self, P):
-        P = np.atleast_2d(P)
+        P = _points3(P)
         out = self._vg(P[:, 0], P[:, 1], P[:, 2])
         return out[:, 0], out[:, 1:]
 
     def value(self, P):
-        P = np.atleast_2d(P)
+        P = _points3(P)
         return self._v(P[:, 0], P[:, 1], P[:, 2])[:, 0]
 
     def grid(self, axes, block=None):
         if self._monomials is None:
             return super().grid(axes, block)
-        u, v, w = (np.asarray(a, dtype=float) for a in axes)
+        u, v, w = _axes3(axes)
         C = self._coeffs(w)                                   # (nw, M)
         M = np.stack([np.multiply.outer(u**a, v**b).ravel() for a, b in self._monomials], axis=-1)
         out = np.empty((len(u) * len(v), len(w)))
@@ -619,15 +659,40 @@ class FunctionImplicit(Implicit):
     """
 
     def __init__(self, value_and_gradient, value=None):
+        if not callable(value_and_gradient):
+            raise TypeError(f"value_and_gradient must be callable, P (n, 3) -> (F (n,), grad (n, 3)); "
+                            f"got {type(value_and_gradient).__name__} {_short(value_and_gradient)}")
+        if value is not None and not callable(value):
+            raise TypeError(f"value must be callable or None, got {type(value).__name__} {_short(value)}")
         self._vg = value_and_gradient
         self._value = value
 
     def value_and_gradient(self, P):
-        return self._vg(np.atleast_2d(P))
+        P = _points3(P)
+        out = self._vg(P)
+        try:
+            F, G = out
+        except (TypeError, ValueError):
+            raise InputError(f"value_and_gradient must return (F (n,), grad (n, 3)), got "
+                             f"{type(out).__name__} {_short(out)}") from None
+        return self._check_values(F, len(P), "F"), self._check_values(G, len(P), "grad")
 
     def value(self, P):
-        P = np.atleast_2d(P)
-        return self._value(P) if self._value is not None else self._vg(P)[0]
+        P = _points3(P)
+        if self._value is not None:
+            return self._check_values(self._value(P), len(P), "value")
+        return self.value_and_gradient(P)[0]
+
+    @staticmethod
+    def _check_values(values, n, what):
+        try:
+            arr = np.asarray(values, dtype=float)
+        except (TypeError, ValueError):
+            raise TypeError(f"the function's {what} must be numeric, got {_short(values)}") from None
+        want = (n, 3) if what == "grad" else (n,)
+        if arr.shape != want:
+            raise InputError(f"the function's {what} at {n} points must have shape {want}, got shape {arr.shape}")
+        return arr
 
 
 def surface_implicit(surface, chart="image"):
@@ -652,8 +717,13 @@ def surface_implicit(surface, chart="image"):
     >>> type(surface_implicit(isp.examples.stigger_husty().singularity_surface(), "pose")).__name__
     'PolynomialImplicit'
     """
-    from .singularities import image_chart_point, pose_chart_point
+    from .singularities import SingularitySurface, image_chart_point, pose_chart_point
 
+    if not isinstance(surface, SingularitySurface):
+        raise TypeError(f"surface must be a SingularitySurface (from PlanarParallel.singularity_surface), "
+                        f"got {type(surface).__name__} {_short(surface)}")
+    if not isinstance(chart, str):
+        raise TypeError(f"chart must be 'image' or 'pose', got {type(chart).__name__} {_short(chart)}")
     if chart not in ("image", "pose"):
         raise InputError(f"chart must be 'image' or 'pose', got {chart!r}")
     key = ("implicit", chart)
@@ -683,19 +753,61 @@ def _check_box(box):
     if np.any(b[:, 1] <= b[:, 0]):
         bad = [i for i in range(3) if b[i, 1] <= b[i, 0]]
         raise InputError(f"box is empty along axis {bad}: need min < max, got {b.tolist()}")
+    with np.errstate(over="ignore"):
+        sides = b[:, 1] - b[:, 0]
+    if not np.all(np.isfinite(sides)):
+        raise InputError(f"box sides must be within the float range (max - min overflows), got {b.tolist()}")
     return b
 
 
+def _check_max_memory(max_memory):
+    if isinstance(max_memory, (bool, np.bool_)) or not isinstance(max_memory, (numbers.Real, np.floating, np.integer)):
+        raise TypeError(f"max_memory must be a positive number of bytes, got {type(max_memory).__name__} "
+                        f"{_short(max_memory)}")
+    try:
+        v = float(max_memory)
+    except OverflowError:
+        v = math.inf
+    if not (math.isfinite(v) and v > 0):
+        raise InputError(f"max_memory must be a positive finite number of bytes, got {_short(max_memory)}")
+    return v
+
+
+class _KindError(InputError, TypeError):
+    """A parameter of the wrong kind that used to raise :class:`InputError`: a ``TypeError`` (the
+    convention) that ``except InputError`` still catches."""
+
+
 def _check_resolution(resolution, max_memory):
-    r = np.atleast_1d(np.asarray(resolution))
-    if r.dtype.kind not in "iu" or r.shape not in ((1,), (3,)):
-        raise InputError(f"resolution must be an int or three ints (grid points per axis), got {resolution!r}")
-    r = np.broadcast_to(r, (3,)).astype(np.int64)
-    if np.any(r < 8):
+    max_memory = _check_max_memory(max_memory)
+    if isinstance(resolution, np.ndarray) and resolution.ndim == 0:
+        resolution = resolution[()]
+    wrong = (f"resolution must be an int or three ints (whole numbers of grid points per axis), got "
+             f"{type(resolution).__name__} {_short(resolution)}")
+    if isinstance(resolution, (str, bytes)) or resolution is None:
+        raise _KindError(wrong)
+    if isinstance(resolution, (numbers.Number, np.generic)):
+        items = [resolution]
+    else:
+        try:
+            items = list(resolution)
+        except TypeError:
+            raise _KindError(wrong) from None
+        if len(items) not in (1, 3):
+            raise InputError(f"resolution must be an int or three ints (grid points per axis), got "
+                             f"{len(items)} entries: {_short(resolution)}")
+    names = ["resolution"] if len(items) == 1 else [f"resolution[{i}]" for i in range(3)]
+    try:
+        vals = [as_count(v, n, minimum=-2**63) for v, n in zip(items, names)]
+    except TypeError as exc:
+        raise _KindError(f"{exc}; resolution must be an int or three ints") from None
+    if any(v < 8 for v in vals):
         raise InputError(f"resolution must be at least 8 grid points per axis, got {resolution!r}")
-    need = float(np.prod(r.astype(float))) * _BYTES_PER_CELL
+    r = vals * 3 if len(vals) == 1 else vals
+    need = math.prod(r) * _BYTES_PER_CELL              # exact: 2**1100 points do not overflow here
     if need > max_memory:
-        raise InputError(f"resolution {tuple(int(v) for v in r)} needs about {need / 1e9:.3g} GB for the grid "
+        gb = need / 10**9 if need < 10**300 else math.inf
+        raise InputError(f"resolution {_short(tuple(int(v) for v in r))} needs about {gb:.3g} GB for the grid "
                          f"and marching cubes, above the limit max_memory={max_memory / 1e9:.3g} GB; "
                          "lower the resolution or raise max_memory")
     return tuple(int(v) for v in r)
@@ -704,6 +816,8 @@ def _check_resolution(resolution, max_memory):
 class _Progress:
     def __init__(self, enabled, total):
         self.bar = None
+        if enabled is not None:
+            enabled = as_flag(enabled, "progress")
         if enabled is not False:
             from tqdm import tqdm
 
@@ -758,9 +872,23 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
 
     Raises
     ------
+    TypeError
+        ``func`` not an :class:`Implicit`; ``resolution`` not whole numbers (this one is also an
+        :class:`InputError`, as before); ``tol``, ``max_memory``, ``progress`` or
+        ``on_uncertified`` of the wrong kind (strings are never parsed).
     InputError
-        Empty box, resolution below 8, or above the memory limit; ``tol`` outside ``(0, 0.01)``;
-        an unknown ``on_uncertified``.
+        Empty box, a side that overflows or is too short for its grid points to differ in float,
+        resolution below 8, or above the memory limit; ``max_memory`` not a positive finite
+        number; ``tol`` outside ``(0, 0.01)``; an unknown ``on_uncertified``; ``func`` zero at
+        every grid point (its zero set is not a surface).
+
+    Warns
+    -----
+    UserWarning
+        ``func`` touches 0 on the grid without changing sign anywhere (a zero only on the box's
+        boundary, a component of even multiplicity), or is not finite anywhere on the grid: the
+        mesh is empty and ``metadata["imagespace"]["note"]`` says why. A box the surface simply
+        misses gives an empty mesh without a warning.
 
     Examples
     --------
@@ -787,16 +915,33 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
 
     if not isinstance(func, Implicit):
         raise TypeError(f"func must be an imagespace.meshing.Implicit, got {type(func).__name__}")
+    if not isinstance(on_uncertified, str):
+        raise TypeError(f"on_uncertified must be 'remove' or 'keep', got {type(on_uncertified).__name__} "
+                        f"{_short(on_uncertified)}")
     if on_uncertified not in ("remove", "keep"):
         raise InputError(f"on_uncertified must be 'remove' or 'keep', got {on_uncertified!r}")
     b = _check_box(box)
     res = _check_resolution(resolution, max_memory)
-    tol = float(tol)
+    if isinstance(tol, (bool, np.bool_)) or not isinstance(tol, (numbers.Real, np.floating, np.integer)):
+        raise TypeError(f"tol must be a number in (0, 0.01), got {type(tol).__name__} {_short(tol)}")
+    try:
+        tol = float(tol)
+    except OverflowError:
+        tol = math.inf
     if not 0 < tol < 1e-2:
         raise InputError(f"tol must be in (0, 0.01), got {tol}")
+    if progress is not None:
+        as_flag(progress, "progress")
     size = float(np.max(b[:, 1] - b[:, 0]))
     axes = [np.linspace(b[i, 0], b[i, 1], res[i]) for i in range(3)]
     h = (b[:, 1] - b[:, 0]) / (np.array(res) - 1)
+    ulp = np.spacing(np.max(np.abs(b), axis=1))
+    if np.any(h < 1e-150) or np.any(h < 16 * ulp):
+        i = int(np.argmin(h / np.maximum(16 * ulp, 1e-150)))
+        raise InputError(f"box side {i} ({b[i].tolist()}) is too short for {res[i]} grid points: cells of "
+                         f"{h[i]:.3g} are below {max(16 * ulp[i], 1e-150):.3g} (16 float spacings at "
+                         "that position, or 1e-150: the mesher squares cell sizes); enlarge the box, "
+                         "shift it nearer the origin, or lower the resolution")
     times = {}
     bar = _Progress(progress, total=16 + 3)
     t0 = time.perf_counter()
@@ -805,22 +950,37 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     finite = np.isfinite(G)
     meta = {"resolution": list(res), "box": b.tolist(), "tol": tol, "size": size,
             "sign_test": func.sign_test}
-    empty = not finite.any() or np.nanmin(G) > 0 or np.nanmax(G) < 0
-    if empty:
+    def empty_mesh(note):
         bar.close()
         meta.update(max_distance=0.0, max_residual=0.0, uncertified=0, removed=0, removed_faces=0,
-                    searched=0, arb_evaluations=0, arb_budget_exhausted=False, times=times,
-                    note="the surface does not meet the box")
+                    searched=0, arb_evaluations=0, arb_budget_exhausted=False, times=times, note=note)
         mesh = trimesh.Trimesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64),
                                metadata={"imagespace": meta}, process=False)
         mesh.vertex_attributes["distance_bound"] = np.zeros(0)
         return mesh
+
+    if not finite.any():
+        warnings.warn("mesh_implicit: func is NaN or infinite at every grid point of the box; the mesh "
+                      "is empty", UserWarning, stacklevel=2)
+        return empty_mesh("the function is not finite anywhere on the grid")
+    if np.nanmin(G) > 0 or np.nanmax(G) < 0:
+        return empty_mesh("the surface does not meet the box")
+    if not np.any(G[finite] != 0):
+        bar.close()
+        raise InputError("func is 0 at every grid point of the box: its zero set is not a surface there "
+                         "(e.g. a function that vanishes identically, or a singularity surface of an "
+                         "architecture-singular design); nothing to mesh")
     t0 = time.perf_counter()
     kw = {}
     if not finite.all():
         kw["mask"] = _cube_mask(finite)
         G = np.where(finite, G, 0.0)
-    verts, faces, _, _ = marching_cubes(G, level=0.0, allow_degenerate=False, **kw)
+    verts, faces = _marching_cubes(marching_cubes, G, kw)
+    if verts is None:
+        warnings.warn("mesh_implicit: func touches 0 on the grid but changes sign nowhere in the box "
+                      "(a zero only on the box's boundary, or a surface of even multiplicity); "
+                      "the mesh is empty", UserWarning, stacklevel=2)
+        return empty_mesh("the function touches 0 but does not change sign in the box")
     times["marching_cubes"] = time.perf_counter() - t0
     bar.step()
     t0 = time.perf_counter()
@@ -846,6 +1006,28 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
                            "sign change between points of proven sign")
     mesh.metadata["imagespace"] = meta
     return mesh
+
+
+def _marching_cubes(marching_cubes, G, kw):
+    """scikit-image's marching cubes on the grid values ``G``, or ``(None, None)`` where it finds
+    no surface. It works in float32: a grid whose values leave float32's range (above 1e38, or
+    non-zero below 1e-38) is first scaled by its largest value, and what would still underflow
+    is kept at +-1e-30 so that no sign is lost; only the starting points of the projection depend
+    on these values, the certified vertices do not."""
+    amax = float(np.max(np.abs(G)))
+    nz = np.abs(G[G != 0])
+    if amax > 1e30 or (nz.size and float(nz.min()) < 1e-30):
+        G = G / amax
+        tiny = (G != 0) & (np.abs(G) < 1e-30)
+        if tiny.any():
+            G = np.where(tiny, np.sign(G) * 1e-30, G)
+    try:
+        verts, faces, _, _ = marching_cubes(G, level=0.0, allow_degenerate=False, **kw)
+    except RuntimeError as exc:
+        if "No surface found" in str(exc):
+            return None, None
+        raise
+    return verts, faces
 
 
 def _clean(V, faces, bound, origin, h, height, remove):
@@ -921,7 +1103,7 @@ def _project(func, verts, origin, h, tol_abs, budget):
         V[rest], bound[rest] = Vs, bs
     f, g = func.value_and_gradient(V)
     with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.abs(f) / np.linalg.norm(g, axis=1)
+        r = np.abs(f) / _norm3(g)
     r = np.where((f == 0) | ~np.isfinite(bound), 0.0, r)
     resid = float(np.nanmax(r)) if np.any(np.isfinite(r)) else 0.0
     return V, bound, resid, int(rest.size)
@@ -1021,6 +1203,11 @@ def _project_edges(func, verts, axis, origin, h, tol_abs, budget):
     return V, bound
 
 
+def _norm3(g):
+    """Row norms of ``(n, 3)`` gradients without overflow in the squares (gradients of 1e200)."""
+    return np.hypot(np.hypot(g[:, 0], g[:, 1]), g[:, 2])
+
+
 def _directions(func, P0, first, h):
     """Candidate search directions per vertex, ``(8, m, 3)``: the vertex's own edge axis first
     (if any), the other grid axes, the gradient (scaled to the smallest cell side; NaN where it
@@ -1032,7 +1219,7 @@ def _directions(func, P0, first, h):
         D[i] = 0.0
         D[i, np.arange(m), axes[:, i]] = h[axes[:, i]]
     _, g = func.value_and_gradient(P0)
-    gn = np.linalg.norm(g, axis=1)
+    gn = _norm3(g)
     with np.errstate(divide="ignore", invalid="ignore"):
         D[3] = np.where((gn > 0)[:, None] & np.isfinite(g), g / gn[:, None] * h.min(), np.nan)
     for i, sgn in enumerate(((1, 1, 1), (1, 1, -1), (1, -1, 1), (-1, 1, 1))):
@@ -1215,9 +1402,12 @@ def export_mesh(mesh, path):
     Raises
     ------
     TypeError
-        ``mesh`` is not a :class:`trimesh.Trimesh`.
+        ``mesh`` is not a :class:`trimesh.Trimesh`; ``path`` is not a ``str`` or path-like (bytes
+        paths are refused).
     InputError
         Unknown suffix.
+    IsADirectoryError, NotADirectoryError
+        ``path`` is an existing folder, or lies under a file.
 
     Examples
     --------
@@ -1234,11 +1424,22 @@ def export_mesh(mesh, path):
 
     if not isinstance(mesh, trimesh.Trimesh):
         raise TypeError(f"mesh must be a trimesh.Trimesh, got {type(mesh).__name__}")
+    if not isinstance(path, (str, os.PathLike)) or isinstance(path, bytes):
+        raise TypeError(f"path must be a str or pathlib.Path, got {type(path).__name__} {_short(path)}")
     path = Path(path)
+    if isinstance(os.fspath(path), bytes):
+        raise TypeError(f"path must be a str or pathlib.Path, got the bytes path {_short(path)}")
     suffix = path.suffix.lower()
     if suffix not in EXPORT_FORMATS:
         raise InputError(f"path must end in one of {', '.join(EXPORT_FORMATS)} (the format is taken "
                          f"from the suffix), got {str(path)!r}")
+    if path.is_dir():
+        raise IsADirectoryError(f"path {str(path)!r} is an existing folder, not a file")
+    for parent in path.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise NotADirectoryError(f"path {str(path)!r} lies under {str(parent)!r}, which is a file")
+            break
     V = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
     F = np.ascontiguousarray(mesh.faces, dtype=np.int64)
     path.parent.mkdir(parents=True, exist_ok=True)
