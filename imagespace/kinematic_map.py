@@ -125,6 +125,19 @@ def _check_not_absolute(x0, x1, name):
             f"and are not displacements; got such a point at row(s) {idx[:5].tolist()}")
 
 
+def _finite_result(out, name, trailing=1):
+    """Refuse points whose displacement is beyond the float range: finite, non-absolute input gives
+    a non-finite result only when (x0, x1) is tiny next to (x2, x3) (a translation above 1e308).
+    ``trailing``: the number of axes of one point's result."""
+    ok = np.isfinite(out)
+    if np.all(ok):
+        return out
+    bad = ~np.all(ok.reshape(ok.shape[:ok.ndim - trailing] + (-1,)), axis=-1)
+    where = f" at row(s) {np.flatnonzero(bad)[:5].tolist()}" if bad.ndim else ""
+    raise InputError(f"{name} describes a displacement beyond the float range ((x0, x1) too small next to "
+                     f"(x2, x3): a translation above 1e308){where}")
+
+
 def _rescaled(p):
     """The same homogeneous points divided by their largest entry, so that squaring neither
     underflows (1e-300) nor overflows (1e200). Rows of zeros stay zeros."""
@@ -165,11 +178,13 @@ def pose_of(image_point):
     p = _rescaled(as_float_array(image_point, "image_point", last=4))
     x0, x1, x2, x3 = (p[..., i] for i in range(4))
     _check_not_absolute(x0, x1, "image_point")
-    n = x0**2 + x1**2
-    # the angle of (x0, x1) mod pi, doubled: phi in (-pi, pi]
-    s = representative_sign(x0, x1)
-    phi = 2 * np.arctan2(s * x1, s * x0)
-    return np.stack([2 * (x0 * x3 + x1 * x2) / n, 2 * (-x0 * x2 + x1 * x3) / n, phi], axis=-1)
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        n = x0**2 + x1**2
+        # the angle of (x0, x1) mod pi, doubled: phi in (-pi, pi]
+        s = representative_sign(x0, x1)
+        phi = 2 * np.arctan2(s * x1, s * x0)
+        out = np.stack([2 * (x0 * x3 + x1 * x2) / n, 2 * (-x0 * x2 + x1 * x3) / n, phi], axis=-1)
+    return _finite_result(out, "image_point")
 
 
 def normalize(image_point):
@@ -201,8 +216,10 @@ def normalize(image_point):
     p = _rescaled(as_float_array(image_point, "image_point", last=4))
     x0, x1 = p[..., 0], p[..., 1]
     _check_not_absolute(x0, x1, "image_point")
-    n = np.sqrt(x0**2 + x1**2)
-    return p * (representative_sign(x0, x1) / n)[..., None] + 0.0
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        n = np.sqrt(x0**2 + x1**2)
+        out = p * (representative_sign(x0, x1) / n)[..., None] + 0.0
+    return _finite_result(out, "image_point")
 
 
 def transform_matrix(image_point):
@@ -236,15 +253,16 @@ def transform_matrix(image_point):
     p = _rescaled(as_float_array(image_point, "image_point", last=4))
     x0, x1, x2, x3 = (p[..., i] for i in range(4))
     _check_not_absolute(x0, x1, "image_point")
-    n = x0**2 + x1**2
     out = np.zeros(p.shape[:-1] + (3, 3))
-    out[..., 0, 0] = 1.0
-    out[..., 1, 0] = (2 * x0 * x3 + 2 * x1 * x2) / n
-    out[..., 2, 0] = (-2 * x0 * x2 + 2 * x1 * x3) / n
-    out[..., 1, 1] = out[..., 2, 2] = (x0**2 - x1**2) / n
-    out[..., 1, 2] = -2 * x0 * x1 / n
-    out[..., 2, 1] = 2 * x0 * x1 / n
-    return out + 0.0  # no negative zeros
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        n = x0**2 + x1**2
+        out[..., 0, 0] = 1.0
+        out[..., 1, 0] = (2 * x0 * x3 + 2 * x1 * x2) / n
+        out[..., 2, 0] = (-2 * x0 * x2 + 2 * x1 * x3) / n
+        out[..., 1, 1] = out[..., 2, 2] = (x0**2 - x1**2) / n
+        out[..., 1, 2] = -2 * x0 * x1 / n
+        out[..., 2, 1] = 2 * x0 * x1 / n
+    return _finite_result(out, "image_point", trailing=2) + 0.0  # no negative zeros
 
 
 def transform_points(image_point, points):

@@ -107,3 +107,15 @@ def test_valid_symbolic_input_still_works():
     assert isp.image_point([a, np.int64(1), 0])[2] == sp.Rational(-1, 2)
     assert isp.inverse(sp.Matrix([1, a, 0, 0])) == sp.Matrix([1, -a, 0, 0])
     assert isp.compose([1, 0, a, 0], [1, 0, 0, 0]) == sp.Matrix([1, 0, a, 0])
+
+
+@pytest.mark.parametrize("call", [isp.pose_of, isp.normalize, isp.transform_matrix,
+                                  lambda X: isp.transform_points(X, [1.0, 0.0])])
+def test_displacements_beyond_the_float_range_are_refused(call):
+    """(x0, x1) = (1e-320, 0) next to x2 = x3 = 1: a translation of about 1e320. Was a numpy
+    'divide by zero' RuntimeWarning and inf or NaN entries (the rotation block of transform_matrix
+    came out 0/0)."""
+    with pytest.raises(isp.InputError, match="image_point describes a displacement beyond the float range"):
+        call([1e-320, 0.0, 1.0, 1.0])
+    with pytest.raises(isp.InputError, match=r"at row\(s\) \[1\]"):
+        call(np.array([[1.0, 0, 0, 0], [1e-320, 0.0, 1.0, 1.0]]))
