@@ -105,12 +105,27 @@ def _in_float_range(values, name):
     return values
 
 
+def _real_entry(value, name):
+    """A sympy entry of the geometry: a real expression (no booleans, relations, I, nan)."""
+    if isinstance(value, sp.Basic):
+        value = as_sympy_entry(value, name)
+        if value.has(sp.I):
+            raise TypeError(f"{name} must be real, got {_short(value)}")
+    return value
+
+
 def _geom_point(value, name):
+    if isinstance(value, (list, tuple)) and len(value) == 2:
+        value = tuple(_real_entry(v, f"{name}[{i}]") for i, v in enumerate(value))
+    elif isinstance(value, sp.MatrixBase) and len(value) == 2:
+        value = tuple(_real_entry(v, f"{name}[{i}]") for i, v in enumerate(value))
+    elif isinstance(value, np.ndarray) and value.dtype == object and value.shape == (2,):
+        value = tuple(_real_entry(v, f"{name}[{i}]") for i, v in enumerate(value))
     return _in_float_range(as_point(value, name), name)
 
 
 def _geom_number(value, name):
-    return _in_float_range(as_exact(value, name), name)
+    return _in_float_range(as_exact(_real_entry(value, name), name), name)
 
 
 def _unit(value, name):

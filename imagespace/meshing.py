@@ -205,7 +205,7 @@ class _ProvenSign:
     """
 
     def __init__(self, expr, symbols):
-        expr = sp.expand(sp.sympify(expr))
+        expr = sp.expand(as_sympy_entry(expr, "expr"))
         symbols = tuple(symbols)
         trig = sorted((a for a in expr.atoms(sp.sin, sp.cos) if a.free_symbols), key=sp.default_sort_key)
         self.trig = []

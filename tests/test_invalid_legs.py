@@ -140,3 +140,24 @@ def test_valid_input_still_works():
     assert leg.geometry(exact=np.bool_(False)) == {"base": (0.0, 0.0), "platform": (1.0, 0.0)}
     big = isp.RPR(base=(1e308, 0), platform=(0, 0))          # large but finite: allowed
     assert big.geometry(exact=False)["base"] == (1e308, 0.0)
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda: isp.RPR(base=(sp.I, 0), platform=(0, 0)), r"base\[0\] must be real"),
+    (lambda: isp.RPR(base=(a + sp.I, 0), platform=(0, 0)), r"base\[0\] must be real"),
+    (lambda: isp.RPR(base=(sp.true, 0), platform=(0, 0)), r"base\[0\] .*sympy BooleanTrue"),
+    (lambda: isp.RPR(base=(sp.Eq(a, 1), 0), platform=(0, 0)), r"base\[0\] .*sympy Equality"),
+    (lambda: isp.PRR(base=(0, 0), axis=(1, sp.I), platform=(0, 0), length=1), r"axis\[1\] must be real"),
+    (lambda: isp.PRR(base=(0, 0), axis=(1, 0), platform=(0, 0), length=sp.I), "length must be real"),
+    (lambda: isp.RPP(base=(0, 0), platform=(0, 0), direction=(1, 0), angle=sp.I), "angle must be real"),
+])
+def test_sympy_geometry_of_the_wrong_kind(call, words):
+    """Was 'Cannot convert complex to float' (or a leg holding Eq(a, 1) as a coordinate)."""
+    with pytest.raises(TypeError, match=words):
+        call()
+
+
+def test_symbolic_geometry_still_works():
+    leg = isp.RPR(base=sp.Matrix([a, 1]), platform=(sp.sqrt(2), sp.pi))
+    assert leg.free_symbols == {a}
+    assert leg.dyad(sp.Symbol("q")).expr().has(a)
