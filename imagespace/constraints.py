@@ -84,7 +84,10 @@ def _entry(value, name):
         raise TypeError(f"{name} must be a number, a sympy expression or a float array, got an array of "
                         f"dtype {value.dtype}: {_short(value)}")
     if isinstance(value, sp.Basic):
-        return as_sympy_entry(value, name)
+        value = as_sympy_entry(value, name)
+        if value.has(sp.I):
+            raise TypeError(f"{name} must be real, got {_short(value)}")
+        return value
     if isinstance(value, np.ndarray):             # 0-d
         value = value[()]
     if isinstance(value, (numbers.Real, np.floating, np.integer)) and not isinstance(value, (bool, np.bool_)):

@@ -85,3 +85,10 @@ def test_valid_input_still_works():
     batch = isp.rr_quadric((np.array([1.0, 2.0]), 0), np.array([1.0, 4.0]), (0, 0))
     assert batch.evaluate(np.array([[1.0, 0, 0, 0.5], [1.0, 0, 0, 1.0]])).shape == (2,)
     assert float(isp.rr_quadric((np.int64(1), 0), np.float32(1), (0, 0)).evaluate([1.0, 0, 0, 0])) == 0.0
+
+
+def test_complex_sympy_coefficients_are_refused():
+    with pytest.raises(TypeError, match="radius_squared must be real"):
+        isp.rr_quadric((0, 0), 1 + a * sp.I, (0, 0))
+    with pytest.raises(TypeError, match="coefficient c must be real"):
+        isp.Quadric("RR", sp.I * a, *[0] * 7)
