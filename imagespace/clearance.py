@@ -50,11 +50,12 @@ def _check_samples(samples, max_memory, what):
     if isinstance(max_memory, (bool, np.bool_)) or not isinstance(max_memory, numbers.Real):
         raise TypeError(f"max_memory must be a number of bytes, got {type(max_memory).__name__} "
                         f"{_short(max_memory)}")
-    if not (np.isfinite(float(max_memory)) and max_memory > 0):
+    if not (max_memory > 0 and max_memory < float("inf")):
         raise InputError(f"max_memory must be a positive finite number of bytes, got {max_memory!r}")
-    need = float(samples) * _BYTES_PER_SAMPLE[what]
+    need = samples * _BYTES_PER_SAMPLE[what]                  # exact: samples may be huge
     if need > max_memory:
-        raise InputError(f"samples={samples} needs about {need / 1e9:.3g} GB for {what}, above the limit "
+        size = f"{need / 1e9:.3g}" if need < 1e300 else "more than 1e291"
+        raise InputError(f"samples={_short(samples)} needs about {size} GB for {what}, above the limit "
                          f"max_memory={max_memory / 1e9:.3g} GB; lower samples (at most "
                          f"{int(max_memory // _BYTES_PER_SAMPLE[what])}) or raise max_memory")
     return samples

@@ -16,7 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validate import as_float_array
+import warnings
+
+from ._validate import _short, as_count, as_float_array
 from .exceptions import InputError
 
 __all__ = ["manipulability", "resistivity", "isotropy", "local_indices", "global_indices"]
@@ -65,6 +67,8 @@ def isotropy(Jh, kind="condition"):
     (0.5, 0.8)
     """
     J = _stack(Jh)
+    if not isinstance(kind, str):
+        raise TypeError(f"kind must be 'condition' or 'frobenius', got {type(kind).__name__} {_short(kind)}")
     if kind == "condition":
         sv = np.linalg.svd(J, compute_uv=False)
         return sv[..., -1] / sv[..., 0]
@@ -103,6 +107,13 @@ def local_indices(manipulator, poses, length, working_modes=None):
     >>> sorted(ind)
     ['isotropy', 'isotropy_frobenius', 'manipulability', 'resistivity']
     """
+    from .singularities import _check_manipulator, _scalar
+
+    _check_manipulator(manipulator)
+    poses = as_float_array(poses, "poses", last=3)
+    L = _scalar(length, "length")
+    if not L > 0:
+        raise InputError(f"length must be a positive characteristic length, got {length!r}")
     jac = manipulator.jacobians(poses, working_modes=working_modes)
     Jh = jac.homogeneous(length)
     ok = jac.valid & np.all(np.isfinite(Jh), axis=(1, 2))
@@ -139,15 +150,20 @@ def global_indices(manipulator, position, phi_range, length, n=73, working_modes
     >>> 0 < g["isotropy"] <= 1
     True
     """
-    lo, hi = (float(v) for v in phi_range)
-    if not hi > lo:
-        raise InputError(f"phi_range must be (min, max) with min < max, got {phi_range!r}")
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-        raise InputError(f"n must be an int >= 2, got {n!r}")
+    from .singularities import _check_manipulator
+    from .workspace import MAX_ORIENTATIONS, _phi_range
+
+    _check_manipulator(manipulator)
+    lo, hi = _phi_range(phi_range)
+    n = as_count(n, "n", 2)
+    if n > MAX_ORIENTATIONS:
+        raise InputError(f"n must be at most {MAX_ORIENTATIONS} orientations, got {n}")
     p = as_float_array(position, "position", allow_batch=False)
     if p.shape != (2,):
         raise InputError(f"position must be (x, y), got shape {p.shape}")
     phis = lo + (np.arange(n) + 0.5) * (hi - lo) / n
     P = np.column_stack([np.full(n, p[0]), np.full(n, p[1]), phis])
     loc = local_indices(manipulator, P, length, working_modes)
-    return {k: float(np.nanmean(v)) for k, v in loc.items()}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)          # no reachable orientation: NaN
+        return {k: float(np.nanmean(v)) for k, v in loc.items()}

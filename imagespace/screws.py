@@ -28,7 +28,9 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ._validate import as_float_array, is_symbolic
+import numbers
+
+from ._validate import _short, as_count, as_exact, as_float_array, is_symbolic
 from .exceptions import InputError
 
 __all__ = ["revolute", "prismatic", "helical", "transfer", "reciprocal_product", "reciprocal_system",
@@ -36,12 +38,28 @@ __all__ = ["revolute", "prismatic", "helical", "transfer", "reciprocal_product",
            "singularity_fractions"]
 
 
+def _scalar(value, name, finite=True):
+    v = as_float_array(value, name, finite=finite)
+    if v.ndim != 0:
+        raise InputError(f"{name} must be a single number, got shape {v.shape}")
+    return float(v)
+
+
+def _tol(tol):
+    t = _scalar(tol, "tol")
+    if not 0 < t < 1:
+        raise InputError(f"tol must be a relative tolerance in (0, 1), got {tol!r}")
+    return t
+
+
 def _vec3(v, name):
     if is_symbolic(v):
-        m = sp.Matrix(list(v))
-        if m.shape != (3, 1):
-            raise InputError(f"{name} must have 3 components, got {len(m)}")
-        return m
+        if not isinstance(v, (list, tuple, np.ndarray, sp.MatrixBase)):
+            raise TypeError(f"{name} must be a 3-vector, got {_short(v)}")
+        items = list(v)
+        if len(items) != 3:
+            raise InputError(f"{name} must have 3 components, got {len(items)}")
+        return sp.Matrix([as_exact(x, f"{name}[{i}]") for i, x in enumerate(items)])
     a = as_float_array(v, name, last=3)
     return a
 
@@ -120,9 +138,17 @@ def helical(axis, point, pitch):
     """
     u = _unit(_vec3(axis, "axis"), "axis")
     p = _vec3(point, "point")
-    if isinstance(u, sp.MatrixBase):
-        return _join(u, _cross(p, u) + sp.sympify(pitch) * u)
-    return _join(u, _cross(p, u) + np.asarray(pitch, float)[..., None] * u)
+    if isinstance(u, sp.MatrixBase) or isinstance(p, sp.MatrixBase) or is_symbolic(pitch):
+        if isinstance(pitch, (list, tuple, np.ndarray)):
+            raise TypeError(f"pitch must be one number or sympy expression with a symbolic axis, got {_short(pitch)}")
+        u, p = sp.Matrix(u), sp.Matrix(p)
+        return _join(u, _cross(p, u) + as_exact(pitch, "pitch") * u)
+    h = as_float_array(pitch, "pitch")
+    try:
+        return _join(u, _cross(p, u) + h[..., None] * u)
+    except ValueError:
+        raise InputError(f"pitch must be a number or one per axis, got shape {h.shape} for axes of shape "
+                         f"{u.shape}") from None
 
 
 def _check_screw(s, name):
@@ -156,7 +182,7 @@ def transfer(screw, point, kind="twist"):
     """
     s = _check_screw(screw, "screw")
     r = _vec3(point, "point")
-    if kind not in ("twist", "wrench"):
+    if not isinstance(kind, str) or kind not in ("twist", "wrench"):
         raise InputError(f"kind must be 'twist' or 'wrench', got {kind!r}")
     if isinstance(s, sp.MatrixBase):
         a, b = s[:3, 0], s[3:, 0]
@@ -224,12 +250,18 @@ def reciprocal_system(twists, tol=1e-9):
         if len(basis) != 6 - rank:
             raise InputError(f"reciprocal system of dimension {len(basis)} but 6 - rank = {6 - rank}")
         return [sp.simplify(b) for b in basis]
+    tol = _tol(tol)
     T = as_float_array(twists, "twists", last=6)
     T = np.atleast_2d(T)
     if len(T) > 6:
         raise InputError(f"a leg has at most 6 joints, got {len(T)}")
     if np.any(np.all(T == 0, axis=1)):
         raise InputError("a twist has zero direction and zero moment: not a screw")
+    return _reciprocal(T, tol)
+
+
+def _reciprocal(T, tol):
+    """The reciprocal basis of any number of (non-zero) screws ``T (k, 6)``."""
     M = T @ _SWAP
     _, s, vt = np.linalg.svd(M, full_matrices=True)
     rank = int(np.sum(s > tol * (s[0] if len(s) else 1.0)))
@@ -327,9 +359,24 @@ def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
     >>> a.kind, a.constraint_rank
     ('regular', 3)
     """
-    if isinstance(dof, bool) or not isinstance(dof, (int, np.integer)) or not 1 <= dof <= 6:
+    dof = as_count(dof, "dof")
+    if not 1 <= dof <= 6:
         raise InputError(f"dof must be an int in 1..6, got {dof!r}")
+    tol = _tol(tol)
+    if legs is None or isinstance(legs, (str, bytes, numbers.Number)) or not hasattr(legs, "__iter__"):
+        raise TypeError(f"legs must be a sequence of (k_i, 6) twist arrays, got {type(legs).__name__} {_short(legs)}")
     Ts = [np.atleast_2d(as_float_array(t, f"legs[{i}]", last=6)) for i, t in enumerate(legs)]
+    if not Ts:
+        raise InputError("legs must hold at least one leg, got an empty sequence")
+    if intended is not None:
+        intended = np.atleast_2d(as_float_array(intended, "intended", last=6))
+        if intended.shape != (dof, 6):
+            raise InputError(f"intended must be ({dof}, 6), got {intended.shape}")
+    if actuated is not None:
+        if isinstance(actuated, (str, bytes)) or not hasattr(actuated, "__iter__"):
+            raise TypeError(f"actuated must be a sequence of joint indices, one per leg, got "
+                            f"{type(actuated).__name__} {_short(actuated)}")
+        actuated = [as_count(k, f"actuated[{i}]", 0) for i, k in enumerate(actuated)]
     Ws, leg_sing, leg_meas = [], [], []
     for i, T in enumerate(Ts):
         if len(T) > 6:
@@ -344,7 +391,7 @@ def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
     rc = int(np.linalg.matrix_rank(C, tol=tol * max(1.0, np.abs(C).max()))) if len(C) else 0
     # platform twists: reciprocal to every constraint wrench
     # platform twists: reciprocal to every constraint wrench (the product is symmetric in its roles)
-    P = reciprocal_system(C, tol) if len(C) else np.eye(6)
+    P = _reciprocal(C, tol) if len(C) else np.eye(6)
     gained = _beyond(P, intended, dof, tol)
     sc = np.linalg.svd(C, compute_uv=False) if len(C) else np.zeros(0)
     c_meas = float(sc[expected - 1] / sc[0]) if len(sc) >= expected and expected > 0 and sc[0] > 0 else 0.0
@@ -382,6 +429,14 @@ def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
                               "+".join(kinds) if kinds else "regular")
 
 
+def _branch(value, name):
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
+        raise TypeError(f"{name} must be 0 or 1, got {type(value).__name__} {_short(value)}")
+    if value not in (0, 1):
+        raise InputError(f"{name} must be 0 or 1, got {value}")
+    return int(value)
+
+
 @dataclass(frozen=True)
 class TranslationalFiveR:
     """The 3-DOF translational parallel mechanism of seed 001: three legs of five revolute joints.
@@ -413,29 +468,41 @@ class TranslationalFiveR:
     l1: float = 1.0
     l2: float = 1.0
 
+    def __post_init__(self):
+        for name in ("a", "b", "c", "l1", "l2"):
+            object.__setattr__(self, name, _scalar(getattr(self, name), name))
+        for name in ("l1", "l2"):
+            if not getattr(self, name) > 0:
+                raise InputError(f"{name} must be a positive link length, got {getattr(self, name)!r}")
+
     @staticmethod
     def d(i, theta):
         """The direction of joints 2-4 of leg ``i`` (``(3,)`` or ``(n, 3)``)."""
         t = np.asarray(theta, float)
         c, s = np.cos(t), np.sin(t)
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (numbers.Integral, np.integer)) or i not in (0, 1, 2):
+            raise InputError(f"i must be the leg index 0, 1 or 2, got {_short(i)}")
         z = np.zeros_like(t)
         return np.stack([(z, c, s), (s, z, c), (c, s, z)][i], axis=-1)
 
     def base(self, i):
         """The base point ``A_i`` of leg ``i``."""
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (numbers.Integral, np.integer)) or i not in (0, 1, 2):
+            raise InputError(f"i must be the leg index 0, 1 or 2, got {_short(i)}")
         E = np.eye(3)
         return -self.a * E[i] + self.b * E[(i + 1) % 3]
 
     @staticmethod
     def couple_condition(theta):
         """Seed 001's closed form: the couple block ``det = s1 s2 s3 - c1 c2 c3`` (``(n,)``)."""
-        t = np.atleast_2d(theta)
+        t = np.atleast_2d(as_float_array(theta, "theta", last=3, finite=False))
         s, c = np.sin(t), np.cos(t)
         return s[:, 0] * s[:, 1] * s[:, 2] - c[:, 0] * c[:, 1] * c[:, 2]
 
     def thetas(self, P, branch=0):
         """First joint angles at platform positions ``P`` ``(n, 3)``: ``(n, 3)``."""
         P = np.atleast_2d(as_float_array(P, "P", last=3))
+        branch = _branch(branch, "branch")
         out = np.empty((len(P), 3))
         E = np.eye(3)
         for i in range(3):
@@ -449,6 +516,7 @@ class TranslationalFiveR:
     def leg_twists(self, P, branch=0, elbow=0):
         """Joint twists of the three legs at platform position ``P`` ``(3,)``, about the origin."""
         P = as_float_array(P, "P", last=3, allow_batch=False)
+        elbow = _branch(elbow, "elbow")
         th = self.thetas(P, branch)[0]
         E = np.eye(3)
         legs = []
@@ -468,6 +536,10 @@ class TranslationalFiveR:
             legs.append(np.array([revolute(E[i], A), revolute(d, A), revolute(d, Eb), revolute(d, C),
                                   revolute(E[i], C)]))
         return legs
+
+
+MAX_SAMPLES = 1_000_000
+"""The largest ``n`` :func:`singularity_fractions` accepts (one constraint analysis per position)."""
 
 
 def singularity_fractions(mechanism, box=0.4, n=2000, eps=0.05, seed=0):
@@ -500,10 +572,20 @@ def singularity_fractions(mechanism, box=0.4, n=2000, eps=0.05, seed=0):
     >>> 0 <= f["constraint"] <= 1
     True
     """
+    if not isinstance(mechanism, TranslationalFiveR):
+        raise TypeError(f"mechanism must be a TranslationalFiveR, got {type(mechanism).__name__} {_short(mechanism)}")
+    eps = _scalar(eps, "eps")
     if not 0 < eps < 1:
         raise InputError(f"eps must be in (0, 1), got {eps!r}")
+    box = _scalar(box, "box")
+    if not box > 0:
+        raise InputError(f"box must be a positive half-width, got {box!r}")
+    n = as_count(n, "n")
+    if n > MAX_SAMPLES:
+        raise InputError(f"n must be at most MAX_SAMPLES = {MAX_SAMPLES} positions, got {n}")
+    seed = as_count(seed, "seed", 0)
     rng = np.random.default_rng(seed)
-    P = rng.uniform(-box, box, (int(n), 3))
+    P = rng.uniform(-box, box, (n, 3))
     translations = np.hstack([np.zeros((3, 3)), np.eye(3)])
     keys = ("constraint", "input_output", "leg", "ignoring_constraints", "all")
     lost = dict.fromkeys(keys, 0)
@@ -557,6 +639,9 @@ def planar_leg_wrenches(manipulator, pose):
     >>> W.shape
     (3, 3)
     """
+    from .singularities import _check_manipulator
+
+    _check_manipulator(manipulator)
     p = as_float_array(pose, "pose", last=3, allow_batch=False)
     rows, lengths = [], []
     for i, leg in enumerate(manipulator.legs):

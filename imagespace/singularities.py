@@ -76,7 +76,7 @@ def pose_chart_point(P):
     >>> X.tolist(), dX[0, :, 0].tolist()
     ([[1.0, 0.0, 0.0, 1.0]], [0.0, 0.0, 0.0, 0.5])
     """
-    P = np.atleast_2d(np.asarray(P, dtype=float))
+    P = np.atleast_2d(as_float_array(P, "P", last=3, finite=False))
     x, y, phi = P[:, 0], P[:, 1], P[:, 2]
     c, s = np.cos(phi / 2), np.sin(phi / 2)
     X = np.stack([c, s, (s * x - c * y) / 2, (c * x + s * y) / 2], axis=-1)
@@ -107,7 +107,7 @@ def image_chart_point(U):
     >>> image_chart_point([[1.0, 2.0, 3.0]])[0].tolist()
     [[1.0, 3.0, 1.0, 2.0]]
     """
-    U = np.atleast_2d(np.asarray(U, dtype=float))
+    U = np.atleast_2d(as_float_array(U, "U", last=3, finite=False))
     X = np.stack([np.ones(len(U)), U[:, 2], U[:, 0], U[:, 1]], axis=-1)
     dX = np.zeros((len(U), 4, 3))
     dX[:, 2, 0] = dX[:, 3, 1] = dX[:, 1, 2] = 1.0
@@ -123,6 +123,14 @@ def _check_manipulator(manipulator, name="manipulator"):
         raise TypeError(f"{name} must be a PlanarParallel (e.g. isp.examples.general_3rpr()), got "
                         f"{type(manipulator).__name__} {_short(manipulator)}")
     return manipulator
+
+
+def _scalar(value, name, finite=True):
+    """One real number (no bools, strings, complex, arrays of several entries)."""
+    v = as_float_array(value, name, finite=finite)
+    if v.ndim != 0:
+        raise InputError(f"{name} must be a single number, got shape {v.shape}")
+    return float(v)
 
 
 def _check_working_modes(manipulator, working_modes, name="working_modes"):
@@ -390,6 +398,7 @@ class SingularitySurface:
         True
         """
         P = as_float_array(P, "P", last=3, finite=False)
+        gradient = as_flag(gradient, "gradient")
         single = P.ndim == 1
         X, dX = pose_chart_point(np.atleast_2d(P))
         if not gradient:
@@ -457,6 +466,8 @@ class SingularitySurface:
             raise InputError("section_coefficients() needs a polynomial surface; use "
                              "singularity_surface(q=...) for given joint values")
         phi = np.atleast_1d(as_float_array(phi, "phi"))
+        if phi.ndim != 1:
+            raise InputError(f"phi must be a number or a (n,) array of orientations, got shape {phi.shape}")
         imp = surface_implicit(self, "pose")
         C = imp._coeffs(phi)
         order = {(2, 0): 0, (1, 1): 1, (0, 2): 2, (1, 0): 3, (0, 1): 4, (0, 0): 5}
@@ -486,6 +497,8 @@ class SingularitySurface:
         if not self.is_polynomial:
             raise InputError("chart_expression() needs a polynomial surface (kind 'joint-free' or "
                              f"'given-joints'), got kind {self.kind!r}")
+        if not isinstance(chart, str):
+            raise TypeError(f"chart must be 'image' or 'pose', got {type(chart).__name__} {_short(chart)}")
         u, v, w = sp.symbols("u v w", real=True)
         x0, x1, x2, x3 = image_symbols()
         if chart == "image":
@@ -660,7 +673,7 @@ class PoseJacobians:
         >>> jac.homogeneous(1.0).shape
         (1, 3, 3)
         """
-        L = float(length)
+        L = _scalar(length, "length", finite=False)
         if not np.isfinite(L) or L <= 0:
             raise InputError(f"length must be a positive characteristic length, got {length!r}")
         return self.J * np.array([1.0, 1.0, 1.0 / L])
@@ -830,6 +843,20 @@ class ConicSection:
 
     @classmethod
     def of(cls, surface, phi):
+        """The section of ``surface`` (a polynomial :class:`SingularitySurface`) at ``phi``.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> S = isp.examples.general_3rpr().singularity_surface()
+        >>> isp.ConicSection.of(S, 0.4).type == S.section(0.4).type
+        True
+        """
+        if not isinstance(surface, SingularitySurface):
+            raise TypeError(f"surface must be a SingularitySurface, got {type(surface).__name__} {_short(surface)}")
+        if not surface.is_polynomial:
+            raise InputError("surface must be polynomial (kind 'joint-free' or 'given-joints') for a conic "
+                             "section, got a working-mode surface; use singularity_surface(q=...)")
         (u, v, w) = sp.symbols("u v w", real=True)
         x0, x1, x2, x3 = image_symbols()
         e = surface.expr()
@@ -841,7 +868,7 @@ class ConicSection:
             half = sp.simplify(sp.tan(phi_s / 2))
             c0, s0 = (sp.Integer(0), sp.Integer(1)) if half in (sp.zoo, sp.oo, -sp.oo) else (sp.Integer(1), half)
         else:
-            phi_f = float(as_float_array(phi, "phi"))
+            phi_f = _scalar(phi, "phi")
             c0, s0 = sp.Float(np.cos(phi_f / 2), 17), sp.Float(np.sin(phi_f / 2), 17)
         sub = {x0: c0, x1: s0, x2: (s0 * u - c0 * v) / 2, x3: (c0 * u + s0 * v) / 2}
         poly = sp.Poly(sp.expand(e.xreplace(sub)), u, v)
@@ -878,7 +905,11 @@ class ConicSection:
         True
         """
         A, B, C, D, E, F = (float(c) for c in self.coefficients)
-        x, y = np.asarray(x, float), np.asarray(y, float)
+        x, y = as_float_array(x, "x", finite=False), as_float_array(y, "y", finite=False)
+        try:
+            np.broadcast(x, y)
+        except ValueError:
+            raise InputError(f"x and y must broadcast to one shape, got shapes {x.shape} and {y.shape}") from None
         return A * x * x + B * x * y + C * y * y + D * x + E * y + F
 
 

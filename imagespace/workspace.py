@@ -21,11 +21,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validate import as_float_array
+from ._validate import _short, as_count, as_float_array
 from .exceptions import InputError
 
 __all__ = ["Workspace", "halfplane_polygon", "polygon_area", "constant_orientation_workspace",
-           "reachable_workspace", "dexterous_workspace", "sampled_workspace"]
+           "reachable_workspace", "dexterous_workspace", "sampled_workspace", "MAX_MEMORY"]
+
+MAX_MEMORY = 2 * 1024**3
+"""Limit (bytes) for the estimated memory of a sampled workspace's grid (``resolution**2`` cells)."""
+_BYTES_PER_CELL = 160
+"""Estimated memory per grid cell of :func:`sampled_workspace` (poses, branch values, masks)."""
+MAX_ORIENTATIONS = 100_000
+"""The largest ``n_phi`` accepted (each orientation is one pass over the grid, or one IK batch)."""
 
 
 @dataclass(frozen=True)
@@ -66,7 +73,7 @@ class Workspace:
         >>> Workspace("constant-orientation", 4.0, P, "exact").contains([[0, 0], [2, 0]]).tolist()
         [True, False]
         """
-        pts = np.atleast_2d(as_float_array(points, "points"))
+        pts = np.atleast_2d(as_float_array(points, "points", last=2))
         if self.polygon is not None:
             if len(self.polygon) < 3:
                 return np.zeros(len(pts), dtype=bool)
@@ -103,6 +110,9 @@ def halfplane_polygon(A, b, box=1e6):
     A = as_float_array(A, "A", last=2)
     b = as_float_array(b, "b")
     A = np.atleast_2d(A)
+    box = _scalar(box, "box")
+    if not box > 0:
+        raise InputError(f"box must be a positive half-width, got {box!r}")
     if b.shape != (len(A),):
         raise InputError(f"b must have one entry per row of A ({len(A)}), got shape {b.shape}")
     P = np.array([[-box, -box], [box, -box], [box, box], [-box, box]], dtype=float)
@@ -132,7 +142,9 @@ def polygon_area(P):
     >>> polygon_area([[0, 0], [2, 0], [0, 1]])
     1.0
     """
-    P = np.asarray(P, dtype=float)
+    P = as_float_array(P, "P", last=2, finite=False)
+    if P.ndim != 2:
+        raise InputError(f"P must be a (k, 2) polygon, got shape {P.shape}")
     if len(P) < 3:
         return 0.0
     x, y = P[:, 0], P[:, 1]
@@ -148,11 +160,56 @@ def _limits(limits):
     return L
 
 
-def _phi_range(phi_range):
-    lo, hi = (float(v) for v in as_float_array(phi_range, "phi_range"))
-    if not hi > lo:
+def _scalar(value, name):
+    v = as_float_array(value, name)
+    if v.ndim != 0:
+        raise InputError(f"{name} must be a single number, got shape {v.shape}")
+    return float(v)
+
+
+def _check_manipulator(manipulator):
+    from .singularities import _check_manipulator as check
+
+    return check(manipulator)
+
+
+def _phi_range(phi_range, allow_equal=False):
+    r = as_float_array(phi_range, "phi_range")
+    if r.shape != (2,):
+        raise InputError(f"phi_range must be (min, max), got shape {r.shape}: {_short(phi_range)}")
+    lo, hi = float(r[0]), float(r[1])
+    if not (hi > lo or (allow_equal and hi == lo)):
         raise InputError(f"phi_range must be (min, max) with min < max, got {phi_range!r}")
     return lo, hi
+
+
+def _check_box(box, required=False):
+    if box is None:
+        if required:
+            raise InputError("box ((x_min, x_max), (y_min, y_max)) is needed to sample a workspace")
+        return None
+    bx = as_float_array(box, "box")
+    if bx.shape != (2, 2) or np.any(bx[:, 1] <= bx[:, 0]):
+        raise InputError(f"box must be ((x_min, x_max), (y_min, y_max)) with min < max, got {bx.tolist()}")
+    return bx
+
+
+def _gb(nbytes):
+    return f"{nbytes / 1e9:.3g}" if nbytes < 1e300 else "more than 1e291"
+
+
+def _check_grid(resolution, n_phi):
+    resolution = as_count(resolution, "resolution", 8)
+    need = resolution * resolution * _BYTES_PER_CELL            # exact: resolution may be huge
+    if need > MAX_MEMORY:
+        raise InputError(f"resolution {_short(resolution)} needs about {_gb(need)} GB for the grid, above the limit "
+                         f"MAX_MEMORY={MAX_MEMORY / 1e9:.3g} GB; lower the resolution (at most "
+                         f"{int(np.sqrt(MAX_MEMORY / _BYTES_PER_CELL))})")
+    if n_phi is not None:
+        n_phi = as_count(n_phi, "n_phi", 1)
+        if n_phi > MAX_ORIENTATIONS:
+            raise InputError(f"n_phi must be at most MAX_ORIENTATIONS = {MAX_ORIENTATIONS}, got {n_phi}")
+    return resolution, n_phi
 
 
 def _affine(manipulator, phis):
@@ -223,8 +280,11 @@ def constant_orientation_workspace(manipulator, phi, limits, box=None, resolutio
     >>> ws.method, ws.area > 0
     ('exact: half-planes', True)
     """
+    _check_manipulator(manipulator)
     L = _limits(limits)
-    phi = float(phi)
+    phi = _scalar(phi, "phi")
+    _check_box(box)
+    _check_grid(resolution, None)
     aff = _affine(manipulator, np.array([phi]))
     if aff is not None:
         a, c = aff
@@ -243,8 +303,13 @@ def dexterous_workspace(manipulator, phi_range, limits, box=None, resolution=400
     >>> dexterous_workspace(m, (-0.5, 0.5), [[-np.sqrt(3), np.sqrt(3)]] * 3).method
     'exact: half-planes'
     """
+    _check_manipulator(manipulator)
     L = _limits(limits)
     lo, hi = _phi_range(phi_range)
+    _check_box(box)
+    _, n_phi = _check_grid(resolution, n_phi)
+    if n_phi < 2:
+        raise InputError(f"n_phi must be at least 2 (orientations sampled over phi_range), got {n_phi}")
     phis = np.linspace(lo, hi, n_phi)
     aff = _affine(manipulator, phis)
     if aff is not None:
@@ -266,8 +331,13 @@ def reachable_workspace(manipulator, phi_range, limits, box=None, resolution=400
     >>> reachable_workspace(m, (-0.5, 0.5), [[-np.sqrt(3), np.sqrt(3)]] * 3).method
     'exact: polytope projection'
     """
+    _check_manipulator(manipulator)
     L = _limits(limits)
     lo, hi = _phi_range(phi_range)
+    _check_box(box)
+    _, n_phi = _check_grid(resolution, n_phi)
+    if n_phi < 2:
+        raise InputError(f"n_phi must be at least 2 (orientations sampled over phi_range), got {n_phi}")
     phis = np.linspace(lo, hi, n_phi)
     aff = _affine(manipulator, phis)
     if aff is not None:
@@ -334,17 +404,15 @@ def sampled_workspace(manipulator, limits, phi_range, box, resolution=400, n_phi
     """
     from skimage.measure import find_contours
 
+    _check_manipulator(manipulator)
     L = _limits(limits)
-    if box is None:
-        raise InputError("box ((x_min, x_max), (y_min, y_max)) is needed to sample a workspace")
-    bx = as_float_array(box, "box")
-    if bx.shape != (2, 2) or np.any(bx[:, 1] <= bx[:, 0]):
-        raise InputError(f"box must be ((x_min, x_max), (y_min, y_max)) with min < max, got {np.asarray(box).tolist()}")
-    if kind not in ("reachable", "dexterous", "constant-orientation"):
+    bx = _check_box(box, required=True)
+    if not isinstance(kind, str) or kind not in ("reachable", "dexterous", "constant-orientation"):
         raise InputError(f"kind must be reachable, dexterous or constant-orientation, got {kind!r}")
-    if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 8:
-        raise InputError(f"resolution must be an int >= 8, got {resolution!r}")
-    lo, hi = (float(v) for v in phi_range)
+    resolution, n_phi = _check_grid(resolution, n_phi)
+    lo, hi = _phi_range(phi_range, allow_equal=True)
+    if hi > lo and n_phi < 2:
+        raise InputError(f"n_phi must be at least 2 for a range of orientations, got {n_phi}")
     xs = np.linspace(*bx[0], resolution)
     ys = np.linspace(*bx[1], resolution)
     X, Y = np.meshgrid(xs, ys, indexing="ij")

@@ -36,7 +36,7 @@ def cusp():
     (lambda m, c: mode_count_map(m, 2, 10.0, None, 8), TypeError, "window must be numeric"),
     (lambda m, c: mode_count_map(m, 2, 10.0, W, -1), isp.InputError, "resolution must be at least 8"),
     (lambda m, c: mode_count_map(m, 2, 10.0, W, 2.5), TypeError, "resolution must be a whole number"),
-    (lambda m, c: isp.cusps(m, 0, 1.0, [[0, 1], [0, 1]], resolution=0), isp.InputError, "resolution"),
+    (lambda m, c: cusps(m, 0, 1.0, [[0, 1], [0, 1]], resolution=0), isp.InputError, "resolution"),
     (lambda m, c: cusps(m, 2, 10.0, W, 8, tol="a"), TypeError, "tol must be numeric"),
     (lambda m, c: cusps(m, 2, 10.0, W, 8, tol=-1.0), isp.InputError, "tol must be a positive"),
     (lambda m, c: cusps(m, 2, 10.0, W, 8, max_seeds=0), isp.InputError, "max_seeds must be at least 1"),

@@ -74,3 +74,28 @@ def test_valid_input_still_works(m, rrr):
     assert S.kind == "given-joints"
     jac = isp.jacobians(m, [[0.5, 1.0, 0.2]] * 2, q=m.inverse_kinematics([0.5, 1.0, 0.2]))
     assert jac.kind.tolist() == ["regular", "regular"]
+
+
+@pytest.fixture(scope="module")
+def S(m):
+    return isp.singularity_surface(m)
+
+
+@pytest.mark.parametrize("call, exc, words", [
+    (lambda m, S: isp.ConicSection.of(None, 0.4), TypeError, "surface must be a SingularitySurface"),
+    (lambda m, S: S.section([0.1, 0.2]), isp.InputError, "phi must be a single number"),
+    (lambda m, S: S.section_coefficients([[0.1, 0.2]]), isp.InputError, r"phi must be a number or a \(n,\) array"),
+    (lambda m, S: S.at_poses([0.1, 0.2, 0.3], gradient="yes"), TypeError, "gradient must be True or False"),
+    (lambda m, S: S.chart_expression(np.array([1, 2])), TypeError, "chart must be 'image' or 'pose'"),
+    (lambda m, S: S.section(0.4)("abc", 1.0), TypeError, "x must be numeric"),
+    (lambda m, S: S.section(0.4)(2**1100, 1.0), isp.InputError, "x must be within the float range"),
+    (lambda m, S: S.section(0.4)([1.0, 2.0], [1.0, 2.0, 3.0]), isp.InputError, "x and y must broadcast"),
+    (lambda m, S: isp.jacobians(m, [0.5, 1.0, 0.2]).homogeneous(None), TypeError, "length must be numeric"),
+    (lambda m, S: isp.jacobians(m, [0.5, 1.0, 0.2]).homogeneous(2**1100), isp.InputError, "length"),
+    (lambda m, S: isp.singularities.pose_chart_point(None), TypeError, "P must be numeric"),
+    (lambda m, S: isp.singularities.pose_chart_point([[1.0, 2.0]]), isp.InputError, r"P must have shape \(3,\)"),
+    (lambda m, S: isp.singularities.image_chart_point(0.5), isp.InputError, r"U must have shape \(3,\)"),
+])
+def test_bad_input_to_surface_methods(m, S, call, exc, words):
+    with pytest.raises(exc, match=words):
+        call(m, S)

@@ -17,8 +17,10 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from .._validate import _short, as_count
 from ..compile import compile_exprs
 from ..exceptions import InputError
+from . import _checks
 
 __all__ = ["Body", "OpenTreeModel"]
 
@@ -43,6 +45,16 @@ class Body:
     centre: tuple
     angle: object
     name: str = ""
+
+    def __post_init__(self):
+        _checks.not_text(self.mass, "mass")
+        _checks.not_text(self.inertia, "inertia")
+        _checks.not_text(self.angle, "angle")
+        if isinstance(self.centre, (str, bytes)) or not hasattr(self.centre, "__iter__") or len(list(self.centre)) != 2:
+            raise TypeError(f"centre must be (x, y), two numbers or sympy expressions, got {_short(self.centre)}")
+        _checks.not_text(list(self.centre), "centre")
+        if not isinstance(self.name, str):
+            raise TypeError(f"name must be a str, got {type(self.name).__name__} {_short(self.name)}")
 
 
 class OpenTreeModel:
@@ -71,15 +83,27 @@ class OpenTreeModel:
     """
 
     def __init__(self, eta, constraints, task, actuated, bodies, gravity=(0.0, -9.81)):
+        for name, seq in (("eta", eta), ("constraints", constraints), ("task", task), ("actuated", actuated),
+                          ("bodies", bodies)):
+            if isinstance(seq, (str, bytes)) or not hasattr(seq, "__iter__"):
+                raise TypeError(f"{name} must be a sequence, got {type(seq).__name__} {_short(seq)}")
         self.eta = tuple(eta)
+        for i, e in enumerate(self.eta):
+            if not isinstance(e, sp.Symbol):
+                raise TypeError(f"eta[{i}] must be a sympy Symbol, got {type(e).__name__} {_short(e)}")
+        if len(set(self.eta)) != len(self.eta):
+            raise InputError(f"eta must be distinct symbols, got {_short(self.eta)}")
         self.m = len(self.eta)
-        self.phi = sp.Matrix(list(constraints))
-        self.f = sp.Matrix(list(task))
+        constraints, task = list(constraints), list(task)
+        _checks.not_text(constraints, "constraints")
+        _checks.not_text(task, "task")
+        self.phi = sp.Matrix(constraints)
+        self.f = sp.Matrix(task)
         self.n = len(self.f)
         if len(self.phi) + self.n != self.m:
             raise InputError(f"need m - n = {self.m - self.n} loop constraints for m = {self.m} coordinates "
                              f"and n = {self.n} task equations, got {len(self.phi)}")
-        act = [int(a) for a in actuated]
+        act = [as_count(a, f"actuated[{i}]", 0) for i, a in enumerate(actuated)]
         if len(act) != self.n or len(set(act)) != self.n or not all(0 <= a < self.m for a in act):
             raise InputError(f"actuated must be {self.n} distinct coordinate indices in 0..{self.m - 1}, got {actuated}")
         self.actuated = tuple(act)
@@ -87,7 +111,9 @@ class OpenTreeModel:
         for k, a in enumerate(act):
             self.Z[k, a] = 1.0
         self.bodies = tuple(bodies)
-        self.gravity = np.asarray(gravity, float)
+        for i, b in enumerate(self.bodies):
+            _checks.instance(b, Body, f"bodies[{i}]")
+        self.gravity = _checks.vector(gravity, "gravity", 2)
         self._derive()
 
     # -- symbolic derivation ------------------------------------------------------------------
@@ -142,7 +168,8 @@ class OpenTreeModel:
 
     # -- numeric faces ---------------------------------------------------------------------------
     def _mat(self, fn, *args, shape):
-        flat = np.concatenate([np.atleast_1d(np.asarray(a, dtype=float)) for a in args])
+        flat = np.concatenate([_checks.vector(a, name, self.m)
+                               for a, name in zip(args, ("eta", "etad", "etadd"))])
         return np.asarray(fn(*flat)).reshape(shape)
 
     def Gamma(self, eta):

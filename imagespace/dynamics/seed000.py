@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
+from .._validate import as_exact
+from ..exceptions import InputError
 from .model import Body, OpenTreeModel
 
 __all__ = ["SEED000", "seed000_model", "seed000_path"]
@@ -34,6 +36,27 @@ centre offsets of the five bodies; the path of P (direction, length), the crossi
 ``theta3``. ``B`` starts where the path reaches the singularity at ``s = Ld``."""
 
 
+def _params(params):
+    """Check overrides of :data:`SEED000`: known names, real numbers (pairs for ``A`` and ``C``)."""
+    from . import _checks
+
+    if params is None:
+        return {}
+    if not isinstance(params, dict):
+        raise TypeError(f"params must be a dict of SEED000 names -> values, got {type(params).__name__}")
+    out = {}
+    for k, v in params.items():
+        if k not in SEED000:
+            raise InputError(f"params names {k!r}, not one of SEED000's {sorted(SEED000)}")
+        if k in ("A", "C"):
+            out[k] = tuple(float(x) for x in _checks.vector(v, f"params[{k!r}]", 2))
+        elif isinstance(v, sp.Basic) and not v.free_symbols:
+            out[k] = as_exact(v, f"params[{k!r}]")            # an exact number stays exact
+        else:
+            out[k] = _checks.scalar(v, f"params[{k!r}]")
+    return out
+
+
 def seed000_model(params=None):
     """The seed's mechanism as an :class:`OpenTreeModel` (symbolic derivation, compiled; the default
     model is built once per process and shared).
@@ -45,6 +68,7 @@ def seed000_model(params=None):
     >>> model.actuated
     (0, 1, 3)
     """
+    params = _params(params)
     if not params:
         if "model" not in _CACHE:
             _CACHE["model"] = _build(dict(SEED000))
@@ -90,7 +114,7 @@ def seed000_path(params=None):
     >>> round(float(e[0]), 4)
     -0.9397
     """
-    p = dict(SEED000, **(params or {}))
+    p = dict(SEED000, **_params(params))
     d = np.radians(p["direction_deg"])
     e = np.array([np.cos(d), np.sin(d), 0.0])
     t3 = p["theta3"]

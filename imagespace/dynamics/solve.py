@@ -9,7 +9,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._validate import as_flag, as_float_array
 from ..exceptions import InputError
+from . import _checks
 from .timelaw import TimeLaw, sextic_through
 
 __all__ = ["LinePath", "TrajectoryState", "state", "drive_singularity", "DriveSingularity",
@@ -32,6 +34,16 @@ class LinePath:
     x0: np.ndarray
     e: np.ndarray
 
+    def __post_init__(self):
+        x0 = _checks.vector(self.x0, "x0")
+        if len(x0) == 0:
+            raise InputError("x0 must have at least one task coordinate, got shape (0,)")
+        e = _checks.vector(self.e, "e", len(x0))
+        if not np.any(e):
+            raise InputError("e must be a non-zero direction, got the zero vector")
+        object.__setattr__(self, "x0", x0)
+        object.__setattr__(self, "e", e)
+
 
 @dataclass(frozen=True)
 class TrajectoryState:
@@ -50,12 +62,30 @@ def _newton(model, x, guess, tol=1e-13, steps=50):
         F = np.concatenate([model.loop(eta), model.task(eta) - x])
         if np.max(np.abs(F)) < tol:
             return eta
-        eta = eta - np.linalg.solve(model.Gamma(eta), F)
+        try:
+            eta = eta - np.linalg.solve(model.Gamma(eta), F)
+        except np.linalg.LinAlgError:
+            raise InputError(f"the kinematics failed at x = {np.round(x, 6).tolist()}: Gamma is singular at "
+                             f"eta = {np.round(eta, 6).tolist()}; give a guess near the intended "
+                             "assembly") from None
     F = np.concatenate([model.loop(eta), model.task(eta) - x])
     if np.max(np.abs(F)) > 1e-9:
         raise InputError(f"the kinematics did not converge at x = {np.round(x, 6).tolist()} "
                          f"(residual {np.max(np.abs(F)):.1e}); out of reach or at an inverse-kinematic singularity")
     return eta
+
+
+def _model_path(model, path):
+    from .model import OpenTreeModel
+
+    _checks.instance(model, OpenTreeModel, "model", " (e.g. seed000_model())")
+    _checks.instance(path, LinePath, "path", " (LinePath(x0, e))")
+    if len(path.x0) != model.n:
+        raise InputError(f"path must have {model.n} task coordinates like the model, got {len(path.x0)}")
+
+
+def _guess(model, guess):
+    return _checks.vector(guess, "guess", model.m)
 
 
 def state(model, path, s, sd=0.0, sdd=0.0, sddd=0.0, guess=None, t=0.0):
@@ -70,8 +100,12 @@ def state(model, path, s, sd=0.0, sdd=0.0, sddd=0.0, guess=None, t=0.0):
     >>> bool(abs(model.task(st.eta) - x0).max() < 1e-12)
     True
     """
+    _model_path(model, path)
+    s, sd, sdd, sddd, t = (_checks.scalar(v, name) for v, name in
+                           zip((s, sd, sdd, sddd, t), ("s", "sd", "sdd", "sddd", "t")))
+    guess = np.zeros(model.m) if guess is None else _guess(model, guess)
     x = path.x0 + s * path.e
-    eta = _newton(model, x, guess if guess is not None else np.zeros(model.m))
+    eta = _newton(model, x, guess)
     k = model.m - model.n
     G = model.Gamma(eta)
     rhs1 = np.concatenate([np.zeros(k), path.e * sd])
@@ -135,8 +169,13 @@ def drive_singularity(model, path, s_range, guess, samples=400):
     >>> round(float(sing.s), 6), sing.s_row
     (0.662, 4)
     """
-    ss = np.linspace(s_range[0], s_range[1], samples)
-    eta = np.array(guess, float)
+    _model_path(model, path)
+    sr = _checks.vector(s_range, "s_range", 2)
+    if sr[0] == sr[1]:
+        raise InputError(f"s_range must be two different path parameters, got {sr.tolist()}")
+    eta = _guess(model, guess)
+    samples = _checks.count(samples, "samples", 2)
+    ss = np.linspace(sr[0], sr[1], samples)
     prev = None
     for s in ss:
         eta = state(model, path, s, guess=eta).eta
@@ -185,6 +224,9 @@ def consistent_acceleration(model, path, sing, v):
     >>> bool(abs(consistent_acceleration(model, path, sing, 1.7)) < 100)
     True
     """
+    _model_path(model, path)
+    _checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
+    v = _checks.scalar(v, "v")
     st0 = state(model, path, sing.s, v, 0.0, guess=sing.eta)
     st1 = state(model, path, sing.s, v, 1.0, guess=sing.eta)
     M = model.M(st0.eta)
@@ -217,6 +259,12 @@ def plan_consistent_law(model, path, sing, T, L, Td=None, v=None):
     >>> info["monotone"]
     True
     """
+    _model_path(model, path)
+    _checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
+    T = _checks.scalar(T, "T", positive=True)
+    L = _checks.scalar(L, "L")
+    Td = None if Td is None else _checks.scalar(Td, "Td")
+    v = None if v is None else _checks.scalar(v, "v")
     Tds = [Td] if Td is not None else list(np.linspace(0.35, 0.75, 41) * T)
     vs = [v] if v is not None else list(np.linspace(0.5, 3.0, 51) * L / T)
     best = None
@@ -325,10 +373,21 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
     >>> res.branch.tolist(), res.consistent, bool(np.isfinite(res.mu).all())    # T_d not sampled
     (['eq11', 'eq11'], True, True)
     """
+    _model_path(model, path)
+    _checks.instance(law, TimeLaw, "law", " (cubic_rest_to_rest, sextic_through ...)")
+    if sing is not None:
+        _checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
+    eps = _checks.scalar(eps, "eps")
     if not eps > 0:
         raise InputError(f"eps must be positive, got {eps!r}")
-    times = np.asarray(times, float)
-    eta = np.array(guess, float)
+    mu_dot_correction = as_flag(mu_dot_correction, "mu_dot_correction")
+    times = np.atleast_1d(as_float_array(times, "times"))
+    if times.ndim != 1 or len(times) == 0:
+        raise InputError(f"times must be a non-empty (k,) array, got shape {times.shape}")
+    if np.any(times < 0) or np.any(times > law.T):
+        raise InputError(f"times must lie in the law's domain [0, T] = [0, {law.T}], got values from "
+                         f"{times.min()} to {times.max()}")
+    eta = _guess(model, guess)
     mus, branches, conds, gs, states = [], [], [], [], []
     crossed_residual, consistent = 0.0, True
     for t in times:
@@ -475,6 +534,10 @@ def power_balance(model, path, law, result, h=2e-4):
     >>> bool(abs(power_balance(model, path, law, res)).max() < 1e-9)
     True
     """
+    _model_path(model, path)
+    _checks.instance(law, TimeLaw, "law")
+    _checks.instance(result, InverseDynamicsResult, "result", " (from inverse_dynamics)")
+    h = _checks.scalar(h, "h", positive=True)
     k = model.m - model.n
     res, pw = [], []
     for t, mu, st in zip(result.t, result.mu, result.states):
@@ -510,11 +573,18 @@ def simulate(model, path, law, result, guess, baumgarte=(20.0, 100.0), rtol=1e-1
     from scipy.integrate import solve_ivp
     from scipy.interpolate import CubicSpline
 
+    _model_path(model, path)
+    _checks.instance(law, TimeLaw, "law")
+    _checks.instance(result, InverseDynamicsResult, "result", " (from inverse_dynamics)")
+    _guess(model, guess)
+    a1, a0 = _checks.vector(baumgarte, "baumgarte", 2)
+    rtol, atol = _checks.scalar(rtol, "rtol", positive=True), _checks.scalar(atol, "atol", positive=True)
+    if len(result.t) < 2:
+        raise InputError(f"result must hold at least two instants to simulate, got {len(result.t)}")
     k = model.m - model.n
     T_of = CubicSpline(result.t, result.mu[:, k:], axis=0)
     st0 = result.states[0]
     y0 = np.concatenate([st0.eta, st0.d1])
-    a1, a0 = baumgarte
 
     def rhs(t, y):
         eta, d1 = y[: model.m], y[model.m:]

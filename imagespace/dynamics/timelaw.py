@@ -7,6 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import InputError
+from .._validate import as_float_array
+from . import _checks
 
 __all__ = ["TimeLaw", "cubic_rest_to_rest", "sextic_through"]
 
@@ -25,6 +27,13 @@ class TimeLaw:
     coefficients: np.ndarray
     T: float
 
+    def __post_init__(self):
+        c = _checks.vector(self.coefficients, "coefficients")
+        if len(c) == 0:
+            raise InputError("coefficients must hold at least one coefficient, got none")
+        object.__setattr__(self, "coefficients", c)
+        object.__setattr__(self, "T", _checks.scalar(self.T, "T", positive=True))
+
     def __call__(self, t, order=0):
         """``s``, or its ``order``-th time derivative, at ``t``.
 
@@ -35,10 +44,12 @@ class TimeLaw:
         >>> float(law(1.0)), float(law(1.0, 1))
         (1.5, 0.0)
         """
+        order = _checks.as_count(order, "order", 0)
+        t = as_float_array(t, "t", finite=False)
         c = np.polynomial.polynomial.Polynomial(self.coefficients)
         for _ in range(order):
             c = c.deriv()
-        return c(np.asarray(t, dtype=float))
+        return c(t)
 
     def is_monotone(self, n=2001):
         """True if ``s`` never decreases on ``[0, T]`` (sampled with ``n`` points, plus the
@@ -50,6 +61,7 @@ class TimeLaw:
         >>> cubic_rest_to_rest(1.5, 1.0).is_monotone()
         True
         """
+        n = _checks.count(n, "n", 2)
         d = np.polynomial.polynomial.Polynomial(self.coefficients).deriv()
         r = d.roots()
         r = r[(np.abs(r.imag) < 1e-12) & (r.real > 1e-12) & (r.real < self.T - 1e-12)].real
@@ -73,7 +85,7 @@ def cubic_rest_to_rest(L, T):
     >>> cubic_rest_to_rest(1.5, 1.0).coefficients.tolist()
     [0.0, 0.0, 4.5, -3.0]
     """
-    L, T = float(L), float(T)
+    L, T = _checks.scalar(L, "L"), _checks.scalar(T, "T")
     if not T > 0:
         raise InputError(f"T must be positive, got {T}")
     return TimeLaw(np.array([0.0, 0.0, 3 * L / T**2, -2 * L / T**3]), T)
@@ -103,7 +115,8 @@ def sextic_through(T, L, Td, Ld, v, a):
     >>> [round(float(c), 1) for c in law.coefficients[2:]]
     [20.8, -88.0, 147.0, -104.0, 25.8]
     """
-    T, L, Td, Ld, v, a = (float(x) for x in (T, L, Td, Ld, v, a))
+    T, L, Td, Ld, v, a = (_checks.scalar(x, name) for x, name in
+                          zip((T, L, Td, Ld, v, a), ("T", "L", "Td", "Ld", "v", "a")))
     if not 0 < Td < T:
         raise InputError(f"Td must be inside (0, T) = (0, {T}), got {Td}")
     rows, rhs = [], []
