@@ -83,6 +83,10 @@ class ModeCountMap:
         return np.argwhere(edge & (C >= 0))
 
 
+MAX_STEPS = 1_000_000
+"""The largest ``steps`` :func:`cusp_loop` accepts (one direct-kinematics batch row per step)."""
+
+
 def _free(fixed):
     if isinstance(fixed, (bool, np.bool_)) or not isinstance(fixed, (numbers.Integral, np.integer)):
         raise TypeError(f"fixed must be the whole number 0, 1 or 2 (the joint held constant), got "
@@ -424,7 +428,10 @@ class CuspLoop:
         """
         from .kinematic_map import image_point
         from .paths import check_path, polyline
+        from .singularities import _check_manipulator
 
+        _check_manipulator(manipulator)
+        every = min(as_count(every, "every"), len(self.poses))      # larger steps all mean "ends only"
         while True:
             idx = np.unique(np.append(np.arange(0, len(self.poses), every), len(self.poses) - 1))
             X = image_point(self.poses[idx])
@@ -480,6 +487,8 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     if not radius > 0:
         raise InputError(f"radius must be positive, got {radius!r}")
     steps = as_count(steps, "steps", 8)
+    if steps > MAX_STEPS:
+        raise InputError(f"steps must be at most MAX_STEPS = {MAX_STEPS}, got {_short(steps)}")
     ang = np.linspace(0, 2 * np.pi, steps + 1)[:-1]
     Q = np.repeat(cusp.q[None], steps, axis=0)
     Q[:, fa] += radius * np.cos(ang)

@@ -90,7 +90,11 @@ class DesignTable:
         >>> t.grid("sum").tolist()
         [[1.0, 2.0, 3.0], [2.0, 3.0, 4.0]]
         """
-        return np.asarray(self.values[name]).reshape(self.shape)
+        try:
+            values = self.values[name]
+        except (KeyError, TypeError):
+            raise InputError(f"name must be one of the table's values {sorted(self.values)}, got {_short(name)}") from None
+        return np.asarray(values).reshape(self.shape)
 
     def equals(self, other):
         """True if both tables hold the same rows and values (exactly)."""
@@ -242,6 +246,10 @@ def _plain(v):
     return v.item() if isinstance(v, np.generic) else v
 
 
+MAX_PROCESSES = 1024
+"""The largest number of local worker processes :func:`sweep` starts."""
+
+
 def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, on_error="raise"):
     """Evaluate ``func(**params)`` over every combination of the grid's parameter values.
 
@@ -326,8 +334,13 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
                             f"got {_short(k)}")
     if not isinstance(on_error, str) or on_error not in ("raise", "record"):
         raise InputError(f"on_error must be 'raise' or 'record', got {on_error!r}")
+    if client is not None and not all(hasattr(client, a) for a in ("submit", "scheduler", "cancel")):
+        raise TypeError(f"client must be a dask.distributed.Client (or None), got {type(client).__name__} "
+                        f"{_short(client)}")
     if processes is not None:
         processes = as_count(processes, "processes", 0)
+        if processes > MAX_PROCESSES:
+            raise InputError(f"processes must be at most MAX_PROCESSES = {MAX_PROCESSES}, got {_short(processes)}")
     if progress is not None:
         progress = as_flag(progress, "progress")
     chunksize = as_count(chunksize, "chunksize")

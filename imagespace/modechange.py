@@ -109,6 +109,8 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     (True, (5, 3))
     """
     per_piece = as_count(per_piece, "per_piece")
+    if per_piece > MAX_SAMPLES:
+        raise InputError(f"per_piece must be at most MAX_SAMPLES = {MAX_SAMPLES}, got {_short(per_piece)}")
     _check_manipulator(manipulator)
     if not isinstance(path, ImagePath):
         raise TypeError(f"path must be an ImagePath (isp.segment, isp.polyline ...), got "
@@ -185,7 +187,7 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     samples = as_count(samples, "samples")
     if samples > MAX_SAMPLES:
         raise InputError(f"samples must be at most MAX_SAMPLES = {MAX_SAMPLES} (each round draws and tests "
-                         f"4 * samples poses), got {samples}")
+                         f"4 * samples poses), got {_short(samples)}")
     if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (numbers.Integral, np.integer)):
         raise TypeError(f"seed must be a whole number, got {type(seed).__name__} {_short(seed)}")
     if seed < 0:

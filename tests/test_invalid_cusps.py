@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.cusps import Cusp, cusp_edges, cusp_loop, cusps, linking_number, mode_count_map
+from imagespace.cusps import Cusp, CuspLoop, cusp_edges, cusp_loop, cusps, linking_number, mode_count_map
 
 W = [(8, 14), (2, 8)]
 
@@ -24,6 +24,7 @@ def cusp():
     (lambda m, c: cusp_loop(None, c, 2, 0.1), TypeError, "manipulator must be a PlanarParallel"),
     (lambda m, c: cusp_loop(m, c, 2, 0.1, steps=0), isp.InputError, "steps must be at least"),
     (lambda m, c: cusp_loop(m, c, 2, 0.1, steps=2.5), TypeError, "steps must be a whole number"),
+    (lambda m, c: cusp_loop(m, c, 2, 0.1, steps=2**1100), isp.InputError, "steps must be at most"),
     (lambda m, c: cusp_loop(m, c, 2, "a"), TypeError, "radius must be numeric"),
     (lambda m, c: cusp_loop(m, c, 2, np.inf), isp.InputError, "radius must be finite"),
     (lambda m, c: cusp_loop(m, c, 2.0, 0.1), TypeError, "fixed must be the whole number"),
@@ -51,6 +52,18 @@ def cusp():
 def test_bad_input(m, cusp, call, exc, words):
     with pytest.raises(exc, match=words):
         call(m, cusp)
+
+
+def test_certified_path_checks_its_arguments():
+    m = isp.examples.general_3rpr()
+    loop = CuspLoop(np.zeros((3, 3)), np.array([[0.0, 0.0, 0.1], [0.1, 0.0, 0.1], [0.2, 0.0, 0.1]]), 0, 0, False,
+                    np.ones(3, int))
+    with pytest.raises(TypeError, match="manipulator must be a PlanarParallel"):
+        loop.certified_path(None)
+    with pytest.raises(isp.InputError, match="every must be at least 1"):
+        loop.certified_path(m, every=0)                 # was a ZeroDivisionError
+    with pytest.raises(TypeError, match="every must be a whole number"):
+        loop.certified_path(m, every=2.5)               # was an IndexError
 
 
 def test_valid_input_still_works(m):

@@ -21,6 +21,8 @@ def setup():
      "per_piece must be at least 1"),
     (lambda m, q, a, b, p: isp.joint_trajectory(m, p, q, per_piece=2.5), TypeError,
      "per_piece must be a whole number"),
+    (lambda m, q, a, b, p: isp.joint_trajectory(m, p, q, per_piece=2**1100), isp.InputError,
+     "per_piece must be at most"),
     (lambda m, q, a, b, p: isp.joint_trajectory(None, p, q), TypeError, "manipulator must be a PlanarParallel"),
     (lambda m, q, a, b, p: isp.plan_mode_change(m, q, a, b, samples=0), isp.InputError,
      "samples must be at least 1"),
