@@ -141,6 +141,9 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
 def _as_image(mode, name):
     X = getattr(mode, "image_point", mode)
     X = as_float_array(X, name, last=4, allow_batch=False)
+    if X[0] == 0 and X[1] == 0:
+        raise InputError(f"{name} must have (x0, x1) != (0, 0): a point of the absolute line is not a "
+                         f"displacement, got {X.tolist()}")
     return normalize(X)
 
 
@@ -194,7 +197,9 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
         raise InputError(f"seed must be a non-negative whole number, got {seed}")
     if box is not None:
         _check_box(box)
-    qf = as_float_array(q, "q", last=3, allow_batch=False)
+    qf = manipulator._check_q(q)
+    if qf.shape != (3,):
+        raise InputError(f"q must have shape (3,), got shape {qf.shape}")
     Xa, Xb = _as_image(mode_a, "mode_a"), _as_image(mode_b, "mode_b")
     if np.allclose(Xa, Xb, atol=1e-12):
         raise InputError("mode_a and mode_b are the same assembly mode")

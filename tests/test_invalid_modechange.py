@@ -36,6 +36,9 @@ def setup():
     (lambda m, q, a, b, p: isp.plan_mode_change(m, q, a, b, box=[[1, 0]] * 3), isp.InputError, "box must be"),
     (lambda m, q, a, b, p: isp.plan_mode_change(m, q, a, b, box="abc"), TypeError, "box must be numeric"),
     (lambda m, q, a, b, p: isp.plan_mode_change(m, q, "a", 1), TypeError, "mode_a"),
+    (lambda m, q, a, b, p: isp.plan_mode_change(m, q, [0, 0, 1, 1], b), isp.InputError,
+     r"mode_a must have \(x0, x1\) != \(0, 0\)"),
+    (lambda m, q, a, b, p: isp.plan_mode_change(m, [-1.0, 5, 10], a, b), isp.InputError, r"q\[0\]"),
     (lambda m, q, a, b, p: isp.plan_mode_change(None, q, a, b), TypeError, "manipulator must be a PlanarParallel"),
 ])
 def test_bad_input(setup, call, exc, words):
