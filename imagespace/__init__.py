@@ -1,27 +1,59 @@
 """imagespace: algebraic kinematics of planar parallel manipulators in the kinematic image space.
 
-The public API; see README.md for the feature table and DESIGN.md for the conventions.
+The public API (loaded lazily); see README.md for the feature table and the conventions.
 """
 
-from . import examples
-from .constraints import Quadric, image_symbols, pp_quadric, pr_quadric, rp_quadric, rr_quadric
-from .exceptions import (DegenerateDesignError, EliminationError, ImageSpaceError, InputError,
-                         NearSingularWarning)
-from .kinematic_map import compose, image_point, inverse, normalize, pose_of, transform_matrix, transform_points
-from .legs import PPR, PRP, PRR, RPP, RPR, RRP, RRR, Leg
-from .certify import RealRootCertificate, certify_real_roots, certify_real_roots_batch
-from .manipulator import AssemblyMode, CertifiedModes, DKBatchResult, PlanarParallel
-from .singularities import (ConicSection, PoseJacobians, SingularitySurface, jacobians,
-                            singularity_surface, singularity_surfaces)
-from .meshing import export_mesh, mesh_implicit, mesh_surface
-from .paths import (ImagePath, PathCheck, check_path, polyline, polynomial_curve, pose_segment,
-                    rational_curve, segment, segments_free)
-from .modechange import ModeChangePlan, joint_trajectory, plan_mode_change
-from .cusps import cusp_edges, cusp_loop, cusps, linking_number, mode_count_map
-from .clearance import backlash
-from .mobility import gruebler, manipulator_mobility, mechanism_mobility
-from .design import fuzzy_minmax, sweep
-from .tolerances import TOLERANCES, Tolerances
+import sys as _sys
+import types as _types
+
+import lazy_loader as _lazy
+
+# Nothing is imported until it is used (PEP 562, through scientific-python's lazy_loader):
+# ``import imagespace`` takes milliseconds, sympy/flint load on the first use of a function and
+# numba, matplotlib, trimesh, scikit-image, scipy and dask only where a feature needs them.
+_SUBMODULES = [
+    "examples", "kinematic_map", "constraints", "legs", "manipulator", "certify", "certified_dk",
+    "compile", "elimination", "roots", "fastdk", "singularities", "meshing", "paths", "modechange",
+    "clearance", "mobility", "design", "tolerances", "exceptions", "plotting", "screws",
+    "workspace", "indices", "dynamics", "cli",
+]
+_ATTRIBUTES = {
+    "constraints": ["Quadric", "image_symbols", "pp_quadric", "pr_quadric", "rp_quadric", "rr_quadric"],
+    "exceptions": ["DegenerateDesignError", "EliminationError", "ImageSpaceError", "InputError",
+                   "NearSingularWarning"],
+    "kinematic_map": ["compose", "image_point", "inverse", "normalize", "pose_of", "transform_matrix",
+                      "transform_points"],
+    "legs": ["PPR", "PRP", "PRR", "RPP", "RPR", "RRP", "RRR", "Leg"],
+    "certify": ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch"],
+    "manipulator": ["AssemblyMode", "CertifiedModes", "DKBatchResult", "PlanarParallel"],
+    "singularities": ["ConicSection", "PoseJacobians", "SingularitySurface", "jacobians",
+                      "singularity_surface", "singularity_surfaces"],
+    "meshing": ["export_mesh", "mesh_implicit", "mesh_surface"],
+    "paths": ["ImagePath", "PathCheck", "check_path", "polyline", "polynomial_curve", "pose_segment",
+              "rational_curve", "segment", "segments_free"],
+    "modechange": ["ModeChangePlan", "joint_trajectory", "plan_mode_change"],
+    "cusps": ["cusp_edges", "cusp_loop", "cusps", "linking_number", "mode_count_map"],
+    "clearance": ["backlash"],
+    "mobility": ["gruebler", "manipulator_mobility", "mechanism_mobility"],
+    "design": ["fuzzy_minmax", "sweep"],
+    "tolerances": ["TOLERANCES", "Tolerances"],
+}
+__getattr__, __dir__, _ = _lazy.attach(__name__, submodules=_SUBMODULES, submod_attrs=_ATTRIBUTES)
+
+
+class _Package(_types.ModuleType):
+    """``isp.cusps`` is the function :func:`imagespace.cusps.cusps`, as it always was. The import
+    system binds a loaded submodule on its package, which would shadow the function by the module
+    of the same name; that one binding is skipped (``from imagespace.cusps import ...`` and
+    ``sys.modules`` still reach the module)."""
+
+    def __setattr__(self, name, value):
+        if name == "cusps" and isinstance(value, _types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+_sys.modules[__name__].__class__ = _Package
 
 __version__ = "0.1.0"
 

@@ -17,7 +17,6 @@ from .certify import exact_is_zero, certify_real_roots, certify_real_roots_batch
 from .certified_dk import plan_roots
 from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
 from .exceptions import DegenerateDesignError, InputError, NearSingularWarning
-from .fastdk import HAVE_NUMBA, build_kernel
 from .kinematic_map import pose_of as _pose_of
 from .kinematic_map import representative_sign
 from .legs import Leg
@@ -946,7 +945,7 @@ class PlanarParallel:
             if kernel is None and method == "kernel":
                 raise InputError(
                     f"method='kernel' is not available for {self.name}: "
-                    + ("numba is not installed" if not HAVE_NUMBA else
+                    + ("numba is not installed" if not _have_numba() else
                        "the design has a PP dyad or a Cramer denominator vanishing identically")
                     + "; use method='numpy' or 'auto'")
         per_row = (BATCH_PEAK_BYTES_PER_ROW["kernel" if kernel is not None else "numpy"]
@@ -1004,7 +1003,12 @@ class PlanarParallel:
         """The compiled batch kernel of this design (built once), or None where it does not apply."""
         if "kernel" not in self._symbolic_cache:
             free = set().union(*(leg.free_symbols for leg in self.legs))
-            self._symbolic_cache["kernel"] = None if free else build_kernel(self)
+            if free or not _have_numba():
+                self._symbolic_cache["kernel"] = None
+            else:
+                from .fastdk import build_kernel          # numba is imported on the first kernel only
+
+                self._symbolic_cache["kernel"] = build_kernel(self)
         return self._symbolic_cache["kernel"]
 
     def _row_check(self, Q):
@@ -1490,6 +1494,13 @@ class PlanarParallel:
                 branch = int(np.nanargmin(np.where(np.isnan(d), np.inf, d)))
             out.append(leg.joint_points(p, branch))
         return out
+
+
+def _have_numba():
+    """Whether numba is installed, without importing it (its import alone takes ~0.3 s)."""
+    import importlib.util
+
+    return importlib.util.find_spec("numba") is not None
 
 
 def _three_joint_values(q, name="q"):

@@ -1,0 +1,42 @@
+"""``import imagespace`` is cheap: no heavy dependency is imported until a feature needs it, and
+every public name and subpackage is reachable from the top-level module (issue [10])."""
+
+import subprocess
+import sys
+
+import imagespace as isp
+
+HEAVY = ("sympy", "numba", "llvmlite", "scipy", "skimage", "trimesh", "matplotlib", "dask", "flint")
+
+
+def _modules_after(code):
+    out = subprocess.run([sys.executable, "-c", code + "\nimport sys\nprint(' '.join(sorted(sys.modules)))"],
+                         capture_output=True, text=True, check=True).stdout.split()
+    return {m.split(".")[0] for m in out}
+
+
+def test_import_loads_no_heavy_dependency():
+    loaded = _modules_after("import imagespace")
+    assert not loaded & set(HEAVY), sorted(loaded & set(HEAVY))
+
+
+def test_direct_kinematics_does_not_load_numba_or_the_plotting_stack():
+    """The per-call DK needs sympy and flint, nothing compiled and nothing graphical."""
+    loaded = _modules_after("import imagespace as isp\nm = isp.examples.general_3rpr()\n"
+                            "assert len(m.direct_kinematics(m.q_example_float)) == 6")
+    assert not loaded & {"numba", "llvmlite", "matplotlib", "trimesh", "skimage", "dask"}
+
+
+def test_every_public_name_and_subpackage_is_reachable():
+    for name in isp.__all__:
+        assert getattr(isp, name) is not None, name
+    for sub in ("plotting", "screws", "workspace", "indices", "dynamics", "examples", "fastdk"):
+        assert getattr(isp, sub).__name__ == f"imagespace.{sub}"
+    assert isp.InputError.__module__ == "imagespace.exceptions"
+
+
+def test_cusps_stays_the_function_after_its_module_is_loaded():
+    loaded = subprocess.run([sys.executable, "-c", "import imagespace as isp\nimport imagespace.cusps\n"
+                             "from imagespace.cusps import Cusp\nprint(callable(isp.cusps), type(isp.cusps).__name__)"],
+                            capture_output=True, text=True, check=True).stdout.split()
+    assert loaded == ["True", "function"]
