@@ -262,6 +262,13 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000, max_memory=MAX_MEMOR
     -------
     BacklashAnalysis
 
+    Raises
+    ------
+    InputError
+        ``samples`` would need more than ``max_memory`` (the message gives the estimate and the
+        largest ``samples`` that fits), fewer than 100 samples, a negative or non-finite
+        ``delta``, a ``leg`` other than 0, 1, 2.
+
     Examples
     --------
     >>> import imagespace as isp

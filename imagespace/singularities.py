@@ -538,7 +538,12 @@ def singularity_surface(manipulator, q=None, working_modes=None):
     ------
     InputError
         If the surface depends on the joint values and neither ``q`` nor ``working_modes`` is
-        given, or both are.
+        given, or both are; if ``q`` (not of shape ``(3,)``, not finite, outside a leg's domain)
+        or ``working_modes`` (not three branch indices) is wrong, even where the surface does
+        not depend on them.
+    TypeError
+        ``manipulator`` is not a :class:`PlanarParallel`; ``q`` holds strings, booleans or
+        complex numbers; a working mode is not a whole number.
 
     Examples
     --------
