@@ -22,7 +22,7 @@ def setup():
 
 
 @pytest.mark.parametrize("call, exc, words", [
-    (lambda M, p, law, r: state(None, p, 0.0, guess=G0), TypeError, "model must be a OpenTreeModel"),
+    (lambda M, p, law, r: state(None, p, 0.0, guess=G0), TypeError, "model must be an OpenTreeModel"),
     (lambda M, p, law, r: state(M, None, 0.0, guess=G0), TypeError, "path must be a LinePath"),
     (lambda M, p, law, r: state(M, p, "abc", guess=G0), TypeError, "s must be numeric"),
     (lambda M, p, law, r: state(M, p, 0.0, sd=np.nan, guess=G0), isp.InputError, "sd must be finite"),
@@ -42,7 +42,7 @@ def setup():
     (lambda M, p, law, r: inverse_dynamics(M, p, law, [-1.0], G0), isp.InputError, r"times must lie in .*\[0, T\]"),
     (lambda M, p, law, r: inverse_dynamics(M, p, law, [], G0), isp.InputError, "times must be a non-empty"),
     (lambda M, p, law, r: inverse_dynamics(M, p, law, "abc", G0), TypeError, "times must be numeric"),
-    (lambda M, p, law, r: power_balance(M, p, law, None), TypeError, "result must be a InverseDynamicsResult"),
+    (lambda M, p, law, r: power_balance(M, p, law, None), TypeError, "result must be an InverseDynamicsResult"),
     (lambda M, p, law, r: power_balance(M, p, law, r, h=-1.0), isp.InputError, "h must be positive"),
     (lambda M, p, law, r: simulate(M, p, law, r, G0, baumgarte=20.0), isp.InputError, r"baumgarte must have shape \(2,\)"),
     (lambda M, p, law, r: simulate(M, p, law, r, G0, rtol=None), TypeError, "rtol must be numeric"),

@@ -17,7 +17,8 @@ MAX_SAMPLES = 1_000_000
 def instance(value, cls, name, hint=""):
     if not isinstance(value, cls):
         what = cls.__name__ if isinstance(cls, type) else " or ".join(c.__name__ for c in cls)
-        raise TypeError(f"{name} must be a {what}{hint}, got {type(value).__name__} {_short(value)}")
+        article = "an" if what[0] in "AEIOU" else "a"
+        raise TypeError(f"{name} must be {article} {what}{hint}, got {type(value).__name__} {_short(value)}")
     return value
 
 
