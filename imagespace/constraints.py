@@ -50,6 +50,9 @@ __all__ = [
     "rp_quadric",
     "pp_quadric",
     "image_symbols",
+    "dyad_value_and_gradient",
+    "dk_system",
+    "dk_system_row",
 ]
 
 _X = sp.symbols("x0:4", real=True)
@@ -234,9 +237,8 @@ class Quadric:
         if batch:
             raise InputError(f"expr needs one quadric, but this Quadric is a batch (coefficient {batch[0]} "
                              f"is an array); take one row first")
-        c, a0, a1, b0, b1, k0, k1, k2 = (as_sympy_entry(v, n) for n, v in zip(_NAMES, self.coefficients()))
-        return sp.expand(c * (x2**2 + x3**2) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
-                         + k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2)
+        coeffs = [as_sympy_entry(v, n) for n, v in zip(_NAMES, self.coefficients())]
+        return sp.expand(_dyad_value(coeffs, x0, x1, x2, x3))
 
     def evaluate(self, points):
         """Value at image points ``(..., 4)`` (numeric coefficients only).
@@ -248,11 +250,8 @@ class Quadric:
         0.0
         """
         p = self._points(points)
-        x0, x1, x2, x3 = (p[..., i] for i in range(4))
-        c, a0, a1, b0, b1, k0, k1, k2 = self._float_coefficients("evaluate")
         try:
-            return (c * (x2**2 + x3**2) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
-                    + k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2)
+            return dyad_value_and_gradient(self._float_coefficients("evaluate"), p)[0]
         except ValueError:
             raise InputError(f"points of shape {p.shape} do not match this batch of quadrics "
                              f"(coefficients of shape {np.shape(self._batch_size())})") from None
@@ -293,17 +292,123 @@ class Quadric:
         array([-8.,  0.,  0.,  8.])
         """
         p = self._points(points)
-        x0, x1, x2, x3 = (p[..., i] for i in range(4))
-        c, a0, a1, b0, b1, k0, k1, k2 = self._float_coefficients("gradient")
         try:
-            g0 = a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1
-            g1 = a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1
-            g2 = 2 * c * x2 + a0 * x0 + a1 * x1
-            g3 = 2 * c * x3 + b0 * x0 + b1 * x1
-            return np.stack(np.broadcast_arrays(g0, g1, g2, g3), axis=-1)
+            return dyad_value_and_gradient(self._float_coefficients("gradient"), p)[1]
         except ValueError:
             raise InputError(f"points of shape {p.shape} do not match this batch of quadrics "
                              f"(coefficients of shape {np.shape(self._batch_size())})") from None
+
+
+# -- the one numeric evaluator of the dyad quadrics (coefficient layout _NAMES) -------------------
+def dyad_value_and_gradient(coeffs, X):
+    """Value and gradient of dyad quadrics at image points: the one numeric home of the formula.
+
+    Parameters
+    ----------
+    coeffs : sequence of eight float arrays
+        ``(c, a0, a1, b0, b1, k0, k1, k2)``, each broadcasting against ``X[..., 0]``.
+    X : (..., 4) float
+        Image points.
+
+    Returns
+    -------
+    value : (...) float
+    gradient : (..., 4) float
+        With respect to ``(x0, x1, x2, x3)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.constraints import dyad_value_and_gradient, rr_quadric
+    >>> v, g = dyad_value_and_gradient(rr_quadric((0, 0), 4.0, (0, 0)).coefficients(), np.array([1.0, 0, 0, 1]))
+    >>> float(v), g.tolist()
+    (0.0, [-8.0, 0.0, 0.0, 8.0])
+    """
+    coeffs = [np.asarray(v, dtype=float) for v in coeffs]
+    x = [X[..., j] for j in range(4)]
+    return _dyad_value(coeffs, *x), np.stack(np.broadcast_arrays(*_dyad_gradient(coeffs, *x)), axis=-1)
+
+
+def _dyad_value(coeffs, x0, x1, x2, x3):
+    """The dyad quadric in plain arithmetic: sympy expressions and numpy arrays alike."""
+    c, a0, a1, b0, b1, k0, k1, k2 = coeffs
+    return (c * (x2**2 + x3**2) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
+            + k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2)
+
+
+def _dyad_gradient(coeffs, x0, x1, x2, x3):
+    """Its partial derivatives in ``x0, x1, x2, x3`` (plain arithmetic)."""
+    c, a0, a1, b0, b1, k0, k1, k2 = coeffs
+    return (a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1,
+            a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1,
+            2 * c * x2 + a0 * x0 + a1 * x1,
+            2 * c * x3 + b0 * x0 + b1 * x1)
+
+
+def dk_system(C, X):
+    """The direct-kinematics system ``[Q1, Q2, Q3, x0^2 + x1^2 - 1]`` and its Jacobian.
+
+    Parameters
+    ----------
+    C : (n, 3, 8) float
+        The three quadrics' coefficients per row (layout of :meth:`Quadric.coefficients`).
+    X : (n, k, 4) float
+        ``k`` image points per row.
+
+    Returns
+    -------
+    values : (n, k, 4) float
+    jacobian : (n, k, 4, 4) float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.constraints import dk_system
+    >>> C = np.zeros((1, 3, 8)); C[0, :, 0] = 4.0; C[0, :, 5] = -4.0     # x2^2 + x3^2 = x0^2 (x4)
+    >>> Fv, J = dk_system(C, np.array([[[1.0, 0.0, 1.0, 0.0]]]))
+    >>> Fv.tolist(), J[0, 0, 3].tolist()
+    ([[[0.0, 0.0, 0.0, 0.0]]], [2.0, 0.0, 0.0, 0.0])
+    """
+    val, grad = dyad_value_and_gradient([C[:, None, :, j] for j in range(8)], X[..., None, :])
+    J = np.empty(X.shape[:-1] + (4, 4))
+    J[..., :3, :] = grad
+    J[..., 3, 0], J[..., 3, 1] = 2 * X[..., 0], 2 * X[..., 1]
+    J[..., 3, 2] = J[..., 3, 3] = 0.0
+    Fv = np.concatenate([val, (X[..., 0]**2 + X[..., 1]**2 - 1)[..., None]], axis=-1)
+    return Fv, J
+
+
+def dk_system_row(C, X, val, J):
+    """:func:`dk_system` for one row and one point, written for numba (the compiled kernel of
+    :mod:`imagespace.fastdk` compiles this very function; ``tests`` hold it equal to
+    :func:`dk_system` on random input).
+
+    ``C``: (24,) coefficients, quadric ``i`` at ``8 i .. 8 i + 7``; ``X``: (4,); fills ``val``
+    (4,) and ``J`` (4, 4) in place.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.constraints import dk_system_row
+    >>> C = np.tile([4.0, 0, 0, 0, 0, -4.0, 0, 0], 3); val = np.empty(4); J = np.empty((4, 4))
+    >>> dk_system_row(C, np.array([1.0, 0.0, 1.0, 0.0]), val, J); val.tolist()
+    [0.0, 0.0, 0.0, 0.0]
+    """
+    x0, x1, x2, x3 = X[0], X[1], X[2], X[3]
+    for i in range(3):
+        c, a0, a1, b0, b1 = C[8 * i], C[8 * i + 1], C[8 * i + 2], C[8 * i + 3], C[8 * i + 4]
+        k0, k1, k2 = C[8 * i + 5], C[8 * i + 6], C[8 * i + 7]
+        val[i] = (c * (x2 * x2 + x3 * x3) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
+                  + k0 * x0 * x0 + k1 * x0 * x1 + k2 * x1 * x1)
+        J[i, 0] = a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1
+        J[i, 1] = a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1
+        J[i, 2] = 2 * c * x2 + a0 * x0 + a1 * x1
+        J[i, 3] = 2 * c * x3 + b0 * x0 + b1 * x1
+    val[3] = x0 * x0 + x1 * x1 - 1.0
+    J[3, 0] = 2 * x0
+    J[3, 1] = 2 * x1
+    J[3, 2] = 0.0
+    J[3, 3] = 0.0
 
 
 def rr_quadric(centre, radius_squared, point):

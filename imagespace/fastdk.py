@@ -58,6 +58,7 @@ import numpy as np
 import sympy as sp
 
 from ._kernels import HAVE_NUMBA, njit
+from .constraints import dk_system_row
 
 __all__ = ["BatchKernel", "KernelCacheWarning", "build_kernel", "real_roots_cascade", "HAVE_NUMBA"]
 
@@ -293,24 +294,8 @@ def _bf(f, off, deg, x0, x1):
     return v
 
 
-@njit(cache=True)
-def _system(C, X, val, J):
-    """[Q1, Q2, Q3, x0^2 + x1^2 - 1] and its Jacobian at X; C: (24,) scaled quadric coefficients."""
-    x0, x1, x2, x3 = X[0], X[1], X[2], X[3]
-    for i in range(3):
-        c, a0, a1, b0, b1 = C[8 * i], C[8 * i + 1], C[8 * i + 2], C[8 * i + 3], C[8 * i + 4]
-        k0, k1, k2 = C[8 * i + 5], C[8 * i + 6], C[8 * i + 7]
-        val[i] = (c * (x2 * x2 + x3 * x3) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
-                  + k0 * x0 * x0 + k1 * x0 * x1 + k2 * x1 * x1)
-        J[i, 0] = a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1
-        J[i, 1] = a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1
-        J[i, 2] = 2 * c * x2 + a0 * x0 + a1 * x1
-        J[i, 3] = 2 * c * x3 + b0 * x0 + b1 * x1
-    val[3] = x0 * x0 + x1 * x1 - 1.0
-    J[3, 0] = 2 * x0
-    J[3, 1] = 2 * x1
-    J[3, 2] = 0.0
-    J[3, 3] = 0.0
+# the DK system and its Jacobian: compiled from its one home in constraints.py
+_system = njit(cache=True)(dk_system_row)
 
 
 @njit(cache=True)

@@ -12,7 +12,7 @@ import warnings
 
 from ._memory import check_memory
 from ._validate import as_count, as_exact, as_flag, as_float_array, is_symbolic
-from .constraints import Quadric, image_symbols
+from .constraints import Quadric, dk_system as _system, image_symbols
 from .certify import exact_is_zero, certify_real_roots, certify_real_roots_batch, inclusion_discs
 from .certified_dk import plan_roots
 from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
@@ -215,27 +215,6 @@ def _coef_array(quadrics, n):
         for k, v in enumerate(q.coefficients()):
             C[:, i, k] = np.broadcast_to(np.asarray(v, dtype=float), (n,))
     return C
-
-
-def _system(C, X):
-    """Values (..., 4) and Jacobian (..., 4, 4) of [Q1, Q2, Q3, x0^2 + x1^2 - 1].
-
-    C: (n, 3, 8) coefficients; X: (n, k, 4) image points.
-    """
-    c, a0, a1, b0, b1, k0, k1, k2 = (C[:, None, :, j] for j in range(8))  # (n, 1, 3)
-    x0, x1, x2, x3 = (X[..., j][..., None] for j in range(4))             # (n, k, 1)
-    val = (c * (x2**2 + x3**2) + x2 * (a0 * x0 + a1 * x1) + x3 * (b0 * x0 + b1 * x1)
-           + k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2)
-    g0 = a0 * x2 + b0 * x3 + 2 * k0 * x0 + k1 * x1
-    g1 = a1 * x2 + b1 * x3 + k1 * x0 + 2 * k2 * x1
-    g2 = 2 * c * x2 + a0 * x0 + a1 * x1
-    g3 = 2 * c * x3 + b0 * x0 + b1 * x1
-    J = np.empty(X.shape[:-1] + (4, 4))
-    J[..., :3, 0], J[..., :3, 1], J[..., :3, 2], J[..., :3, 3] = g0, g1, g2, g3
-    J[..., 3, 0], J[..., 3, 1] = 2 * X[..., 0], 2 * X[..., 1]
-    J[..., 3, 2] = J[..., 3, 3] = 0.0
-    Fv = np.concatenate([val, (X[..., 0]**2 + X[..., 1]**2 - 1)[..., None]], axis=-1)
-    return Fv, J
 
 
 def _newton(C, X, tol):

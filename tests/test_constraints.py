@@ -70,3 +70,39 @@ def test_symbolic_and_numeric_quadric_agree(rng):
         assert np.isclose(float(e.subs(dict(zip((x0, x1, x2, x3), X)))), qd.evaluate(X))
         g = [float(sp.diff(e, v).subs(dict(zip((x0, x1, x2, x3), X)))) for v in (x0, x1, x2, x3)]
         assert np.allclose(g, qd.gradient(X))
+
+
+def test_one_dyad_system_evaluator_and_its_numba_twin_agree_on_random_input():
+    """dk_system (numpy, used by the numpy DK path and Quadric.evaluate/gradient) and
+    dk_system_row (the source the compiled kernel is built from) are one formula: equal on random
+    coefficients and points; and the values are the sympy expression of the quadric, the
+    Jacobian its symbolic derivatives (an independent derivation by sympy.diff)."""
+    import sympy as sp
+    from imagespace.constraints import Quadric, dk_system, dk_system_row, image_symbols
+
+    rng = np.random.default_rng(20261201)
+    C = rng.normal(size=(5, 3, 8))
+    X = rng.normal(size=(5, 2, 4))
+    Fv, J = dk_system(C, X)
+    val, Jr = np.empty(4), np.empty((4, 4))
+    for n in range(5):
+        for k in range(2):
+            dk_system_row(C[n].ravel(), X[n, k], val, Jr)
+            assert np.allclose(val, Fv[n, k], rtol=1e-14, atol=1e-13)
+            assert np.allclose(Jr, J[n, k], rtol=1e-14, atol=1e-13)
+    x = image_symbols()
+    for i in range(3):
+        q = Quadric("RR", *[sp.Rational(v) for v in C[0, i]])
+        e = q.expr()
+        for k in range(2):
+            sub = dict(zip(x, [sp.Rational(v) for v in X[0, k]]))
+            assert abs(float(e.subs(sub)) - Fv[0, k, i]) < 1e-12 * (1 + abs(Fv[0, k, i]))
+            grad = [float(sp.diff(e, xj).subs(sub)) for xj in x]
+            assert np.allclose(grad, J[0, k, i], rtol=1e-12, atol=1e-12)
+            assert np.isclose(float(q.evaluate(X[0, k])), Fv[0, k, i], rtol=1e-14, atol=1e-13)
+            assert np.allclose(q.gradient(X[0, k]), J[0, k, i], rtol=1e-14, atol=1e-13)
+    from imagespace.fastdk import HAVE_NUMBA
+    if HAVE_NUMBA:                                          # the compiled twin itself
+        from imagespace.fastdk import _system
+        _system(C[1].ravel(), X[1, 0], val, Jr)
+        assert np.allclose(val, Fv[1, 0], rtol=1e-14, atol=1e-13) and np.allclose(Jr, J[1, 0], rtol=1e-14, atol=1e-13)
