@@ -64,6 +64,14 @@ def _vec3(v, name):
     return a
 
 
+def _same_batch(a, b, name_a, name_b):
+    """Two numeric batches must have the same length (or one of them a single vector)."""
+    if isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.ndim == 2 and b.ndim == 2 \
+            and len(a) != len(b) and 1 not in (len(a), len(b)):
+        raise InputError(f"{name_a} and {name_b} must have the same number of rows (or one row), got "
+                         f"shapes {a.shape} and {b.shape}")
+
+
 def _unit(u, name):
     if isinstance(u, sp.MatrixBase):
         n = sp.sqrt(u.dot(u))
@@ -110,6 +118,7 @@ def revolute(axis, point):
     """
     u = _unit(_vec3(axis, "axis"), "axis")
     p = _vec3(point, "point")
+    _same_batch(u, p, "axis", "point")
     return _join(u, _cross(p, u))
 
 
@@ -138,6 +147,7 @@ def helical(axis, point, pitch):
     """
     u = _unit(_vec3(axis, "axis"), "axis")
     p = _vec3(point, "point")
+    _same_batch(u, p, "axis", "point")
     if isinstance(u, sp.MatrixBase) or isinstance(p, sp.MatrixBase) or is_symbolic(pitch):
         if isinstance(pitch, (list, tuple, np.ndarray)):
             raise TypeError(f"pitch must be one number or sympy expression with a symbolic axis, got {_short(pitch)}")
@@ -182,6 +192,8 @@ def transfer(screw, point, kind="twist"):
     """
     s = _check_screw(screw, "screw")
     r = _vec3(point, "point")
+    if isinstance(r, np.ndarray) and r.ndim != 1:
+        raise InputError(f"point must be one reference point of shape (3,), got shape {r.shape}")
     if not isinstance(kind, str) or kind not in ("twist", "wrench"):
         raise InputError(f"kind must be 'twist' or 'wrench', got {kind!r}")
     if isinstance(s, sp.MatrixBase):
@@ -202,6 +214,7 @@ def reciprocal_product(twist, wrench):
     """
     t = _check_screw(twist, "twist")
     w = _check_screw(wrench, "wrench")
+    _same_batch(t, w, "twist", "wrench")
     if isinstance(t, sp.MatrixBase) or isinstance(w, sp.MatrixBase):
         t, w = sp.Matrix(t), sp.Matrix(w)
         return sp.simplify(t[:3, 0].dot(w[3:, 0]) + t[3:, 0].dot(w[:3, 0]))

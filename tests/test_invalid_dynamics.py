@@ -64,6 +64,8 @@ def setup():
     (lambda M, p, law, r: seed000_model({"nope": 1.0}), isp.InputError, "params names 'nope'"),
     (lambda M, p, law, r: seed000_path({"A": 1.0}), isp.InputError, r"params\['A'\] must have shape \(2,\)"),
     (lambda M, p, law, r: Body("__import__('os')", 1.0, (0, 0), 0), TypeError, "mass must be a number"),
+    (lambda M, p, law, r: Body(-1.0, 1.0, (0, 0), 0), isp.InputError, "mass must be positive"),
+    (lambda M, p, law, r: Body(1.0, float("nan"), (0, 0), 0), isp.InputError, "inertia must be finite"),
     (lambda M, p, law, r: Body(1.0, 1.0, "xy", 0), TypeError, "centre must be"),
     (lambda M, p, law, r: OpenTreeModel(sp.symbols("a b"), ["__import__('os')"], [sp.Symbol("a")], [0], []),
      TypeError, r"constraints\[0\]"),

@@ -5,8 +5,8 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.screws import (TranslationalFiveR, constraint_analysis, helical, planar_leg_wrenches, reciprocal_system,
-                               revolute, singularity_fractions, transfer)
+from imagespace.screws import (TranslationalFiveR, constraint_analysis, helical, planar_leg_wrenches, reciprocal_product,
+                               reciprocal_system, revolute, singularity_fractions, transfer)
 
 PLANAR_LEG = np.array([revolute([0, 0, 1], [0, 0, 0]), revolute([0, 0, 1], [1, 0, 0]), revolute([0, 0, 1], [1, 1, 0])])
 
@@ -19,6 +19,10 @@ PLANAR_LEG = np.array([revolute([0, 0, 1], [0, 0, 0]), revolute([0, 0, 1], [1, 0
     (lambda: helical([0, 0, 1], [0, 0, 0], 2**1100), isp.InputError, "pitch must be within"),
     (lambda: helical([0, 0, 1], [0, 0, 0], np.nan), isp.InputError, "pitch must be finite"),
     (lambda: transfer(revolute([0, 0, 1], [1, 0, 0]), [1, 2, 3], kind=np.array([1, 2])), isp.InputError, "kind"),
+    (lambda: revolute([[0, 0, 1]] * 2, [[0, 0, 0]] * 3), isp.InputError, "axis and point must have the same number"),
+    (lambda: transfer(revolute([0, 0, 1], [1, 0, 0]), [[1, 2, 3]] * 2), isp.InputError, "point must be one reference"),
+    (lambda: reciprocal_product(PLANAR_LEG[:2], PLANAR_LEG), isp.InputError,
+     "twist and wrench must have the same number"),
     (lambda: reciprocal_system(PLANAR_LEG, tol=None), TypeError, "tol must be numeric"),
     (lambda: reciprocal_system(PLANAR_LEG, tol=np.nan), isp.InputError, "tol must be finite"),
     (lambda: reciprocal_system(PLANAR_LEG, tol=2.5), isp.InputError, r"tol must be a relative tolerance in \(0, 1\)"),

@@ -8,6 +8,7 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
+from imagespace.singularities import image_chart_point, pose_chart_point, symbolic_jacobians
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +27,7 @@ def rrr():
     lambda m: isp.singularity_surface("m"),
     lambda m: isp.singularity_surfaces(None),
     lambda m: isp.jacobians(None, [0.5, 1.0, 0.2]),
-    lambda m: isp.singularities.symbolic_jacobians(None),
+    lambda m: symbolic_jacobians(None),
 ])
 def test_not_a_manipulator(m, call):
     with pytest.raises(TypeError, match="manipulator must be a PlanarParallel"):
@@ -92,9 +93,9 @@ def S(m):
     (lambda m, S: S.section(0.4)([1.0, 2.0], [1.0, 2.0, 3.0]), isp.InputError, "x and y must broadcast"),
     (lambda m, S: isp.jacobians(m, [0.5, 1.0, 0.2]).homogeneous(None), TypeError, "length must be numeric"),
     (lambda m, S: isp.jacobians(m, [0.5, 1.0, 0.2]).homogeneous(2**1100), isp.InputError, "length"),
-    (lambda m, S: isp.singularities.pose_chart_point(None), TypeError, "P must be numeric"),
-    (lambda m, S: isp.singularities.pose_chart_point([[1.0, 2.0]]), isp.InputError, r"P must have shape \(3,\)"),
-    (lambda m, S: isp.singularities.image_chart_point(0.5), isp.InputError, r"U must have shape \(3,\)"),
+    (lambda m, S: pose_chart_point(None), TypeError, "P must be numeric"),
+    (lambda m, S: pose_chart_point([[1.0, 2.0]]), isp.InputError, r"P must have shape \(3,\)"),
+    (lambda m, S: image_chart_point(0.5), isp.InputError, r"U must have shape \(3,\)"),
 ])
 def test_bad_input_to_surface_methods(m, S, call, exc, words):
     with pytest.raises(exc, match=words):

@@ -12,6 +12,7 @@ Coriolis/centrifugal and gravity terms, i.e. ``A^T mu = M etaddot - R``, ``A^T =
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,6 +50,11 @@ class Body:
     def __post_init__(self):
         _checks.not_text(self.mass, "mass")
         _checks.not_text(self.inertia, "inertia")
+        for name, v, strict in (("mass", self.mass, True), ("inertia", self.inertia, False)):
+            if isinstance(v, (numbers.Real, sp.Number)) and not np.isfinite(float(v)):
+                raise InputError(f"{name} must be finite, got {v!r}")
+            if isinstance(v, (numbers.Real, sp.Number)) and not (v > 0 if strict else v >= 0):
+                raise InputError(f"{name} must be {'positive' if strict else 'non-negative'}, got {v!r}")
         _checks.not_text(self.angle, "angle")
         if isinstance(self.centre, (str, bytes)) or not hasattr(self.centre, "__iter__") or len(list(self.centre)) != 2:
             raise TypeError(f"centre must be (x, y), two numbers or sympy expressions, got {_short(self.centre)}")
