@@ -59,12 +59,46 @@ import sympy as sp
 
 from ._kernels import HAVE_NUMBA, njit
 from .constraints import dk_system_row
+from .tolerances import TOLERANCES
 
 __all__ = ["BatchKernel", "KernelCacheWarning", "build_kernel", "real_roots_cascade", "HAVE_NUMBA"]
 
 _KEEP = 1.0 + 1e-12          # chart roots kept up to this |t|; the overlap is deduplicated
 _REACH = 1.0 + 1.0 / 64      # each chart searches a little beyond 1
 _MAX = 6
+_CRITICAL_STEP = 1e-9        # critical points (roots of a derivative) are polished to this step
+_TOUCH_DUPLICATE = 1e-12     # a root touching the axis this close to a crossing root is that root
+
+# The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
+# into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
+# polynomial p, up to 12 chart candidates, the scaled quadrics Cs and Newton's val, dx, X, J.
+_WORK_LAYOUT = (("W", 49), ("PTS", 8), ("VALS", 8), ("NEW", 7), ("RTS", 6), ("P", 7),
+                ("CAND", 48), ("CS", 24), ("VAL", 4), ("DX", 4), ("X", 4), ("J", 16))
+_o = 0
+for _name, _size in _WORK_LAYOUT:
+    globals()[f"_W_{_name}"] = _o
+    _o += _size
+_WORK_SIZE = _o
+del _o, _name, _size
+
+# The kernel's decision thresholds arrive as one float array (from the design's Tolerances, see
+# kernel_tolerances); these name its entries.
+_T_CRAMER_SMALL, _T_PIVOT, _T_CHART_DUPLICATE, _T_NEWTON_STOP, _T_RESIDUAL, _T_DUPLICATE = range(6)
+
+
+def kernel_tolerances(tol):
+    """The compiled kernel's thresholds as a float array (entries named ``_T_*``), read from a
+    :class:`~imagespace.tolerances.Tolerances`.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.fastdk import kernel_tolerances
+    >>> kernel_tolerances(isp.TOLERANCES).tolist()
+    [1e-07, 1e-14, 1e-10, 1e-09, 1e-09, 1e-09]
+    """
+    return np.array([tol.cramer_small, tol.newton_stop, tol.kernel_chart_duplicate,
+                     tol.kernel_newton_stop, tol.kernel_residual, tol.kernel_duplicate], dtype=float)
 
 
 # --------------------------------------------------------------------------- scalar numerics
@@ -132,7 +166,7 @@ def _monotone_root(c, deg, a, b, fa, fb, flat_a, flat_b, coarse):
             width = b - a
         if not (a < tn < b):
             tn = 0.5 * (a + b)
-        elif coarse and abs(tn - t) <= 1e-9 * max(1.0, abs(t)):
+        elif coarse and abs(tn - t) <= _CRITICAL_STEP * max(1.0, abs(t)):
             return tn
         t = tn
     return t
@@ -192,7 +226,7 @@ def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
                 if abs(vals[i + 1]) <= 64 * 2.2e-16 * dg * scale:
                     dup = False
                     for m in range(nnew):
-                        if abs(new[m] - t) <= 1e-12 * max(1.0, abs(t)):
+                        if abs(new[m] - t) <= _TOUCH_DUPLICATE * max(1.0, abs(t)):
                             dup = True
                     if not dup and nnew >= dg:
                         suspect = True    # see the docstring: never more than dg roots are stored
@@ -311,8 +345,9 @@ def _det4(J, x0, x1):
 
 
 @njit(cache=True)
-def _solve4(J, r, dx):
-    """Solve J dx = r in place (partial pivoting); returns the determinant (0 when singular)."""
+def _solve4(J, r, dx, pivot):
+    """Solve J dx = r in place (partial pivoting); returns the determinant (0 when singular: a
+    pivot below ``pivot`` times the largest entry)."""
     det = 1.0
     scale = 0.0
     for i in range(4):
@@ -323,7 +358,7 @@ def _solve4(J, r, dx):
         for i in range(k + 1, 4):
             if abs(J[i, k]) > abs(J[p, k]):
                 p = i
-        if abs(J[p, k]) <= 1e-14 * scale:
+        if abs(J[p, k]) <= pivot * scale:
             return 0.0
         if p != k:
             for m in range(4):
@@ -349,18 +384,20 @@ def _solve4(J, r, dx):
 
 
 @njit(cache=True)
-def _solve_row(buf, layout, out_X, out_P, out_res, out_asp, work):
+def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
     """Everything after the coefficients for one row. Returns (count, flag): flag 0 ok,
-    1 special (careful path), 2 suspect (certified path)."""
+    1 special (careful path), 2 suspect (certified path). ``tol``: :func:`kernel_tolerances`;
+    ``work``: ``_WORK_SIZE`` floats of scratch (named slices ``_W_*``)."""
     dD, dX, dF = layout[0], layout[1], layout[2]
     oD, oX2, oX3, oF = 48, 48 + dD + 1, 48 + dD + dX + 2, 48 + dD + 2 * dX + 3
-    W = work[0:49].reshape((7, 7))
-    pts, vals, new, rts = work[49:57], work[57:65], work[65:72], work[72:78]
-    p = work[78:85]
-    cand = work[85:85 + 4 * 12].reshape((12, 4))
-    Cs = work[133:157]
-    val, dx, X = work[157:161], work[161:165], work[165:169]
-    J = work[169:185].reshape((4, 4))
+    W = work[_W_W:_W_W + 49].reshape((7, 7))
+    pts, vals = work[_W_PTS:_W_PTS + 8], work[_W_VALS:_W_VALS + 8]
+    new, rts = work[_W_NEW:_W_NEW + 7], work[_W_RTS:_W_RTS + 6]
+    p = work[_W_P:_W_P + 7]
+    cand = work[_W_CAND:_W_CAND + 48].reshape((12, 4))
+    Cs = work[_W_CS:_W_CS + 24]
+    val, dx, X = work[_W_VAL:_W_VAL + 4], work[_W_DX:_W_DX + 4], work[_W_X:_W_X + 4]
+    J = work[_W_J:_W_J + 16].reshape((4, 4))
     # scaled quadrics (zero set unchanged) and their q-derivatives with the same scale
     for i in range(3):
         s = 0.0
@@ -409,7 +446,7 @@ def _solve_row(buf, layout, out_X, out_P, out_res, out_asp, work):
                 x0, x1 = -x0, -x1
             dup = False
             for j in range(ncand):
-                if abs(cand[j, 0] * x1 - cand[j, 1] * x0) <= 1e-10:
+                if abs(cand[j, 0] * x1 - cand[j, 1] * x0) <= tol[_T_CHART_DUPLICATE]:
                     dup = True
             if dup:
                 continue
@@ -424,7 +461,7 @@ def _solve_row(buf, layout, out_X, out_P, out_res, out_asp, work):
     for j in range(ncand):
         x0, x1 = cand[j, 0], cand[j, 1]
         Dv = _bf(buf, oD, dD, x0, x1)
-        if abs(Dv) <= 1e-7 * dn:
+        if abs(Dv) <= tol[_T_CRAMER_SMALL] * dn:
             return 0, 1
         X[0], X[1] = x0, x1
         X[2] = _bf(buf, oX2, dX, x0, x1) / Dv
@@ -439,7 +476,7 @@ def _solve_row(buf, layout, out_X, out_P, out_res, out_asp, work):
             det = _det4(J, X[0], X[1])
             for i in range(4):
                 val[i] = -val[i]
-            if _solve4(J, val, dx) == 0.0:
+            if _solve4(J, val, dx, tol[_T_PIVOT]) == 0.0:
                 break
             big = 1.0
             stp = 0.0
@@ -447,7 +484,7 @@ def _solve_row(buf, layout, out_X, out_P, out_res, out_asp, work):
                 X[i] += dx[i]
                 big = max(big, abs(X[i]))
                 stp = max(stp, abs(dx[i]))
-            if stp <= 1e-9 * big:
+            if stp <= tol[_T_NEWTON_STOP] * big:
                 break
         sg = -1.0 if (X[0] < 0.0 or (X[0] == 0.0 and X[1] < 0.0)) else 1.0
         nrm = sg / math.sqrt(X[0] * X[0] + X[1] * X[1])
@@ -456,7 +493,7 @@ def _solve_row(buf, layout, out_X, out_P, out_res, out_asp, work):
         _system(Cs, X, val, J)
         size = 1.0 + X[2] * X[2] + X[3] * X[3]
         rel = max(abs(val[0]), abs(val[1]), abs(val[2])) / size
-        if not (rel <= 1e-9):
+        if not (rel <= tol[_T_RESIDUAL]):
             return 0, 1
         jres = 0.0
         for i in range(3):
@@ -492,7 +529,7 @@ def _solve_row(buf, layout, out_X, out_P, out_res, out_asp, work):
             dd = 0.0
             for i in range(4):
                 dd = max(dd, abs(out_X[a, i] - out_X[b, i]))
-            if dd <= 1e-9 * (1.0 + abs(out_X[a, 2]) + abs(out_X[a, 3])):
+            if dd <= tol[_T_DUPLICATE] * (1.0 + abs(out_X[a, 2]) + abs(out_X[a, 3])):
                 return 0, 1
     return count, 0
 
@@ -523,17 +560,17 @@ def _coefficient_source(exprs, symbols, name):
 _LOOP_SOURCE = """
 
 @njit(parallel=True, cache=CACHE)
-def run(Q, layout, nbuf, X, P, R, A, cnt, flag):
+def run(Q, layout, nbuf, tol, X, P, R, A, cnt, flag):
     n = Q.shape[0]
     nblocks = min(n, 64)
     for b in prange(nblocks):
         lo = b * n // nblocks
         hi = (b + 1) * n // nblocks
         buf = np.empty(nbuf)
-        work = np.empty(200)
+        work = np.empty(WORK_SIZE)
         for r in range(lo, hi):
             coefficients(Q[r, 0], Q[r, 1], Q[r, 2], buf)
-            k, f = _solve_row(buf, layout, X[r], P[r], R[r], A[r], work)
+            k, f = _solve_row(buf, layout, tol, X[r], P[r], R[r], A[r], work)
             if f != 0:
                 k = 0
             for j in range(k, X.shape[1]):
@@ -551,7 +588,7 @@ _HEADER = """# generated by imagespace.fastdk for one design; safe to delete
 import math
 import numpy as np
 from imagespace._kernels import njit, prange
-from imagespace.fastdk import _solve_row
+from imagespace.fastdk import _solve_row, _WORK_SIZE as WORK_SIZE
 """
 
 # --------------------------------------------------------------------------- the disk cache
@@ -762,7 +799,8 @@ def _helpers_without_code():
 def _warm(run, nbuf):
     """Compile (or load from numba's cache) ``run`` for exactly the types ``BatchKernel.__call__``
     passes, on an empty batch: a corrupted cache entry fails here, not in a user's batch."""
-    run(np.empty((0, 3)), np.zeros(3, dtype=np.int64), nbuf, np.empty((0, _MAX, 4)),
+    run(np.empty((0, 3)), np.zeros(3, dtype=np.int64), nbuf, np.zeros(len(kernel_tolerances(TOLERANCES))),
+        np.empty((0, _MAX, 4)),
         np.empty((0, _MAX, 3)), np.empty((0, _MAX)), np.empty((0, _MAX), dtype=np.int8),
         np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8))
     return run
@@ -825,10 +863,11 @@ class BatchKernel:
         Degrees of ``D``, ``X2``/``X3`` and ``F``.
     """
 
-    def __init__(self, coefficient_source, layout, nbuf):
+    def __init__(self, coefficient_source, layout, nbuf, tolerances=None):
         self.source = _HEADER + "\n\n@njit(cache=CACHE)\n" + coefficient_source + _LOOP_SOURCE
         self.layout = np.asarray(layout, dtype=np.int64)
         self.nbuf = nbuf
+        self.tolerances = kernel_tolerances(TOLERANCES if tolerances is None else tolerances)
         self._run = _compile(self.source, nbuf)
 
     def __call__(self, Q):
@@ -849,7 +888,7 @@ class BatchKernel:
         cnt = np.empty(n, dtype=np.int64)
         flag = np.empty(n, dtype=np.int8)
         if n:
-            self._run(Q, self.layout, self.nbuf, X, P, R, A, cnt, flag)
+            self._run(Q, self.layout, self.nbuf, self.tolerances, X, P, R, A, cnt, flag)
         return X, P, R, A, cnt, flag
 
 
@@ -885,4 +924,4 @@ def build_kernel(manipulator):
     if len(el.X3) != len(el.X2) or d > _MAX:
         return None
     src = _coefficient_source(exprs, q, "coefficients")
-    return BatchKernel(src, layout, len(exprs))
+    return BatchKernel(src, layout, len(exprs), manipulator.tolerances)

@@ -8,9 +8,10 @@ classifications of :mod:`imagespace.singularities`. All of these thresholds are 
 quadrics are balanced to the design's length scale before any decision, so answers do not depend
 on units. Certified answers (counts, multiplicities, root intervals) never read a tolerance.
 
-Not covered (each keeps its thresholds as named module-level constants, documented there): the
-compiled batch kernel (:mod:`imagespace.fastdk`, which flags a row for the numpy path rather than
-decide a close call), meshing, paths, cusps, backlash, workspaces and dynamics.
+The compiled batch kernel (:mod:`imagespace.fastdk`) reads its decision thresholds from the same
+object (passed to it as an array); its root finder's numerical constants (how far a critical point
+is polished) are named module constants there, as are the thresholds of meshing, paths, cusps,
+backlash, workspaces and dynamics, which this object does not cover.
 """
 
 from dataclasses import dataclass
@@ -63,6 +64,22 @@ class Tolerances:
         Rows solved orientation by orientation (Cramer cases): a mode whose
         ``|det J| / prod(row norms)`` is below this, or a line-circle intersection whose
         discriminant is below this relative to its terms, makes the row ``near_singular``.
+    kernel_chart_duplicate : float
+        The compiled kernel: two orientation candidates from the two charts with
+        ``|x0 x1' - x1 x0'|`` below this are one root.
+    kernel_newton_stop : float
+        The compiled kernel: Newton on the full system stops once a step is below this times the
+        point's size.
+    kernel_residual : float
+        The compiled kernel: a polished mode whose largest constraint value, relative to
+        ``1 + x2^2 + x3^2``, exceeds this sends the row to the numpy path.
+    kernel_duplicate : float
+        The compiled kernel: two modes closer than this (relative to the position's size) send
+        the row to the numpy path (two roots polished onto one mode).
+
+    The compiled kernel also reads ``cramer_small`` (a root with ``|D| <= cramer_small max|D|``
+    sends the row to the numpy path) and ``newton_stop`` (its 4x4 solve's pivot threshold); it
+    receives all six as one array (:func:`imagespace.fastdk.kernel_tolerances`).
     """
 
     joint_residual: float = 1e-7
@@ -77,6 +94,10 @@ class Tolerances:
     newton_stop: float = 1e-14
     near_singular_gap: float = 1e-6
     near_singular_condition: float = 1e-8
+    kernel_chart_duplicate: float = 1e-10
+    kernel_newton_stop: float = 1e-9
+    kernel_residual: float = 1e-9
+    kernel_duplicate: float = 1e-9
 
     def __post_init__(self):
         for name, value in self.__dict__.items():

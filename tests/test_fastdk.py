@@ -228,3 +228,20 @@ def test_chunks_cover_the_batch(seed002):
     assert np.array_equal(np.concatenate(counts), whole.count)
     with pytest.raises(isp.InputError, match="chunk_size"):
         next(seed002.direct_kinematics_chunks(Q, chunk_size=0))
+
+
+def test_the_kernel_reads_its_thresholds_from_the_design_tolerances():
+    """With kernel_residual so small that no float mode meets it, the kernel must hand every
+    row to the numpy path (solver 'numpy'), and the counts stay those of the numpy path."""
+    from imagespace.fastdk import HAVE_NUMBA
+    if not HAVE_NUMBA:
+        pytest.skip("needs numba")
+    base = isp.examples.general_3rpr()
+    strict = isp.PlanarParallel(base.legs, tolerances=isp.Tolerances(kernel_residual=1e-300))
+    rng = np.random.default_rng(7)
+    Q = base.q_example_float * (1 + 0.05 * rng.standard_normal((50, 3)))
+    loose = base.direct_kinematics_batch(Q, method="kernel")
+    tight = strict.direct_kinematics_batch(Q, method="kernel")
+    assert np.all(loose.solver == "kernel")
+    assert np.all(tight.solver[tight.count > 0] != "kernel")
+    assert np.array_equal(tight.count, base.direct_kinematics_batch(Q, method="numpy").count)
