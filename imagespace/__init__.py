@@ -1,6 +1,7 @@
 """imagespace: algebraic kinematics of planar parallel manipulators in the kinematic image space.
 
-The public API (loaded lazily); see README.md for the feature table and the conventions.
+The public API (loaded lazily); see README.md for the feature table,
+docs/conventions.md for the conventions and docs/references.md for the papers.
 """
 
 import sys as _sys

@@ -21,7 +21,7 @@ When all three quadrics are linear in ``(x2, x3)`` (no RR dyad) the determinant
 ``A_3 X_2 + B_3 X_3 + K_3 D`` (degree 4) takes its place. ``F`` is homogeneous in ``(x0, x1)``, so
 roots with ``x0 = 0`` (half-turns) are ordinary roots.
 
-Two cases lose nothing but need their own treatment (DESIGN.md):
+Two cases lose nothing but need their own treatment (``docs/conventions.md``):
 
 (a) ``D`` vanishes identically (e.g. collinear base and platform anchors of a 3-RPR, seed 003,
     or a PP dyad among ``E1, E2``): a combination of ``E1, E2`` is free of ``(x2, x3)``, a binary

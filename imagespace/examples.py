@@ -23,7 +23,7 @@ __all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr", "coll
 def stigger_husty():
     """The planar 2RPR-PPR manipulator of Stigger & Husty with its six-solution joint values.
 
-    Geometry (SEEDS.md, checked against eqs. (5)-(7) of the paper; the paper's tables give
+    Geometry (``docs/references.md``, errata; checked against eqs. (5)-(7) of the paper; the paper's tables give
     ``b = (0, 5)`` and radius 12.56, which do not reproduce eq. (6)):
 
     * leg A: RPR, base ``(0, 0)``, platform ``(0, 0)``, length 10;

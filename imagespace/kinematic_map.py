@@ -1,6 +1,7 @@
 r"""The planar kinematic map: poses <-> points of the kinematic image space.
 
-Convention (DESIGN.md, eq. (3) of Stigger & Husty): a pose ``(x, y, phi)`` maps to the
+Convention (``docs/conventions.md``; the matrix is eq. (3) of Stigger & Husty, seed 002): a pose
+``(x, y, phi)`` maps to the
 homogeneous image point
 
 .. math::

@@ -68,7 +68,7 @@ def test_tolerances_are_validated_at_construction(bad):
 
 def test_extreme_homogeneous_representatives():
     """Any non-zero multiple is the same point: scale before squaring. The pose of (1, 0, 1, 1)
-    is x = 2 (x0 x3 + x1 x2) = 2, y = 2 (-x0 x2 + x1 x3) = -2, phi = 0 (DESIGN.md's formulas)."""
+    is x = 2 (x0 x3 + x1 x2) = 2, y = 2 (-x0 x2 + x1 x3) = -2, phi = 0 (docs/conventions.md)."""
     for k in (1e-300, 1.0, 1e300):
         with warnings.catch_warnings():
             warnings.simplefilter("error")
