@@ -11,7 +11,7 @@ import numpy as np
 import sympy as sp
 
 import imagespace as isp
-from imagespace.certify import certify_real_roots, certify_real_roots_batch
+from imagespace.core.certify import certify_real_roots, certify_real_roots_batch
 
 
 def main(n=100000):

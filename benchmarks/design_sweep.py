@@ -9,8 +9,8 @@ import time
 import numpy as np
 
 import imagespace as isp
-from imagespace.design import sweep
-from imagespace.workspace import dexterous_workspace, reachable_workspace, sampled_workspace
+from imagespace.design.sweep import sweep
+from imagespace.design.workspace import dexterous_workspace, reachable_workspace, sampled_workspace
 
 
 def main():

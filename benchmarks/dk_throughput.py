@@ -23,7 +23,7 @@ import numpy as np
 import sympy as sp
 
 import imagespace as isp
-from imagespace.certify import certify_real_roots, certify_real_roots_batch
+from imagespace.core.certify import certify_real_roots, certify_real_roots_batch
 
 
 def timed(fn, repeat=3):
@@ -53,7 +53,7 @@ def main(n=20000):
     t, (counts, path) = timed(lambda: certify_real_roots_batch(F))
     rows["certified counts (discs + flint fallback)"] = n / t
 
-    from imagespace.fastdk import real_roots_cascade
+    from imagespace.solve.kernel import real_roots_cascade
     real_roots_cascade(F[:4])                              # JIT compile / load the cache, not timed
     t, (_, kc, ks) = timed(lambda: real_roots_cascade(F))
     rows["real roots, derivative cascade kernel (numba)"] = n / t

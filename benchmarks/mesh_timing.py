@@ -15,7 +15,7 @@ from scipy.spatial import cKDTree
 from skimage.measure import marching_cubes
 
 import imagespace as isp
-from imagespace.meshing import export_mesh, mesh_surface, surface_implicit
+from imagespace.singular.meshing import export_mesh, mesh_surface, surface_implicit
 
 IMAGE_BOX = [(-12, 12), (-12, 12), (-3, 3)]          # (x2/x0, x3/x0, x1/x0), the box
 POSE_BOX = [(-15, 15), (-15, 15), (-np.pi, np.pi)]

@@ -12,8 +12,8 @@ import numpy as np
 import sympy as sp
 
 import imagespace as isp
-from imagespace.modechange import plan_mode_change
-from imagespace.paths import _piece_polynomial, _prepare, _roots_in_unit_interval, segment, segments_free
+from imagespace.paths.modechange import plan_mode_change
+from imagespace.paths.check import _piece_polynomial, _prepare, _roots_in_unit_interval, segment, segments_free
 
 
 def random_segments(n, rng):

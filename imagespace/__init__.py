@@ -13,39 +13,58 @@ import lazy_loader as _lazy
 # ``import imagespace`` takes milliseconds, sympy/flint load on the first use of a function and
 # numba, matplotlib, trimesh, scikit-image, scipy and dask only where a feature needs them.
 _SUBMODULES = [
-    "examples", "kinematic_map", "constraints", "legs", "manipulator", "certify", "certified_dk",
-    "compile", "elimination", "roots", "fastdk", "singularities", "meshing", "paths", "modechange",
-    "clearance", "mobility", "design", "tolerances", "exceptions", "plotting", "screws",
-    "workspace", "indices", "dynamics", "cli",
+    "core", "solve", "singular", "paths", "design", "spatial", "dynamics",
+    "examples", "manipulator", "plotting", "cli", "tolerances", "exceptions",
 ]
+# short names of modules that live in the layered packages (ARCHITECTURE.md), e.g. isp.screws
+_MODULE_ALIASES = {
+    "kinematic_map": "core.kinematic_map", "constraints": "core.quadrics", "legs": "core.legs",
+    "elimination": "core.elimination", "roots": "core.roots", "certify": "core.certify",
+    "codegen": "core.codegen", "certified_dk": "solve.certified", "fastdk": "solve.kernel",
+    "singularities": "singular.surface", "meshing": "singular.meshing",
+    "modechange": "paths.modechange", "clearance": "paths.backlash", "workspace": "design.workspace",
+    "indices": "design.indices", "mobility": "design.mobility", "screws": "spatial.screws",
+}
 _ATTRIBUTES = {
-    "constraints": ["Quadric", "image_symbols", "pp_quadric", "pr_quadric", "rp_quadric", "rr_quadric"],
+    "core.quadrics": ["Quadric", "image_symbols", "pp_quadric", "pr_quadric", "rp_quadric", "rr_quadric"],
     "exceptions": ["DegenerateDesignError", "EliminationError", "ImageSpaceError", "InputError",
                    "NearSingularWarning"],
-    "kinematic_map": ["compose", "image_point", "inverse", "normalize", "pose_of", "transform_matrix",
-                      "transform_points"],
-    "legs": ["PPR", "PRP", "PRR", "RPP", "RPR", "RRP", "RRR", "Leg"],
-    "certify": ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch"],
+    "core.kinematic_map": ["compose", "image_point", "inverse", "normalize", "pose_of", "transform_matrix",
+                           "transform_points"],
+    "core.legs": ["PPR", "PRP", "PRR", "RPP", "RPR", "RRP", "RRR", "Leg"],
+    "core.certify": ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch"],
     "manipulator": ["AssemblyMode", "CertifiedModes", "DKBatchResult", "PlanarParallel"],
-    "singularities": ["ConicSection", "PoseJacobians", "SingularitySurface", "jacobians",
-                      "singularity_surface", "singularity_surfaces"],
-    "meshing": ["export_mesh", "mesh_implicit", "mesh_surface"],
-    "paths": ["ImagePath", "PathCheck", "check_path", "polyline", "polynomial_curve", "pose_segment",
-              "rational_curve", "segment", "segments_free"],
-    "modechange": ["ModeChangePlan", "joint_trajectory", "plan_mode_change"],
-    "cusps": ["cusp_edges", "cusp_loop", "cusps", "linking_number", "mode_count_map"],
-    "clearance": ["backlash"],
-    "mobility": ["gruebler", "manipulator_mobility", "mechanism_mobility"],
-    "design": ["fuzzy_minmax", "sweep"],
+    "singular.surface": ["ConicSection", "PoseJacobians", "SingularitySurface", "jacobians",
+                         "singularity_surface", "singularity_surfaces"],
+    "singular.meshing": ["export_mesh", "mesh_implicit", "mesh_surface"],
+    "paths.check": ["ImagePath", "PathCheck", "check_path", "polyline", "polynomial_curve", "pose_segment",
+                    "rational_curve", "segment", "segments_free"],
+    "paths.modechange": ["ModeChangePlan", "joint_trajectory", "plan_mode_change"],
+    "singular.cusps": ["cusp_edges", "cusp_loop", "cusps", "linking_number", "mode_count_map"],
+    "paths.backlash": ["backlash"],
+    "design.mobility": ["gruebler", "manipulator_mobility", "mechanism_mobility"],
+    "design.sweep": ["fuzzy_minmax", "sweep"],
     "tolerances": ["TOLERANCES", "Tolerances"],
 }
-__getattr__, __dir__, _ = _lazy.attach(__name__, submodules=_SUBMODULES, submod_attrs=_ATTRIBUTES)
+_lazy_getattr, _lazy_dir, _ = _lazy.attach(__name__, submodules=_SUBMODULES, submod_attrs=_ATTRIBUTES)
+
+
+def __getattr__(name):
+    if name in _MODULE_ALIASES:
+        import importlib
+
+        return importlib.import_module(f"{__name__}.{_MODULE_ALIASES[name]}")
+    return _lazy_getattr(name)
+
+
+def __dir__():
+    return sorted(set(_lazy_dir()) | set(_MODULE_ALIASES))
 
 
 class _Package(_types.ModuleType):
-    """``isp.cusps`` is the function :func:`imagespace.cusps.cusps`, as it always was. The import
+    """``isp.cusps`` is the function :func:`imagespace.singular.cusps.cusps`, as it always was. The import
     system binds a loaded submodule on its package, which would shadow the function by the module
-    of the same name; that one binding is skipped (``from imagespace.cusps import ...`` and
+    of the same name; that one binding is skipped (``from imagespace.singular.cusps import ...`` and
     ``sys.modules`` still reach the module)."""
 
     def __setattr__(self, name, value):

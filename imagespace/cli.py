@@ -164,7 +164,7 @@ def demo(out_dir="imagespace-demo", stream=None):
 
     matplotlib.use("Agg")
     from . import examples
-    from .constraints import image_symbols
+    from .core.quadrics import image_symbols
     from .plotting import plot_assembly_modes
 
     stream = stream or sys.stdout
@@ -282,7 +282,7 @@ def mesh_command(args, stream=None):
     """``imagespace mesh``: mesh the singularity surface of an example and export it.
 
     Prints how many vertices are certified within ``tol`` of the box size (a sign change between
-    points of proven sign, see :mod:`imagespace.meshing`), how many could not be certified and
+    points of proven sign, see :mod:`imagespace.singular.meshing`), how many could not be certified and
     were removed (or kept, ``--keep-uncertified``), and the precision the export format stores
     (PLY/OBJ float64; STL/GLB float32 by format). Returns 1 with ``--strict`` when any vertex
     was removed or left uncertified, else 0.
@@ -304,7 +304,7 @@ def mesh_command(args, stream=None):
     """
     import time
 
-    from .meshing import EXPORT_FORMATS, EXPORT_PRECISION, export_mesh, mesh_surface
+    from .singular.meshing import EXPORT_FORMATS, EXPORT_PRECISION, export_mesh, mesh_surface
 
     stream = stream or sys.stdout
     suffix = Path(args.output).suffix.lower()

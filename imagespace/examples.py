@@ -13,7 +13,7 @@ import sympy as sp
 
 from ._validate import as_exact, as_float_array, check_positive
 from .exceptions import InputError
-from .legs import PPR, RPR
+from .core.legs import PPR, RPR
 from .manipulator import PlanarParallel
 
 __all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr", "collinear_3rpr_closed_form",
@@ -96,7 +96,7 @@ def choi_3ppr(R=1, r=sp.Rational(1, 2), alpha=7 * sp.pi / 18):
     (``theta_i = 2 (i-1) pi / 3``, direction ``u_i``, inward normal ``v_i``, foot
     ``O_i = -R v_i``); a link at the angle ``alpha`` to the side carries the passive slider to the
     platform vertex ``B_i = r (sin theta_i, -cos theta_i)`` (moving frame, circumradius ``r``).
-    Each leg is a :class:`~imagespace.legs.PPR` with base ``O_i``, axis ``u_i``, platform
+    Each leg is a :class:`~imagespace.core.legs.PPR` with base ``O_i``, axis ``u_i``, platform
     ``B_i`` and angle ``alpha``.
 
     Parameters
@@ -398,8 +398,8 @@ def choi_3ppr_indices(alpha, r_over_R, psi_max=17 * np.pi / 36, n_psi=73):
     >>> sorted(ind), ind["D"] > 0
     (['D', 'I', 'M', 'R', 'S'], True)
     """
-    from .indices import global_indices
-    from .workspace import dexterous_workspace, reachable_workspace
+    from .design.indices import global_indices
+    from .design.workspace import dexterous_workspace, reachable_workspace
 
     m = choi_3ppr(1, sp.nsimplify(float(r_over_R), rational=True), sp.nsimplify(float(alpha) / np.pi, rational=True) * sp.pi)
     phi0 = float(alpha) - np.pi / 2

@@ -12,15 +12,15 @@ import warnings
 
 from ._memory import check_memory
 from ._validate import as_count, as_exact, as_flag, as_float_array, is_symbolic
-from .constraints import Quadric, dk_system as _system, image_symbols
-from .certify import exact_is_zero, certify_real_roots, certify_real_roots_batch, inclusion_discs
-from .certified_dk import plan_roots
-from .elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
+from .core.quadrics import Quadric, dk_system as _system, image_symbols
+from .core.certify import exact_is_zero, certify_real_roots, certify_real_roots_batch, inclusion_discs
+from .solve.certified import plan_roots
+from .core.elimination import bf_eval, binary_form_poly, eliminate, orientation_form, plan_elimination
 from .exceptions import DegenerateDesignError, InputError, NearSingularWarning
-from .kinematic_map import pose_of as _pose_of
-from .kinematic_map import representative_sign
-from .legs import Leg
-from .roots import real_half_angles
+from .core.kinematic_map import pose_of as _pose_of
+from .core.kinematic_map import representative_sign
+from .core.legs import Leg
+from .core.roots import real_half_angles
 from .tolerances import TOLERANCES, Tolerances
 
 __all__ = ["PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes"]
@@ -86,7 +86,7 @@ class CertifiedModes(list):
     """The list of assembly modes with the certificate of the real-root count.
 
     The semantics, on every certified path (per call and batch rows re-solved by it): the
-    modes are computed *from* the certified roots (:mod:`imagespace.certified_dk`), never
+    modes are computed *from* the certified roots (:mod:`imagespace.solve.certified`), never
     matched to them afterwards.
 
     * A root where the Cramer denominator is proven non-zero carries exactly one mode; if the
@@ -429,7 +429,7 @@ class PlanarParallel:
     def kinematic_polynomial(self, q=None):
         """The binary form in ``(x0, x1)`` whose real roots are the orientations of the assembly modes.
 
-        Eliminates ``x2, x3`` as in :mod:`imagespace.elimination`: a form of degree <= 6 (degree
+        Eliminates ``x2, x3`` as in :mod:`imagespace.core.elimination`: a form of degree <= 6 (degree
         4 before the removal of a factor ``x0**2 + x1**2`` when no leg has an RR dyad). Factors
         ``x0**2 + x1**2`` (no real roots) are divided out exactly. In case (a) of the elimination
         (the Cramer denominator vanishes identically, e.g. seed 003's collinear 3-RPR) the result
@@ -521,7 +521,7 @@ class PlanarParallel:
             if free:
                 raise InputError(f"compiled() needs a numeric design; the design has the symbols "
                                  f"{sorted(map(str, free))}")
-            from .compile import CompiledPolynomial, compile_exprs
+            from .core.codegen import CompiledPolynomial, compile_exprs
 
             P = self.kinematic_polynomial()
             d = P.total_degree()
@@ -581,7 +581,7 @@ class PlanarParallel:
         >>> isp.examples.general_3rpr().singularity_surface().kind
         'joint-free'
         """
-        from .singularities import singularity_surface
+        from .singular.surface import singularity_surface
 
         return singularity_surface(self, q=q, working_modes=working_modes)
 
@@ -595,7 +595,7 @@ class PlanarParallel:
         >>> [S.kind for S in isp.examples.general_3rpr().singularity_surfaces()]
         ['joint-free']
         """
-        from .singularities import singularity_surfaces
+        from .singular.surface import singularity_surfaces
 
         return singularity_surfaces(self)
 
@@ -609,7 +609,7 @@ class PlanarParallel:
         >>> m.jacobians(m.direct_kinematics(m.q_example)[0].pose).kind.tolist()
         ['regular']
         """
-        from .singularities import jacobians
+        from .singular.surface import jacobians
 
         return jacobians(self, pose, q=q, working_modes=working_modes)
 
@@ -622,7 +622,7 @@ class PlanarParallel:
         pose : (3,) or (n, 3) float
             ``(x, y, phi)``.
         working_modes : sequence of three ints, optional
-            The branch of each leg's inverse kinematics (see :mod:`imagespace.legs`); default 0.
+            The branch of each leg's inverse kinematics (see :mod:`imagespace.core.legs`); default 0.
 
         Returns
         -------
@@ -729,8 +729,8 @@ class PlanarParallel:
         certify : bool
             Prove the answer at the exact joint values (floats taken as the binary rationals
             they are, sympy values as given): the real roots of the exact kinematic polynomial
-            are isolated and refined (:func:`imagespace.certify.certify_real_roots`) and every
-            mode is computed from its root (:mod:`imagespace.certified_dk`): one mode per
+            are isolated and refined (:func:`imagespace.core.certify.certify_real_roots`) and every
+            mode is computed from its root (:mod:`imagespace.solve.certified`): one mode per
             simple root, a multiple root once as a singular mode with ``.multiplicity``, two
             modes even where they are closer than double precision can show. See
             :class:`CertifiedModes` for the semantics and their exceptions.
@@ -792,7 +792,7 @@ class PlanarParallel:
         if "exact_evaluators" not in self._symbolic_cache:
             ev = None
             if not set().union(*(leg.free_symbols for leg in self.legs)):
-                from .compile import CoefficientEnclosure
+                from .core.codegen import CoefficientEnclosure
 
                 _, el, case_a = self._exact_forms(None)
                 if not case_a:
@@ -884,12 +884,12 @@ class PlanarParallel:
             One joint vector per row. Rows with NaN or out-of-domain values are masked
             (``row_ok`` False), not raised.
         certify : bool
-            Also prove the number of real roots per row (:func:`~imagespace.certify.certify_real_roots_batch`
+            Also prove the number of real roots per row (:func:`~imagespace.core.certify.certify_real_roots_batch`
             on the compiled kinematic polynomial, floats taken as exact binary rationals) and
             hold the modes to it; rows that disagree are re-solved per row with the certified
             path. Fills ``certified_roots``, ``certificate_path`` and ``consistent``.
         method : {"auto", "kernel", "numpy"}
-            ``"kernel"``: the compiled one-pass kernel of :mod:`imagespace.fastdk` (numba; real
+            ``"kernel"``: the compiled one-pass kernel of :mod:`imagespace.solve.kernel` (numba; real
             roots only, no eigenvalues); rows it cannot decide in floating point are handed to
             the numpy path (``special``) or, for a root touching the axis, to the certified
             per-row path. ``"numpy"``: the vectorised numpy path (companion eigenvalues,
@@ -985,7 +985,7 @@ class PlanarParallel:
             if free or not _have_numba():
                 self._symbolic_cache["kernel"] = None
             else:
-                from .fastdk import build_kernel          # numba is imported on the first kernel only
+                from .solve.kernel import build_kernel          # numba is imported on the first kernel only
 
                 self._symbolic_cache["kernel"] = build_kernel(self)
         return self._symbolic_cache["kernel"]
@@ -1072,7 +1072,7 @@ class PlanarParallel:
     def _enclosure(self):
         """The kinematic polynomial general in q, expanded for rigorous batch evaluation (cached)."""
         if "enclosure" not in self._symbolic_cache:
-            from .compile import CoefficientEnclosure
+            from .core.codegen import CoefficientEnclosure
 
             free = set().union(*(leg.free_symbols for leg in self.legs))
             if free:
@@ -1512,9 +1512,9 @@ def _cache_key(q):
 
 def _rotated_with_bound(Fn):
     """Each form in the chart of its largest leading coefficient
-    (:func:`imagespace.roots.rotated_forms`), with a generous bound on the rounding of the
+    (:func:`imagespace.core.roots.rotated_forms`), with a generous bound on the rounding of the
     rotation for every rotated coefficient: ``(G, ok, gamma, E)``."""
-    from .roots import rotated_forms
+    from .core.roots import rotated_forms
 
     G, ok, gamma = rotated_forms(Fn)
     d = G.shape[1] - 1

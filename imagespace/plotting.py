@@ -188,7 +188,7 @@ def plot_singularity_surface(surface, box, chart="image", resolution=48, q=None,
     ----------
     surface : SingularitySurface
     box : (3, 2) float
-        In chart coordinates (see :func:`imagespace.meshing.mesh_surface`).
+        In chart coordinates (see :func:`imagespace.singular.meshing.mesh_surface`).
     chart : {"image", "pose"}
     resolution : int
         Grid points per axis of the mesh (48 draws quickly).
@@ -213,7 +213,7 @@ def plot_singularity_surface(surface, box, chart="image", resolution=48, q=None,
     >>> len(fig.axes)
     1
     """
-    from .meshing import mesh_surface
+    from .singular.meshing import mesh_surface
 
     b = np.asarray(box, dtype=float)
     mesh = mesh_surface(surface, box, chart=chart, resolution=resolution)
@@ -263,8 +263,8 @@ def plot_constraint_quadrics(manipulator, q, box, resolution=40, modes=None, ax=
     """
     import sympy as sp
 
-    from .constraints import image_symbols
-    from .meshing import PolynomialImplicit, mesh_implicit
+    from .core.quadrics import image_symbols
+    from .singular.meshing import PolynomialImplicit, mesh_implicit
 
     b = np.asarray(box, dtype=float)
     fig, ax = _axes3d(ax)
@@ -360,7 +360,7 @@ def plot_path_singularity(target, path, ax=None, per_piece=200):
     path : ImagePath
     ax : matplotlib Axes, optional
     per_piece : int
-        Samples per piece (the picture only; the certificate is :func:`imagespace.paths.check_path`).
+        Samples per piece (the picture only; the certificate is :func:`imagespace.paths.check.check_path`).
 
     Returns
     -------
@@ -369,7 +369,7 @@ def plot_path_singularity(target, path, ax=None, per_piece=200):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.paths import pose_segment
+    >>> from imagespace.paths.check import pose_segment
     >>> from imagespace.plotting import plot_path_singularity
     >>> m = isp.examples.stigger_husty()
     >>> fig = plot_path_singularity(m, pose_segment([0, 0, 0.2], [3, 1, 0.5]))
@@ -408,7 +408,7 @@ def plot_joint_loop(plan, ax=None, q=None):
     ----------
     plan : ModeChangePlan or (n, 3) float
         A found plan (``plan.joint_loop``), or any joint trajectory, e.g. from
-        :func:`imagespace.modechange.joint_trajectory`.
+        :func:`imagespace.paths.modechange.joint_trajectory`.
     ax : 3D matplotlib Axes, optional
     q : (3,) float, optional
         Joint values to mark (default: the loop's start).
@@ -420,7 +420,7 @@ def plot_joint_loop(plan, ax=None, q=None):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.modechange import plan_mode_change
+    >>> from imagespace.paths.modechange import plan_mode_change
     >>> from imagespace.plotting import plot_joint_loop
     >>> m = isp.examples.stigger_husty()
     >>> modes = m.direct_kinematics(m.q_example)
@@ -519,7 +519,7 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.clearance import backlash
+    >>> from imagespace.paths.backlash import backlash
     >>> from imagespace.plotting import plot_backlash
     >>> m = isp.examples.stigger_husty()
     >>> fig = plot_backlash(m, backlash(m, m.q_example_float, 2, delta=0.5, samples=4000))
@@ -527,7 +527,7 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
     1
     """
     plt = _pyplot()
-    from .kinematic_map import pose_of
+    from .core.kinematic_map import pose_of
 
     leg = manipulator.legs[analysis.leg]
     p = np.asarray(leg.geometry(exact=False)["platform"], dtype=float)
@@ -583,7 +583,7 @@ def plot_mode_count_map(count_map, cusps=(), loops=(), ax=None):
     Parameters
     ----------
     count_map : ModeCountMap
-        From :func:`imagespace.cusps.mode_count_map`.
+        From :func:`imagespace.singular.cusps.mode_count_map`.
     cusps : sequence of Cusp
     loops : sequence of CuspLoop
     ax : matplotlib Axes, optional
@@ -595,7 +595,7 @@ def plot_mode_count_map(count_map, cusps=(), loops=(), ax=None):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.cusps import mode_count_map
+    >>> from imagespace.singular.cusps import mode_count_map
     >>> from imagespace.plotting import plot_mode_count_map
     >>> m = isp.examples.general_3rpr()
     >>> fig = plot_mode_count_map(mode_count_map(m, 2, 10.0, [(6, 16), (1, 9)], 30))
@@ -640,7 +640,7 @@ def plot_workspaces(workspaces, labels=None, ax=None):
     Examples
     --------
     >>> import numpy as np, imagespace as isp
-    >>> from imagespace.workspace import reachable_workspace, dexterous_workspace
+    >>> from imagespace.design.workspace import reachable_workspace, dexterous_workspace
     >>> from imagespace.plotting import plot_workspaces
     >>> m = isp.examples.choi_3ppr()
     >>> lim = [[-np.sqrt(3), np.sqrt(3)]] * 3
@@ -690,7 +690,7 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
 
     Examples
     --------
-    >>> from imagespace.design import sweep, _demo_index
+    >>> from imagespace.design.sweep import sweep, _demo_index
     >>> from imagespace.plotting import plot_design_map
     >>> t = sweep(_demo_index, {"a": [1.0, 2.0, 3.0], "b": [0.0, 1.0]}, processes=0)
     >>> len(plot_design_map(t, "sum", "a", "b").axes)

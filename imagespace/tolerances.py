@@ -4,11 +4,11 @@ Scope of the promise (kept true by tests): every floating-point decision of the 
 direct-kinematics path and of the floating-point steps of the certified per-call path
 (:meth:`PlanarParallel.direct_kinematics` with or without ``certify``) reads its threshold from the
 manipulator's :class:`Tolerances` (``PlanarParallel(..., tolerances=...)``), as do the singularity
-classifications of :mod:`imagespace.singularities`. All of these thresholds are relative: the
+classifications of :mod:`imagespace.singular.surface`. All of these thresholds are relative: the
 quadrics are balanced to the design's length scale before any decision, so answers do not depend
 on units. Certified answers (counts, multiplicities, root intervals) never read a tolerance.
 
-The compiled batch kernel (:mod:`imagespace.fastdk`) reads its decision thresholds from the same
+The compiled batch kernel (:mod:`imagespace.solve.kernel`) reads its decision thresholds from the same
 object (passed to it as an array); its root finder's numerical constants (how far a critical point
 is polished) are named module constants there, as are the thresholds of meshing, paths, cusps,
 backlash, workspaces and dynamics, which this object does not cover.
@@ -79,7 +79,7 @@ class Tolerances:
 
     The compiled kernel also reads ``cramer_small`` (a root with ``|D| <= cramer_small max|D|``
     sends the row to the numpy path) and ``newton_stop`` (its 4x4 solve's pivot threshold); it
-    receives all six as one array (:func:`imagespace.fastdk.kernel_tolerances`).
+    receives all six as one array (:func:`imagespace.solve.kernel.kernel_tolerances`).
     """
 
     joint_residual: float = 1e-7

@@ -8,7 +8,7 @@ elimination: the Euclidean pose ``(x, y, c, s)`` with ``c**2 + s**2 = 1``, a pla
 landing at ``(x + c p_x - s p_y, y + s p_x + c p_y)``, and one constraint per leg written here
 from the leg's geometry (circle or line conditions, see :func:`leg_constraint`). Only the legs'
 public attributes (``base``, ``platform``, ``axis``, ``angle`` ...) and the joint conventions of
-:mod:`imagespace.legs` are used.
+:mod:`imagespace.core.legs` are used.
 
 Exactness. Every number enters as an exact rational: floats as their exact binary rationals
 (``Fraction(float)``), so the referee answers for exactly the float input a user gave; ints,
@@ -23,7 +23,7 @@ leg) is not rational. Two ways in:
   4/5)`` from a Pythagorean triple, or ``CosSin.of(sympy_angle)`` when sympy evaluates its cosine
   and sine to rationals); the referee is then exact for that angle;
 * otherwise (a float angle) the angle enters through the exact binary rationals ``C, S`` of its
-  double-precision cosine and sine -- the same convention as :mod:`imagespace.legs` -- and every
+  double-precision cosine and sine -- the same convention as :mod:`imagespace.core.legs` -- and every
   ``(cos q, sin q)`` of the geometry is replaced by ``(C, S)``, a rational point within one ulp of
   (not on) the unit circle. The referee is then exact for that rational geometry (an RRR elbow
   pivot at ``A + l1 (C, S)``, a line direction ``(C, S)`` ...), which is the question the project
@@ -432,7 +432,7 @@ def _cs(angle):
         if c.is_Rational and s.is_Rational:
             return CosSin(Fraction(int(c.p), int(c.q)), Fraction(int(s.p), int(s.q)))
     a = float(angle)
-    # numpy's cos/sin: the convention of imagespace.legs (binary rationals of the float values)
+    # numpy's cos/sin: the convention of imagespace.core.legs (binary rationals of the float values)
     return CosSin(Fraction(float(np.cos(a))), Fraction(float(np.sin(a))))
 
 

@@ -5,7 +5,7 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.certify import certify_real_roots
+from imagespace.core.certify import certify_real_roots
 
 x0, x1 = isp.image_symbols()[:2]
 
@@ -127,8 +127,8 @@ def test_bad_input():
 
 def test_batch_certified_counts_agree_with_exact_isolation(rng):
     """2,000 rows: kinematic sextics of mixed designs, constructed double roots and half-turns."""
-    from imagespace.certify import certify_real_roots_batch
-    from imagespace.elimination import eliminate
+    from imagespace.core.certify import certify_real_roots_batch
+    from imagespace.core.elimination import eliminate
 
     rows = []
     # kinematic polynomials of the seed-002 mechanism and a general 3-RPR at random joint values
@@ -163,7 +163,7 @@ def test_batch_certified_counts_agree_with_exact_isolation(rng):
 
 
 def test_batch_odd_inputs():
-    from imagespace.certify import certify_real_roots_batch
+    from imagespace.core.certify import certify_real_roots_batch
 
     counts, path = certify_real_roots_batch(np.array([[np.nan, 1.0, 1.0], [0.0, 0.0, 0.0], [1.0, 0.0, -1.0]]))
     assert counts.tolist() == [-1, -1, 2] and path.tolist() == ["invalid", "zero", "discs"]
@@ -195,8 +195,8 @@ def test_batch_dk_with_certificates(rng):
 
 def test_derivative_cascade_kernel_against_exact_counts(rng):
     """The compiled real-root kernel: same counts as exact isolation wherever it does not flag the row."""
-    from imagespace.fastdk import real_roots_cascade
-    from imagespace.certify import certify_real_roots_batch
+    from imagespace.solve.kernel import real_roots_cascade
+    from imagespace.core.certify import certify_real_roots_batch
 
     m = isp.examples.stigger_husty()
     poses = np.column_stack([rng.uniform(-6, 6, 1500), rng.uniform(-6, 6, 1500), rng.uniform(-np.pi, np.pi, 1500)])

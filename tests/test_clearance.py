@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.clearance import backlash, released_curve
+from imagespace.paths.backlash import backlash, released_curve
 
 SQ181 = np.sqrt(181.0)
 N_DIR = np.array([10.0, 9.0]) / SQ181

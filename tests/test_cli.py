@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.figure  # noqa: E402
 import pytest  # noqa: E402
 
-import imagespace.meshing  # noqa: E402
+import imagespace.singular.meshing  # noqa: E402
 import imagespace.plotting  # noqa: E402
 from imagespace.cli import main  # noqa: E402
 
@@ -84,7 +84,7 @@ def test_cli_mesh_write_failure_names_the_path(tmp_path, capsys, monkeypatch):
     def refuse(mesh, path, *a, **k):
         raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), str(tmp_path / ".tmpXYZ"))
 
-    monkeypatch.setattr(imagespace.meshing, "export_mesh", refuse)
+    monkeypatch.setattr(imagespace.singular.meshing, "export_mesh", refuse)
     target = tmp_path / "s.ply"
     rc, _, err = _run(["mesh", "--resolution", "8", "-o", str(target)], capsys)
     _assert_one_line_error(rc, err, target, "Permission denied")

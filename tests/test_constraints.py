@@ -78,7 +78,7 @@ def test_one_dyad_system_evaluator_and_its_numba_twin_agree_on_random_input():
     coefficients and points; and the values are the sympy expression of the quadric, the
     Jacobian its symbolic derivatives (an independent derivation by sympy.diff)."""
     import sympy as sp
-    from imagespace.constraints import Quadric, dk_system, dk_system_row, image_symbols
+    from imagespace.core.quadrics import Quadric, dk_system, dk_system_row, image_symbols
 
     rng = np.random.default_rng(20261201)
     C = rng.normal(size=(5, 3, 8))
@@ -101,8 +101,8 @@ def test_one_dyad_system_evaluator_and_its_numba_twin_agree_on_random_input():
             assert np.allclose(grad, J[0, k, i], rtol=1e-12, atol=1e-12)
             assert np.isclose(float(q.evaluate(X[0, k])), Fv[0, k, i], rtol=1e-14, atol=1e-13)
             assert np.allclose(q.gradient(X[0, k]), J[0, k, i], rtol=1e-14, atol=1e-13)
-    from imagespace.fastdk import HAVE_NUMBA
+    from imagespace.solve.kernel import HAVE_NUMBA
     if HAVE_NUMBA:                                          # the compiled twin itself
-        from imagespace.fastdk import _system
+        from imagespace.solve.kernel import _system
         _system(C[1].ravel(), X[1, 0], val, Jr)
         assert np.allclose(val, Fv[1, 0], rtol=1e-14, atol=1e-13) and np.allclose(Jr, J[1, 0], rtol=1e-14, atol=1e-13)

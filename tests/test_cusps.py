@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.cusps import cusp_loop, cusps, mode_count_map
+from imagespace.singular.cusps import cusp_loop, cusps, mode_count_map
 
 CASES = [(isp.examples.general_3rpr, 2, 10.0, [(6, 16), (1, 9)]),
          (isp.examples.stigger_husty, 2, 13.25, [(6, 14), (11.2, 19.2)])]
@@ -79,7 +79,7 @@ def test_bad_input():
 
 
 def test_a_mode_changing_loop_links_the_cusp_edge_and_a_distant_one_does_not():
-    from imagespace.cusps import cusp_edges, linking_number
+    from imagespace.singular.cusps import cusp_edges, linking_number
     m = isp.examples.general_3rpr()
     window = [(8, 14), (2, 8)]
     c = cusps(m, 2, 10.0, window, 60)[0]

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.design import _demo_index, fuzzy_minmax, sweep
-from imagespace.indices import isotropy, manipulability
-from imagespace.mobility import gruebler, manipulator_mobility, mechanism_mobility
-from imagespace.workspace import (constant_orientation_workspace, dexterous_workspace, halfplane_polygon,
+from imagespace.design.sweep import _demo_index, fuzzy_minmax, sweep
+from imagespace.design.indices import isotropy, manipulability
+from imagespace.design.mobility import gruebler, manipulator_mobility, mechanism_mobility
+from imagespace.design.workspace import (constant_orientation_workspace, dexterous_workspace, halfplane_polygon,
                                   reachable_workspace, sampled_workspace)
 
 STROKE = [[-np.sqrt(3), np.sqrt(3)]] * 3
@@ -233,7 +233,7 @@ def test_design_bad_input():
 
 def test_symbolic_jacobians_equal_the_numeric_ones(rng):
     import sympy as sp
-    from imagespace.singularities import symbolic_jacobians
+    from imagespace.singular.surface import symbolic_jacobians
     for m in (isp.examples.stigger_husty(), isp.examples.collinear_3rpr(2, 1)):
         Jx, Jq, syms = symbolic_jacobians(m)
         f = sp.lambdify(list(syms) + list(m.joint_symbols), [Jx, Jq], "numpy")

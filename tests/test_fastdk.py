@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.certify import certify_real_roots_batch
-from imagespace.fastdk import HAVE_NUMBA
-from imagespace.kinematic_map import pose_of
+from imagespace.core.certify import certify_real_roots_batch
+from imagespace.solve.kernel import HAVE_NUMBA
+from imagespace.core.kinematic_map import pose_of
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel needs numba")
 
@@ -233,7 +233,7 @@ def test_chunks_cover_the_batch(seed002):
 def test_the_kernel_reads_its_thresholds_from_the_design_tolerances():
     """With kernel_residual so small that no float mode meets it, the kernel must hand every
     row to the numpy path (solver 'numpy'), and the counts stay those of the numpy path."""
-    from imagespace.fastdk import HAVE_NUMBA
+    from imagespace.solve.kernel import HAVE_NUMBA
     if not HAVE_NUMBA:
         pytest.skip("needs numba")
     base = isp.examples.general_3rpr()

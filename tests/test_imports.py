@@ -30,13 +30,16 @@ def test_direct_kinematics_does_not_load_numba_or_the_plotting_stack():
 def test_every_public_name_and_subpackage_is_reachable():
     for name in isp.__all__:
         assert getattr(isp, name) is not None, name
-    for sub in ("plotting", "screws", "workspace", "indices", "dynamics", "examples", "fastdk"):
-        assert getattr(isp, sub).__name__ == f"imagespace.{sub}"
+    homes = {"plotting": "plotting", "screws": "spatial.screws", "workspace": "design.workspace",
+             "indices": "design.indices", "dynamics": "dynamics", "examples": "examples",
+             "fastdk": "solve.kernel", "meshing": "singular.meshing", "core": "core", "solve": "solve"}
+    for sub, home in homes.items():
+        assert getattr(isp, sub).__name__ == f"imagespace.{home}"
     assert isp.InputError.__module__ == "imagespace.exceptions"
 
 
 def test_cusps_stays_the_function_after_its_module_is_loaded():
-    loaded = subprocess.run([sys.executable, "-c", "import imagespace as isp\nimport imagespace.cusps\n"
-                             "from imagespace.cusps import Cusp\nprint(callable(isp.cusps), type(isp.cusps).__name__)"],
+    loaded = subprocess.run([sys.executable, "-c", "import imagespace as isp\nimport imagespace.singular.cusps\n"
+                             "from imagespace.singular.cusps import Cusp\nprint(callable(isp.cusps), type(isp.cusps).__name__)"],
                             capture_output=True, text=True, check=True).stdout.split()
     assert loaded == ["True", "function"]

@@ -1,10 +1,10 @@
-"""Bad input to imagespace.clearance gets a clear error naming the parameter (issue [14])."""
+"""Bad input to imagespace.paths.backlash gets a clear error naming the parameter (issue [14])."""
 
 import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.clearance import MAX_MEMORY, backlash, released_curve
+from imagespace.paths.backlash import MAX_MEMORY, backlash, released_curve
 
 
 @pytest.fixture(scope="module")

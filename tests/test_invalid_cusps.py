@@ -1,10 +1,10 @@
-"""Bad input to imagespace.cusps gets a clear error naming the parameter (issue [14])."""
+"""Bad input to imagespace.singular.cusps gets a clear error naming the parameter (issue [14])."""
 
 import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.cusps import Cusp, CuspLoop, cusp_edges, cusp_loop, cusps, linking_number, mode_count_map
+from imagespace.singular.cusps import Cusp, CuspLoop, cusp_edges, cusp_loop, cusps, linking_number, mode_count_map
 
 W = [(8, 14), (2, 8)]
 

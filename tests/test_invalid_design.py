@@ -1,10 +1,10 @@
-"""Bad input to imagespace.design gets a clear error naming the parameter (issue [14])."""
+"""Bad input to imagespace.design.sweep gets a clear error naming the parameter (issue [14])."""
 
 import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.design import _demo_index, fuzzy_minmax, sweep
+from imagespace.design.sweep import _demo_index, fuzzy_minmax, sweep
 
 
 @pytest.fixture(scope="module")

@@ -13,7 +13,7 @@ import sympy as sp
 import trimesh
 
 import imagespace as isp
-from imagespace.meshing import FunctionImplicit, PolynomialImplicit, export_mesh, mesh_implicit, surface_implicit
+from imagespace.singular.meshing import FunctionImplicit, PolynomialImplicit, export_mesh, mesh_implicit, surface_implicit
 
 u, v, w = sp.symbols("u v w")
 BOX = [(-1.5, 1.5)] * 3

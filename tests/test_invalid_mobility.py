@@ -1,10 +1,10 @@
-"""Bad input to imagespace.mobility gets a clear error naming the parameter (issue [14])."""
+"""Bad input to imagespace.design.mobility gets a clear error naming the parameter (issue [14])."""
 
 import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.mobility import gruebler, manipulator_mobility, mechanism_mobility
+from imagespace.design.mobility import gruebler, manipulator_mobility, mechanism_mobility
 
 
 @pytest.mark.parametrize("call, exc, words", [

@@ -1,4 +1,4 @@
-"""Bad input to imagespace.modechange gets a clear error naming the parameter (issue [14])."""
+"""Bad input to imagespace.paths.modechange gets a clear error naming the parameter (issue [14])."""
 
 import numpy as np
 import pytest

@@ -8,7 +8,7 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.paths import polynomial_curve, rational_curve
+from imagespace.paths.check import polynomial_curve, rational_curve
 
 
 @pytest.mark.parametrize("call, exc, words", [

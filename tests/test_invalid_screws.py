@@ -1,11 +1,11 @@
-"""Bad input to imagespace.screws gets a clear error naming the parameter (issue [14])."""
+"""Bad input to imagespace.spatial.screws gets a clear error naming the parameter (issue [14])."""
 
 import numpy as np
 import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.screws import (TranslationalFiveR, constraint_analysis, helical, planar_leg_wrenches, reciprocal_product,
+from imagespace.spatial.screws import (TranslationalFiveR, constraint_analysis, helical, planar_leg_wrenches, reciprocal_product,
                                reciprocal_system, revolute, singularity_fractions, transfer)
 
 PLANAR_LEG = np.array([revolute([0, 0, 1], [0, 0, 0]), revolute([0, 0, 1], [1, 0, 0]), revolute([0, 0, 1], [1, 1, 0])])

@@ -1,4 +1,4 @@
-"""Bad input to imagespace.singularities gets a clear error naming the parameter (issue [14]).
+"""Bad input to imagespace.singular.surface gets a clear error naming the parameter (issue [14]).
 
 Each case is a reproducer that, before the fix, crashed with an internal exception or was
 accepted silently."""
@@ -8,7 +8,7 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.singularities import image_chart_point, pose_chart_point, symbolic_jacobians
+from imagespace.singular.surface import image_chart_point, pose_chart_point, symbolic_jacobians
 
 
 @pytest.fixture(scope="module")

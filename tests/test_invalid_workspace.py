@@ -1,12 +1,12 @@
-"""Bad input to imagespace.workspace and imagespace.indices gets a clear error naming the
+"""Bad input to imagespace.design.workspace and imagespace.design.indices gets a clear error naming the
 parameter (issue [14])."""
 
 import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.indices import global_indices, isotropy, local_indices
-from imagespace.workspace import (constant_orientation_workspace, dexterous_workspace, halfplane_polygon,
+from imagespace.design.indices import global_indices, isotropy, local_indices
+from imagespace.design.workspace import (constant_orientation_workspace, dexterous_workspace, halfplane_polygon,
                                   polygon_area, reachable_workspace, sampled_workspace)
 
 STROKE = [[-1.0, 1.0]] * 3

@@ -22,7 +22,7 @@ import pytest
 
 import imagespace as isp
 from imagespace import fastdk
-from imagespace.fastdk import HAVE_NUMBA
+from imagespace.solve.kernel import HAVE_NUMBA
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel cache needs numba")
 

@@ -425,7 +425,7 @@ def test_every_leg_variant_recovers_the_pose_and_the_exact_count(rng):
 
 def test_denominator_vanishing_at_a_root_case_b():
     """Build a 2RPR-PPR whose Cramer denominator vanishes at the orientation of a known mode."""
-    from imagespace.elimination import bf_eval, eliminate
+    from imagespace.core.elimination import bf_eval, eliminate
 
     pose = np.array([0.7, 1.3, 0.4])
     X = isp.image_point(pose)
@@ -458,7 +458,7 @@ def test_denominator_vanishing_at_a_root_case_b():
 
 def test_compiled_coefficients_equal_numeric_elimination(rng):
     """The compiled general-q polynomial is proportional to the float elimination at each q."""
-    from imagespace.elimination import eliminate
+    from imagespace.core.elimination import eliminate
 
     designs = 0
     for m in (isp.examples.stigger_husty(), isp.examples.general_3rpr(), random_design(rng)):

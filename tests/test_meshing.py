@@ -16,11 +16,11 @@ import trimesh
 from scipy.spatial import cKDTree
 
 import imagespace as isp
-import imagespace.meshing as meshing
+import imagespace.singular.meshing as meshing
 from imagespace.cli import default_box, main
-from imagespace.meshing import (EXPORT_FORMATS, PolynomialImplicit, export_mesh, mesh_implicit,
+from imagespace.singular.meshing import (EXPORT_FORMATS, PolynomialImplicit, export_mesh, mesh_implicit,
                                 mesh_surface)
-from imagespace.singularities import image_chart_point
+from imagespace.singular.surface import image_chart_point
 
 IMAGE_BOX = [(-12, 12), (-12, 12), (-3, 3)]
 POSE_BOX = [(-15, 15), (-15, 15), (-np.pi, np.pi)]

@@ -12,8 +12,8 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.modechange import joint_trajectory, plan_mode_change
-from imagespace.paths import (ImagePath, check_path, polyline, polynomial_curve, pose_segment, rational_curve,
+from imagespace.paths.modechange import joint_trajectory, plan_mode_change
+from imagespace.paths.check import (ImagePath, check_path, polyline, polynomial_curve, pose_segment, rational_curve,
                               segment, segments_free)
 
 x0, x1, x2, x3 = isp.image_symbols()
@@ -242,7 +242,7 @@ def test_bad_input(m):
 
 
 # -- certificates do not depend on python-flint's global precision, nor on other threads ----------
-# The reference below is computed here, independently of imagespace.paths: S is the library's
+# The reference below is computed here, independently of imagespace.paths.check: S is the library's
 # singularity polynomial divided by its leading coefficient (exactly rational for seed 002, and a
 # multiple of eq. (11)), the float endpoints are the exact binary rationals they are, and the
 # roots of S(X(t)) in [0, 1] are counted by sympy's Sturm sequences on the square-free factors.

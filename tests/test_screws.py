@@ -6,7 +6,7 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.screws import (TranslationalFiveR, constraint_analysis, helical, planar_leg_wrenches, prismatic,
+from imagespace.spatial.screws import (TranslationalFiveR, constraint_analysis, helical, planar_leg_wrenches, prismatic,
                                reciprocal_product, reciprocal_system, revolute, singularity_fractions, transfer)
 
 

@@ -6,7 +6,7 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.kinematic_map import image_point
+from imagespace.core.kinematic_map import image_point
 
 
 def concurrency(m, pose):
@@ -274,7 +274,7 @@ def test_conic_types_of_the_collinear_3rpr_follow_seed_003():
 
 
 def test_conic_classifier_on_textbook_conics():
-    from imagespace.singularities import _conic_type, _exact_sign
+    from imagespace.singular.surface import _conic_type, _exact_sign
     cases = {"ellipse": (1, 0, 2, 0, 0, -1), "imaginary ellipse": (1, 0, 1, 0, 0, 1),
              "parabola": (1, 0, 0, 0, -1, 0), "hyperbola": (1, 0, -1, 0, 0, -1),
              "intersecting lines": (1, 0, -1, 0, 0, 0), "parallel lines": (1, 0, 0, 0, 0, -1),

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.design import DesignEvaluationError, sweep
+from imagespace.design.sweep import DesignEvaluationError, sweep
 
 
 def _grid_and_bad(seed):
@@ -130,7 +130,7 @@ def test_default_is_serial_and_a_local_function_runs_in_processes():
 def test_unguarded_script_runs_in_processes(tmp_path):
     script = tmp_path / "unguarded.py"
     script.write_text(textwrap.dedent("""
-        from imagespace.design import sweep
+        from imagespace.design.sweep import sweep
 
         def f(a, b):
             return {"s": a * 10 + b}

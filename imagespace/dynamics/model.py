@@ -7,7 +7,7 @@ higher derivatives from its time derivatives. The equations of motion of the ope
 its Lagrangian (bodies with masses, centres and inertias; gravity), derived with sympy and
 compiled: ``M(eta) etaddot = R(eta, etadot) + Gamma_K^T lambda + Z^T T`` with ``R`` the negated
 Coriolis/centrifugal and gravity terms, i.e. ``A^T mu = M etaddot - R``, ``A^T = [Gamma_K^T Z^T]``,
-``mu = [lambda; T]`` (seed 000 eq. 5; its printed ``R`` has the opposite sign, SEEDS.md).
+``mu = [lambda; T]`` (seed 000 eq. 5; its printed ``R`` has the opposite sign, see the errata in docs/references.md).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import numpy as np
 import sympy as sp
 
 from .._validate import _short, as_count
-from ..compile import compile_exprs
+from ..core.codegen import compile_exprs
 from ..exceptions import InputError
 from . import _checks
 

@@ -5,7 +5,7 @@ them to a certificate; near a singularity (two modes closer than the float resol
 root, a continuum) matching cannot be right. Here the direction is reversed: every certified real
 root of the exact kinematic polynomial ``P`` (exact joint values, floats taken as the binary
 rationals they are) is refined to an interval narrower than ``2**-200`` relative
-(:data:`imagespace.certify.REFINE_BITS`), and its modes are computed *from that root*:
+(:data:`imagespace.core.certify.REFINE_BITS`), and its modes are computed *from that root*:
 
 * **Cramer roots** - the Cramer denominator ``D`` of the elimination is proven non-zero at the
   root (rational coefficients: exactly, through ``gcd(D, P)``; irrational ones: an arb ball of
@@ -33,7 +33,7 @@ from typing import Optional
 import numpy as np
 import sympy as sp
 
-from .certify import to_arb, flint_precision
+from ..core.certify import to_arb, flint_precision
 
 __all__ = ["RootPlan", "plan_roots"]
 
@@ -191,8 +191,8 @@ def plan_roots(P, D, X2, X3, certificate, case_a):
 
     Examples
     --------
-    >>> from imagespace.certify import certify_real_roots
-    >>> from imagespace.certified_dk import plan_roots
+    >>> from imagespace.core.certify import certify_real_roots
+    >>> from imagespace.solve.certified import plan_roots
     >>> P = [-1, 0, 1]                         # x1^2 - x0^2: t = -1, 1
     >>> D, X2, X3 = [1, 0, 0], [0, 0, 0, 0], [2, 0, 0, 0]
     >>> [(r.kind, r.multiplicity) for r in plan_roots(P, D, X2, X3, certify_real_roots(P), False)]

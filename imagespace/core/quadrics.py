@@ -12,7 +12,7 @@ the two linear forms and the binary quadratic form. The coefficients may be
 sympy expressions (exact or in symbols) or numpy arrays (one quadric per row of a batch); the
 formulas below are written once, in plain arithmetic, and serve both.
 
-Derivation (complex notation of :mod:`imagespace.kinematic_map`: ``z = x0 + i x1``,
+Derivation (complex notation of :mod:`imagespace.core.kinematic_map`: ``z = x0 + i x1``,
 ``u = x3 - i x2``, platform point ``p`` lands at ``(z**2 p + 2 u z)/|z|**2``):
 
 * RR, platform point ``p`` on the circle (centre ``M``, radius ``rho``):
@@ -40,8 +40,8 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ._validate import _short, as_sympy_entry
-from .exceptions import InputError
+from .._validate import _short, as_sympy_entry
+from ..exceptions import InputError
 
 __all__ = [
     "Quadric",
@@ -258,7 +258,7 @@ class Quadric:
 
     @staticmethod
     def _points(points):
-        from ._validate import as_float_array
+        from .._validate import as_float_array
 
         p = as_float_array(points, "points", finite=False)
         if p.ndim == 0 or p.shape[-1] != 4:
@@ -319,7 +319,7 @@ def dyad_value_and_gradient(coeffs, X):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.constraints import dyad_value_and_gradient, rr_quadric
+    >>> from imagespace.core.quadrics import dyad_value_and_gradient, rr_quadric
     >>> v, g = dyad_value_and_gradient(rr_quadric((0, 0), 4.0, (0, 0)).coefficients(), np.array([1.0, 0, 0, 1]))
     >>> float(v), g.tolist()
     (0.0, [-8.0, 0.0, 0.0, 8.0])
@@ -363,7 +363,7 @@ def dk_system(C, X):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.constraints import dk_system
+    >>> from imagespace.core.quadrics import dk_system
     >>> C = np.zeros((1, 3, 8)); C[0, :, 0] = 4.0; C[0, :, 5] = -4.0     # x2^2 + x3^2 = x0^2 (x4)
     >>> Fv, J = dk_system(C, np.array([[[1.0, 0.0, 1.0, 0.0]]]))
     >>> Fv.tolist(), J[0, 0, 3].tolist()
@@ -380,7 +380,7 @@ def dk_system(C, X):
 
 def dk_system_row(C, X, val, J):
     """:func:`dk_system` for one row and one point, written for numba (the compiled kernel of
-    :mod:`imagespace.fastdk` compiles this very function; ``tests`` hold it equal to
+    :mod:`imagespace.solve.kernel` compiles this very function; ``tests`` hold it equal to
     :func:`dk_system` on random input).
 
     ``C``: (24,) coefficients, quadric ``i`` at ``8 i .. 8 i + 7``; ``X``: (4,); fills ``val``
@@ -389,7 +389,7 @@ def dk_system_row(C, X, val, J):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.constraints import dk_system_row
+    >>> from imagespace.core.quadrics import dk_system_row
     >>> C = np.tile([4.0, 0, 0, 0, 0, -4.0, 0, 0], 3); val = np.empty(4); J = np.empty((4, 4))
     >>> dk_system_row(C, np.array([1.0, 0.0, 1.0, 0.0]), val, J); val.tolist()
     [0.0, 0.0, 0.0, 0.0]

@@ -1,7 +1,7 @@
 r"""Elimination: three dyad quadrics -> a binary form in ``(x0 : x1)`` and back-substitution.
 
 The quadrics are ``Q_i = c_i S + x2 A_i + x3 B_i + K_i`` with ``S = x2**2 + x3**2``, ``A_i, B_i``
-linear and ``K_i`` quadratic binary forms in ``(x0, x1)`` (:mod:`imagespace.constraints`).
+linear and ``K_i`` quadratic binary forms in ``(x0, x1)`` (:mod:`imagespace.core.quadrics`).
 Combinations with ``sum(w_i c_i) = 0`` are linear in ``(x2, x3)``; two of them, ``E1, E2``, are
 solved by Cramer's rule
 
@@ -41,8 +41,8 @@ from typing import Any, List
 import numpy as np
 import sympy as sp
 
-from .constraints import Quadric, image_symbols
-from .exceptions import DegenerateDesignError
+from .quadrics import Quadric, image_symbols
+from ..exceptions import DegenerateDesignError
 
 __all__ = [
     "bf_mul",
@@ -65,7 +65,7 @@ def bf_mul(f, g):
 
     Examples
     --------
-    >>> from imagespace.elimination import bf_mul
+    >>> from imagespace.core.elimination import bf_mul
     >>> bf_mul([1, 1], [1, -1])       # (x0 + x1)(x0 - x1)
     [1, 0, -1]
     """
@@ -81,7 +81,7 @@ def bf_add(f, g):
 
     Examples
     --------
-    >>> from imagespace.elimination import bf_add
+    >>> from imagespace.core.elimination import bf_add
     >>> bf_add([1, 2, 3], [1, 0, -3])
     [2, 2, 0]
     """
@@ -95,7 +95,7 @@ def bf_scale(f, s):
 
     Examples
     --------
-    >>> from imagespace.elimination import bf_scale
+    >>> from imagespace.core.elimination import bf_scale
     >>> bf_scale([1, 2], 3)
     [3, 6]
     """
@@ -107,7 +107,7 @@ def bf_eval(f, x0, x1):
 
     Examples
     --------
-    >>> from imagespace.elimination import bf_eval
+    >>> from imagespace.core.elimination import bf_eval
     >>> bf_eval([1, 0, -1], 2.0, 1.0)
     3.0
     """
@@ -120,7 +120,7 @@ def binary_form_poly(f, x=None):
 
     Examples
     --------
-    >>> from imagespace.elimination import binary_form_poly
+    >>> from imagespace.core.elimination import binary_form_poly
     >>> binary_form_poly([1, 0, 1]).as_expr()
     x0**2 + x1**2
     """
@@ -169,7 +169,7 @@ def plan_elimination(kinds):
 
     Examples
     --------
-    >>> from imagespace.elimination import plan_elimination
+    >>> from imagespace.core.elimination import plan_elimination
     >>> plan_elimination(["RR", "RR", "PR"])
     EliminationPlan(w1=(0, 0, 1), w2=(1, -1, 0), w3=(1, 0, 0), linear_only=False)
     """
@@ -254,7 +254,7 @@ def eliminate(quadrics, plan=None):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.elimination import eliminate
+    >>> from imagespace.core.elimination import eliminate
     >>> m = isp.examples.stigger_husty()
     >>> len(eliminate(m.quadrics(m.q_example)).F) - 1     # a sextic
     6
@@ -288,7 +288,7 @@ def orientation_form(rows):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.elimination import eliminate, orientation_form
+    >>> from imagespace.core.elimination import eliminate, orientation_form
     >>> m = isp.examples.collinear_3rpr(2, 1)
     >>> orientation_form(eliminate(m.quadrics(m.q_example)).rows)
     [-576, 0, 2496]

@@ -2,7 +2,7 @@ r"""The seven planar leg types and the dyad each leaves when its actuated joint 
 
 A leg is a serial chain of three joints from the base (first letter) to the platform (last
 letter). Locking the actuated joint leaves a dyad of the two passive joints, i.e. one quadric of
-:mod:`imagespace.constraints`. Every leg accepts any of its three joints as the actuated one
+:mod:`imagespace.core.quadrics`. Every leg accepts any of its three joints as the actuated one
 (``actuated=0, 1, 2``); the default is the joint the seed papers actuate.
 
 Joint values (``q`` of the leg, in joint order) and their conventions:
@@ -52,10 +52,10 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ._validate import (as_count, as_exact, as_flag, as_float_array, as_point, as_sympy_entry,
+from .._validate import (as_count, as_exact, as_flag, as_float_array, as_point, as_sympy_entry,
                         check_positive, is_symbolic)
-from .constraints import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric
-from .exceptions import DegenerateDesignError, InputError
+from .quadrics import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric
+from ..exceptions import DegenerateDesignError, InputError
 
 __all__ = ["Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR", "LEG_TYPES"]
 

@@ -32,8 +32,8 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
-from ._validate import as_float_array
-from .exceptions import InputError
+from .._validate import as_float_array
+from ..exceptions import InputError
 
 __all__ = ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
            "flint_precision", "arb_bounds", "outward_float_interval", "to_arb", "exact_is_zero",
@@ -62,7 +62,7 @@ def flint_precision(bits):
     Examples
     --------
     >>> import flint
-    >>> from imagespace.certify import flint_precision
+    >>> from imagespace.core.certify import flint_precision
     >>> with flint_precision(200):
     ...     flint.ctx.prec
     200
@@ -95,7 +95,7 @@ def arb_bounds(ball):
     Examples
     --------
     >>> import flint
-    >>> from imagespace.certify import arb_bounds
+    >>> from imagespace.core.certify import arb_bounds
     >>> lo, hi = arb_bounds(flint.arb(2).sqrt())
     >>> lo * lo <= 2 <= hi * hi
     True
@@ -112,7 +112,7 @@ def outward_float_interval(lo, hi):
     Examples
     --------
     >>> from fractions import Fraction
-    >>> from imagespace.certify import outward_float_interval
+    >>> from imagespace.core.certify import outward_float_interval
     >>> a, b = outward_float_interval(Fraction(1, 3), Fraction(1, 3))
     >>> Fraction(a) < Fraction(1, 3) < Fraction(b)
     True
@@ -168,7 +168,7 @@ class RealRootCertificate:
 
         Examples
         --------
-        >>> from imagespace.certify import certify_real_roots
+        >>> from imagespace.core.certify import certify_real_roots
         >>> certify_real_roots([-1, 0, 1]).contains(1.0)      # x1^2 - x0^2
         True
         """
@@ -183,7 +183,7 @@ def exact_is_zero(c):
     Examples
     --------
     >>> import sympy as sp
-    >>> from imagespace.certify import exact_is_zero
+    >>> from imagespace.core.certify import exact_is_zero
     >>> exact_is_zero(sp.sqrt(2) * sp.sqrt(8) - 4), exact_is_zero(sp.sqrt(181) - 13)
     (True, False)
     """
@@ -281,7 +281,7 @@ def to_arb(c, prec):
     Examples
     --------
     >>> import sympy as sp
-    >>> from imagespace.certify import flint_precision, to_arb
+    >>> from imagespace.core.certify import flint_precision, to_arb
     >>> with flint_precision(100):
     ...     b = to_arb(3 * sp.sqrt(181) / 2 + sp.cos(sp.Rational(1, 3)), 100)
     >>> round(float(b.mid()), 12) == round(float(sp.N(3 * sp.sqrt(181) / 2 + sp.cos(sp.Rational(1, 3)), 30)), 12)
@@ -412,7 +412,7 @@ def certify_real_roots(form):
     Examples
     --------
     >>> import sympy as sp
-    >>> from imagespace.certify import certify_real_roots
+    >>> from imagespace.core.certify import certify_real_roots
     >>> c = certify_real_roots([0, -2, 0, 1, 0])   # x0 x1 (x1^2 - 2 x0^2): roots 0, +-sqrt 2, infinity
     >>> c.count, c.at_infinity, c.certified
     (4, 1, True)
@@ -517,7 +517,7 @@ def inclusion_discs(F, E=None):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.certify import inclusion_discs
+    >>> from imagespace.core.certify import inclusion_discs
     >>> good, real, z, r = inclusion_discs(np.array([[-2.0, 0.0, 1.0], [1.0, -2.0, 1.0]]))
     >>> good.tolist(), real[0].tolist()
     ([True, False], [True, True])
@@ -618,7 +618,7 @@ def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.certify import certify_real_roots_batch
+    >>> from imagespace.core.certify import certify_real_roots_batch
     >>> counts, path = certify_real_roots_batch(np.array([[-2.0, 0.0, 1.0], [1.0, -2.0, 1.0]]))
     >>> counts.tolist(), path.tolist()     # x1^2 - 2 x0^2 (two roots); (x1 - x0)^2 (one double)
     ([2, 1], ['discs', 'flint'])

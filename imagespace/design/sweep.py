@@ -32,8 +32,8 @@ import numbers
 
 import numpy as np
 
-from ._validate import _short, as_count, as_flag
-from .exceptions import ImageSpaceError, InputError
+from .._validate import _short, as_count, as_flag
+from ..exceptions import ImageSpaceError, InputError
 
 __all__ = ["DesignTable", "DesignEvaluationError", "sweep", "fuzzy_minmax", "FuzzyResult"]
 
@@ -74,7 +74,7 @@ class DesignTable:
 
         Examples
         --------
-        >>> from imagespace.design import sweep, _demo_index
+        >>> from imagespace.design.sweep import sweep, _demo_index
         >>> sweep(_demo_index, {"a": [1, 2], "b": [0, 1]}).failed
         []
         """
@@ -85,7 +85,7 @@ class DesignTable:
 
         Examples
         --------
-        >>> from imagespace.design import sweep, _demo_index
+        >>> from imagespace.design.sweep import sweep, _demo_index
         >>> t = sweep(_demo_index, {"a": [1, 2], "b": [0, 1, 2]}, processes=0)
         >>> t.grid("sum").tolist()
         [[1.0, 2.0, 3.0], [2.0, 3.0, 4.0]]
@@ -302,7 +302,7 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
 
     Examples
     --------
-    >>> from imagespace.design import sweep, _demo_index
+    >>> from imagespace.design.sweep import sweep, _demo_index
     >>> t = sweep(_demo_index, {"a": [1.0, 2.0], "b": [10.0, 20.0]})
     >>> t.values["sum"].tolist(), t.how
     ([11.0, 21.0, 12.0, 22.0], 'serial')
@@ -319,7 +319,7 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
     >>> sweep(f, {"a": [1.0, 2.0], "b": [10.0, 20.0]})
     Traceback (most recent call last):
     ...
-    imagespace.design.DesignEvaluationError: design 3 {'a': 2.0, 'b': 20.0} failed: ValueError: no design here
+    imagespace.design.sweep.DesignEvaluationError: design 3 {'a': 2.0, 'b': 20.0} failed: ValueError: no design here
     """
     if not callable(func):
         raise TypeError(f"func must be callable (func(**params) -> dict of numbers), got "
@@ -492,7 +492,7 @@ def fuzzy_minmax(table, criteria):
 
     Examples
     --------
-    >>> from imagespace.design import sweep, fuzzy_minmax, _demo_index
+    >>> from imagespace.design.sweep import sweep, fuzzy_minmax, _demo_index
     >>> t = sweep(_demo_index, {"a": [1.0, 2.0, 3.0], "b": [1.0, 2.0]}, processes=0)
     >>> res = fuzzy_minmax(t, {"sum": (1.0, "max"), "product": (1.0, "min")})
     >>> [(float(t.params["a"][i]), float(t.params["b"][i])) for i in res.best]

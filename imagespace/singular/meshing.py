@@ -68,11 +68,11 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from ._validate import _short, as_count, as_flag, as_float_array, as_sympy_entry
-from ._files import atomic_write
-from .certify import flint_precision
-from .compile import compile_exprs
-from .exceptions import InputError
+from .._validate import _short, as_count, as_flag, as_float_array, as_sympy_entry
+from .._files import atomic_write
+from ..core.certify import flint_precision
+from ..core.codegen import compile_exprs
+from ..exceptions import InputError
 
 __all__ = ["Implicit", "PolynomialImplicit", "FunctionImplicit", "mesh_implicit", "mesh_surface",
            "export_mesh", "surface_implicit", "EXPORT_FORMATS", "EXPORT_PRECISION", "MAX_MEMORY",
@@ -484,7 +484,7 @@ class Implicit:
         Examples
         --------
         >>> import numpy as np
-        >>> from imagespace.meshing import FunctionImplicit
+        >>> from imagespace.singular.meshing import FunctionImplicit
         >>> f = FunctionImplicit(lambda P: (P[:, 0] - 0.5, np.tile([1.0, 0, 0], (len(P), 1))))
         >>> s, known = f.proven_sign(np.array([[1.0, 0, 0], [0.5, 0, 0]]))
         >>> s.tolist(), known.tolist()
@@ -528,7 +528,7 @@ class PolynomialImplicit(Implicit):
     Examples
     --------
     >>> import sympy as sp
-    >>> from imagespace.meshing import PolynomialImplicit
+    >>> from imagespace.singular.meshing import PolynomialImplicit
     >>> u, v, w = sp.symbols("u v w")
     >>> sphere = PolynomialImplicit(u**2 + v**2 + w**2 - 1, (u, v, w))
     >>> sphere.grid(([0.0, 1.0], [0.0], [0.0, 2.0])).tolist()
@@ -652,7 +652,7 @@ class FunctionImplicit(Implicit):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.meshing import FunctionImplicit
+    >>> from imagespace.singular.meshing import FunctionImplicit
     >>> f = FunctionImplicit(lambda P: (P[:, 0] - 0.5, np.tile([1.0, 0, 0], (len(P), 1))))
     >>> f.value(np.array([[1.0, 0, 0]])).tolist()
     [0.5]
@@ -713,11 +713,11 @@ def surface_implicit(surface, chart="image"):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.meshing import surface_implicit
+    >>> from imagespace.singular.meshing import surface_implicit
     >>> type(surface_implicit(isp.examples.stigger_husty().singularity_surface(), "pose")).__name__
     'PolynomialImplicit'
     """
-    from .singularities import SingularitySurface, image_chart_point, pose_chart_point
+    from .surface import SingularitySurface, image_chart_point, pose_chart_point
 
     if not isinstance(surface, SingularitySurface):
         raise TypeError(f"surface must be a SingularitySurface (from PlanarParallel.singularity_surface), "
@@ -893,7 +893,7 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     Examples
     --------
     >>> import sympy as sp
-    >>> from imagespace.meshing import PolynomialImplicit, mesh_implicit
+    >>> from imagespace.singular.meshing import PolynomialImplicit, mesh_implicit
     >>> u, v, w = sp.symbols("u v w")
     >>> mesh = mesh_implicit(PolynomialImplicit(u**2 + v**2 + w**2 - 1, (u, v, w)), [(-1.5, 1.5)] * 3, 48)
     >>> bool(abs(mesh.area - 4 * 3.141592653589793) < 0.04 * 4 * 3.141592653589793)
@@ -914,7 +914,7 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     from skimage.measure import marching_cubes
 
     if not isinstance(func, Implicit):
-        raise TypeError(f"func must be an imagespace.meshing.Implicit, got {type(func).__name__}")
+        raise TypeError(f"func must be an imagespace.singular.meshing.Implicit, got {type(func).__name__}")
     if not isinstance(on_uncertified, str):
         raise TypeError(f"on_uncertified must be 'remove' or 'keep', got {type(on_uncertified).__name__} "
                         f"{_short(on_uncertified)}")
@@ -1359,7 +1359,7 @@ def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.meshing import mesh_surface
+    >>> from imagespace.singular.meshing import mesh_surface
     >>> S = isp.examples.stigger_husty().singularity_surface()
     >>> mesh = mesh_surface(S, [(-12, 12), (-12, 12), (-3, 3)], resolution=32)
     >>> len(mesh.faces) > 1000, mesh.metadata["imagespace"]["chart"]
@@ -1412,7 +1412,7 @@ def export_mesh(mesh, path):
     Examples
     --------
     >>> import tempfile, pathlib, trimesh, numpy as np
-    >>> from imagespace.meshing import export_mesh
+    >>> from imagespace.singular.meshing import export_mesh
     >>> box = trimesh.creation.box()
     >>> box.vertices[0] += 1e-12
     >>> p = export_mesh(box, pathlib.Path(tempfile.mkdtemp()) / "box.ply")

@@ -1,5 +1,5 @@
 """The numba import with its fallback: ``njit`` and ``prange`` become no-ops where numba is
-missing (the compiled paths, :mod:`imagespace.fastdk`, are then not used).
+missing (the compiled paths, :mod:`imagespace.solve.kernel`, are then not used).
 
 ``njit(cache=True)`` falls back to uncached compilation where numba finds no writable place for
 its cache (a read-only install with ``HOME`` unset or unwritable: numba raises
@@ -28,7 +28,7 @@ def njit(*args, **kwargs):
 
     Examples
     --------
-    >>> from imagespace._kernels import njit
+    >>> from imagespace.core._numba import njit
     >>> @njit(cache=True)
     ... def twice(x):
     ...     return 2 * x

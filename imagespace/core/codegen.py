@@ -14,7 +14,7 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
-from ._validate import as_float_array
+from .._validate import as_float_array
 
 __all__ = ["compile_exprs", "CompiledPolynomial"]
 
@@ -37,7 +37,7 @@ def compile_exprs(exprs, symbols):
     Examples
     --------
     >>> import numpy as np, sympy as sp
-    >>> from imagespace.compile import compile_exprs
+    >>> from imagespace.core.codegen import compile_exprs
     >>> a, b = sp.symbols("a b")
     >>> compile_exprs([a * b, a + 1, sp.Integer(2)], [a, b])(np.array([1.0, 2.0]), np.array([3.0, 4.0]))
     array([[3., 2., 2.],
@@ -118,7 +118,7 @@ class CoefficientEnclosure:
     --------
     >>> import numpy as np
     >>> import imagespace as isp
-    >>> from imagespace.compile import CoefficientEnclosure
+    >>> from imagespace.core.codegen import CoefficientEnclosure
     >>> m = isp.examples.general_3rpr()
     >>> enc = CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols)
     >>> F, E = enc.evaluate(np.array([[11.0, 5.0, 10.0]]))
@@ -205,7 +205,7 @@ class CoefficientEnclosure:
         --------
         >>> import numpy as np
         >>> import imagespace as isp
-        >>> from imagespace.compile import CoefficientEnclosure
+        >>> from imagespace.core.codegen import CoefficientEnclosure
         >>> m = isp.examples.general_3rpr()
         >>> enc = CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols)
         >>> enc.evaluate(np.array([[11.0, 5.0, 10.0]]))[0].shape
@@ -245,7 +245,7 @@ class CoefficientEnclosure:
         --------
         >>> import sympy as sp
         >>> import imagespace as isp
-        >>> from imagespace.compile import CoefficientEnclosure
+        >>> from imagespace.core.codegen import CoefficientEnclosure
         >>> m = isp.examples.stigger_husty()
         >>> enc = CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols)
         >>> len(enc.exact_sympy([sp.Integer(10), sp.Integer(15), sp.Rational(53, 4)]))
@@ -276,7 +276,7 @@ class CoefficientEnclosure:
         Examples
         --------
         >>> import imagespace as isp
-        >>> from imagespace.compile import CoefficientEnclosure
+        >>> from imagespace.core.codegen import CoefficientEnclosure
         >>> m = isp.examples.general_3rpr()
         >>> enc = CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols)
         >>> len(enc.exact([11.0, 5.0, 10.0]))

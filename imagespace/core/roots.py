@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .elimination import bf_add, bf_mul, bf_scale
-from .tolerances import TOLERANCES
+from ..tolerances import TOLERANCES
 
 __all__ = ["projective_roots", "rotated_forms", "real_half_angles", "polish_half_angles", "bf_eval_angle"]
 
@@ -46,7 +46,7 @@ def bf_eval_angle(F, theta):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.roots import bf_eval_angle
+    >>> from imagespace.core.roots import bf_eval_angle
     >>> bf_eval_angle(np.array([[1.0, 0.0, 1.0]]), np.array([[0.3]]))   # x0^2 + x1^2
     array([[1.]])
     """
@@ -122,7 +122,7 @@ def rotated_forms(F):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.roots import rotated_forms
+    >>> from imagespace.core.roots import rotated_forms
     >>> G, ok, gamma = rotated_forms(np.array([[0.0, 1.0, 0.0]]))     # x0 x1
     >>> ok.tolist(), bool(abs(G[0, 2]) > 0)
     ([True], True)
@@ -150,7 +150,7 @@ def projective_roots(F):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.roots import projective_roots
+    >>> from imagespace.core.roots import projective_roots
     >>> t, g, ok = projective_roots(np.array([[0.0, 1.0, 0.0]]))   # x0 x1: roots (1:0), (0:1)
     >>> ok
     array([ True])
@@ -186,7 +186,7 @@ def real_half_angles(F, tol=None):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.roots import real_half_angles
+    >>> from imagespace.core.roots import real_half_angles
     >>> th, ok = real_half_angles(np.array([[0.0, 1.0, 0.0]]))   # x0 x1
     >>> np.sort(np.round(th[0], 12))
     array([0.      , 1.570796])
@@ -208,7 +208,7 @@ def polish_half_angles(F, theta, steps=4):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.roots import polish_half_angles
+    >>> from imagespace.core.roots import polish_half_angles
     >>> polish_half_angles(np.array([[1.0, 0.0, -1.0]]), np.array([[0.78]]))   # x0^2 - x1^2
     array([[0.78539816]])
     """

@@ -43,9 +43,9 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
-from ._validate import as_float_array
-from .constraints import image_symbols
-from .exceptions import InputError
+from .._validate import as_float_array
+from ..core.quadrics import image_symbols
+from ..exceptions import InputError
 
 __all__ = ["ImagePath", "PathCheck", "Crossing", "check_path", "segments_free", "segment", "polyline",
            "polynomial_curve", "rational_curve", "pose_segment"]
@@ -122,13 +122,13 @@ class ImagePath:
 
         Examples
         --------
-        >>> from imagespace.paths import segment
+        >>> from imagespace.paths.check import segment
         >>> segment([1, 0, 0, 0], [1, 0, 2, 0]).evaluate(0, [0.5]).tolist()
         [[1.0, 0.0, 1.0, 0.0]]
         """
         t = np.atleast_1d(np.asarray(t, dtype=float))
         if self.kind == "pose":
-            from .kinematic_map import image_point
+            from ..core.kinematic_map import image_point
 
             p0, p1 = self.pieces[piece]
             return image_point(p0[None, :] + t[:, None] * (p1 - p0)[None, :])
@@ -148,7 +148,7 @@ class ImagePath:
 
         Examples
         --------
-        >>> from imagespace.paths import polyline
+        >>> from imagespace.paths.check import polyline
         >>> X, s = polyline([[1, 0, 0, 0], [1, 0, 1, 0], [1, 0, 1, 1]]).sample(4)
         >>> X.shape, float(s[-1])
         ((9, 4), 2.0)
@@ -165,11 +165,11 @@ class ImagePath:
 
         Examples
         --------
-        >>> from imagespace.paths import pose_segment
+        >>> from imagespace.paths.check import pose_segment
         >>> pose_segment([0, 0, 0], [1, 0, 0.5]).poses(2)[:, 2].tolist()
         [0.0, 0.25, 0.5]
         """
-        from .kinematic_map import pose_of
+        from ..core.kinematic_map import pose_of
 
         X, _ = self.sample(per_piece)
         P = pose_of(X)
@@ -212,7 +212,7 @@ def segment(a, b):
 
     Examples
     --------
-    >>> from imagespace.paths import segment
+    >>> from imagespace.paths.check import segment
     >>> len(segment([1, 0, 0, 0], [1, 0.5, 1, 2]))
     1
     """
@@ -238,7 +238,7 @@ def polyline(points):
 
     Examples
     --------
-    >>> from imagespace.paths import polyline
+    >>> from imagespace.paths.check import polyline
     >>> len(polyline([[1, 0, 0, 0], [1, 0, 1, 0], [1, 0.2, 1, 1]]))
     2
     """
@@ -277,7 +277,7 @@ def polynomial_curve(coefficients):
 
     Examples
     --------
-    >>> from imagespace.paths import polynomial_curve
+    >>> from imagespace.paths.check import polynomial_curve
     >>> polynomial_curve([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]).evaluate(0, [1.0]).tolist()
     [[1.0, 1.0, 1.0, 0.0]]
     """
@@ -309,7 +309,7 @@ def rational_curve(numerators, denominator):
 
     Examples
     --------
-    >>> from imagespace.paths import rational_curve
+    >>> from imagespace.paths.check import rational_curve
     >>> len(rational_curve([[1, 0, 0, 0], [0, 1, 1, 0]], [1, 1]))
     1
     """
@@ -336,7 +336,7 @@ def pose_segment(p0, p1):
 
     Examples
     --------
-    >>> from imagespace.paths import pose_segment
+    >>> from imagespace.paths.check import pose_segment
     >>> pose_segment([0, 0, 0], [1, 2, 0.3]).kind
     'pose'
     """
@@ -361,8 +361,8 @@ class _Quartic:
 
 
 def _prepare(target):
-    from .manipulator import PlanarParallel
-    from .singularities import SingularitySurface
+    from ..manipulator import PlanarParallel
+    from ..singular.surface import SingularitySurface
 
     if isinstance(target, PlanarParallel):
         cache = getattr(target, "_symbolic_cache", {})
@@ -616,7 +616,7 @@ class Crossing:
 
     Examples
     --------
-    >>> from imagespace.paths import Crossing
+    >>> from imagespace.paths.check import Crossing
     >>> Crossing(0, (0.25, 0.25), 1).crosses, Crossing(0, (0.5, 0.5), 2).touches
     (True, True)
     """
@@ -676,7 +676,7 @@ class PathCheck:
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.paths import check_path, segment
+    >>> from imagespace.paths.check import check_path, segment
     >>> m = isp.examples.stigger_husty()
     >>> res = check_path(m, segment([1, -0.1, 0, 1.5], [1, 0.1, 0, 1.5]))   # transversal at t = 1/2
     >>> res.singularity_free, res.crosses, res.touches, res.crossings[0].t
@@ -726,7 +726,7 @@ def check_path(target, path, joint_limits=None, manipulator=None):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.paths import check_path, segment
+    >>> from imagespace.paths.check import check_path, segment
     >>> m = isp.examples.stigger_husty()
     >>> a, b = [mm.image_point for mm in m.direct_kinematics(m.q_example)[:2]]
     >>> res = check_path(m, segment(a, b))
@@ -997,7 +997,7 @@ def segments_free(target, A, B, exact=True):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.paths import segments_free
+    >>> from imagespace.paths.check import segments_free
     >>> m = isp.examples.stigger_husty()
     >>> modes = m.direct_kinematics(m.q_example)
     >>> A = np.array([modes[0].image_point] * 2)

@@ -26,7 +26,7 @@ direct-kinematic singularity locus, and ``sign S = -sign det Jx``.
 References
 ----------
 M. J. D. Hayes, M. L. Husty, P. J. Zsombor-Murray, *Singular configurations of wrist-partitioned
-6R serial robots: a geometric perspective for users*, and A. Stigger, M. Husty (seed 002), for the
+6R serial robots: a geometric perspective for users*, and T. Stigger, M. L. Husty (seed 002), for the
 quartic; C. Gosselin, J. Angeles, *Singularity analysis of closed-loop kinematic chains*, IEEE
 Trans. Robot. Autom. 6 (1990) 281-290, doi:10.1109/70.56660, for the singularity types;
 J. Sefrioui, C. Gosselin, *On the quadratic nature of the singularity curves of planar
@@ -42,11 +42,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from ._validate import _short, as_exact, as_flag, as_float_array, is_symbolic
-from .compile import compile_exprs
-from .constraints import image_symbols
-from .exceptions import InputError
-from .kinematic_map import pose_of
+from .._validate import _short, as_exact, as_flag, as_float_array, is_symbolic
+from ..core.codegen import compile_exprs
+from ..core.quadrics import image_symbols
+from ..exceptions import InputError
+from ..core.kinematic_map import pose_of
 
 __all__ = ["SingularitySurface", "PoseJacobians", "ConicSection", "singularity_surface",
            "singularity_surfaces", "jacobians", "symbolic_jacobians", "pose_chart_point", "image_chart_point"]
@@ -71,7 +71,7 @@ def pose_chart_point(P):
 
     Examples
     --------
-    >>> from imagespace.singularities import pose_chart_point
+    >>> from imagespace.singular.surface import pose_chart_point
     >>> X, dX = pose_chart_point([[2.0, 0.0, 0.0]])
     >>> X.tolist(), dX[0, :, 0].tolist()
     ([[1.0, 0.0, 0.0, 1.0]], [0.0, 0.0, 0.0, 0.5])
@@ -103,7 +103,7 @@ def image_chart_point(U):
 
     Examples
     --------
-    >>> from imagespace.singularities import image_chart_point
+    >>> from imagespace.singular.surface import image_chart_point
     >>> image_chart_point([[1.0, 2.0, 3.0]])[0].tolist()
     [[1.0, 3.0, 1.0, 2.0]]
     """
@@ -117,7 +117,7 @@ def image_chart_point(U):
 # -- input checks shared by the analysis modules ------------------------------------------------
 def _check_manipulator(manipulator, name="manipulator"):
     """Refuse anything but a :class:`PlanarParallel` with a clear ``TypeError``."""
-    from .manipulator import PlanarParallel
+    from ..manipulator import PlanarParallel
 
     if not isinstance(manipulator, PlanarParallel):
         raise TypeError(f"{name} must be a PlanarParallel (e.g. isp.examples.general_3rpr()), got "
@@ -792,7 +792,7 @@ def symbolic_jacobians(manipulator):
     Examples
     --------
     >>> import sympy as sp, imagespace as isp
-    >>> from imagespace.singularities import symbolic_jacobians
+    >>> from imagespace.singular.surface import symbolic_jacobians
     >>> Jx, Jq, (x, y, phi) = symbolic_jacobians(isp.examples.collinear_3rpr(2, 1))
     >>> sp.simplify(Jx.det() - 16 * 2 * sp.sin(phi) * (2 * y + x * sp.sin(phi) - y * sp.cos(phi)))
     0

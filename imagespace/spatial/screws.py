@@ -30,8 +30,8 @@ import sympy as sp
 
 import numbers
 
-from ._validate import _short, as_count, as_exact, as_float_array, is_symbolic
-from .exceptions import InputError
+from .._validate import _short, as_count, as_exact, as_float_array, is_symbolic
+from ..exceptions import InputError
 
 __all__ = ["revolute", "prismatic", "helical", "transfer", "reciprocal_product", "reciprocal_system",
            "ConstraintAnalysis", "constraint_analysis", "TranslationalFiveR", "planar_leg_wrenches",
@@ -112,7 +112,7 @@ def revolute(axis, point):
 
     Examples
     --------
-    >>> from imagespace.screws import revolute
+    >>> from imagespace.spatial.screws import revolute
     >>> revolute([0, 0, 1], [1, 0, 0]).tolist()
     [0.0, 0.0, 1.0, 0.0, -1.0, 0.0]
     """
@@ -127,7 +127,7 @@ def prismatic(axis):
 
     Examples
     --------
-    >>> from imagespace.screws import prismatic
+    >>> from imagespace.spatial.screws import prismatic
     >>> prismatic([0, 2, 0]).tolist()
     [0.0, 0.0, 0.0, 0.0, 1.0, 0.0]
     """
@@ -141,7 +141,7 @@ def helical(axis, point, pitch):
 
     Examples
     --------
-    >>> from imagespace.screws import helical
+    >>> from imagespace.spatial.screws import helical
     >>> helical([0, 0, 1], [0, 0, 0], 0.5).tolist()
     [0.0, 0.0, 1.0, 0.0, 0.0, 0.5]
     """
@@ -186,7 +186,7 @@ def transfer(screw, point, kind="twist"):
 
     Examples
     --------
-    >>> from imagespace.screws import transfer, revolute
+    >>> from imagespace.spatial.screws import transfer, revolute
     >>> transfer(revolute([0, 0, 1], [1, 0, 0]), [1, 0, 0]).tolist()
     [0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
     """
@@ -208,7 +208,7 @@ def reciprocal_product(twist, wrench):
 
     Examples
     --------
-    >>> from imagespace.screws import reciprocal_product, revolute
+    >>> from imagespace.spatial.screws import reciprocal_product, revolute
     >>> float(reciprocal_product(revolute([0, 0, 1], [0, 0, 0]), [0, 0, 0, 0, 0, 2.0]))
     2.0
     """
@@ -247,7 +247,7 @@ def reciprocal_system(twists, tol=1e-9):
     Examples
     --------
     >>> import numpy as np
-    >>> from imagespace.screws import reciprocal_system, revolute
+    >>> from imagespace.spatial.screws import reciprocal_system, revolute
     >>> W = reciprocal_system([revolute([1, 0, 0], [0, 0, 0]), revolute([0, 1, 0], [0, 0, 0]),
     ...                        revolute([0, 0, 1], [0, 0, 0])])
     >>> W.shape                                       # a spherical joint: the three forces through it
@@ -366,7 +366,7 @@ def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
 
     Examples
     --------
-    >>> from imagespace.screws import TranslationalFiveR, constraint_analysis
+    >>> from imagespace.spatial.screws import TranslationalFiveR, constraint_analysis
     >>> mech = TranslationalFiveR()
     >>> a = constraint_analysis(mech.leg_twists([0.1, 0.2, 0.3]), 3, actuated=[0, 0, 0])
     >>> a.kind, a.constraint_rank
@@ -580,7 +580,7 @@ def singularity_fractions(mechanism, box=0.4, n=2000, eps=0.05, seed=0):
 
     Examples
     --------
-    >>> from imagespace.screws import TranslationalFiveR, singularity_fractions
+    >>> from imagespace.spatial.screws import TranslationalFiveR, singularity_fractions
     >>> f = singularity_fractions(TranslationalFiveR(), n=200)
     >>> 0 <= f["constraint"] <= 1
     True
@@ -647,12 +647,12 @@ def planar_leg_wrenches(manipulator, pose):
     Examples
     --------
     >>> import imagespace as isp
-    >>> from imagespace.screws import planar_leg_wrenches
+    >>> from imagespace.spatial.screws import planar_leg_wrenches
     >>> W, d = planar_leg_wrenches(isp.examples.general_3rpr(), [0.5, 1.0, 0.2])
     >>> W.shape
     (3, 3)
     """
-    from .singularities import _check_manipulator
+    from ..singular.surface import _check_manipulator
 
     _check_manipulator(manipulator)
     p = as_float_array(pose, "pose", last=3, allow_batch=False)

@@ -27,8 +27,8 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ._validate import as_float_array, as_sympy_entry, is_symbolic
-from .exceptions import InputError
+from .._validate import as_float_array, as_sympy_entry, is_symbolic
+from ..exceptions import InputError
 
 __all__ = [
     "image_point",
@@ -110,7 +110,7 @@ def representative_sign(x0, x1):
 
     Examples
     --------
-    >>> from imagespace.kinematic_map import representative_sign
+    >>> from imagespace.core.kinematic_map import representative_sign
     >>> representative_sign(np.array([-1.0, 0.0, 0.0]), np.array([0.0, -1.0, 1.0]))
     array([-1., -1.,  1.])
     """

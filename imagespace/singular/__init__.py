@@ -1,0 +1,4 @@
+"""Singularities: the singularity surface, its meshes, cusps.
+
+Imports ``core`` and ``solve``.
+"""
