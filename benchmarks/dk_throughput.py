@@ -79,10 +79,10 @@ def main(n=20000):
     k = min(n, 5)
     def sym():
         return [m.kinematic_polynomial([sp.Rational(float(v)) for v in Q[i]]) for i in range(k)]
-    m._symbolic_cache.clear()
+    m.clear_cache()
     t, _ = timed(sym, 1)
     rows["sympy elimination per row (exact)"] = k / t
-    m._symbolic_cache.clear()
+    m.clear_cache()
 
     k = min(n, 200)
     t, _ = timed(lambda: [m.direct_kinematics(Q[i]) for i in range(k)], 1)

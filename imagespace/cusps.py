@@ -1,7 +1,8 @@
-"""Short path kept for existing code: this module *is* :mod:`imagespace.singular.cusps` (the same module
-object, registered under both names)."""
+"""Short path kept for existing code: the cusp tools of :mod:`imagespace.singular.cusps` and the
+cusp loops of :mod:`imagespace.paths.cusp_loops`, under their former common name."""
 
-import importlib as _importlib
-import sys as _sys
+from .paths.cusp_loops import MAX_STEPS, CuspLoop, cusp_loop  # noqa: F401
+from .singular.cusps import *  # noqa: F401,F403
+from .singular.cusps import __all__ as _cusps_all
 
-_sys.modules[__name__] = _importlib.import_module("imagespace.singular.cusps")
+__all__ = list(_cusps_all) + ["CuspLoop", "cusp_loop", "MAX_STEPS"]

@@ -7,7 +7,8 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.singular.cusps import cusp_loop, cusps, mode_count_map
+from imagespace.paths.cusp_loops import cusp_loop
+from imagespace.singular.cusps import cusps, mode_count_map
 
 CASES = [(isp.examples.general_3rpr, 2, 10.0, [(6, 16), (1, 9)]),
          (isp.examples.stigger_husty, 2, 13.25, [(6, 14), (11.2, 19.2)])]

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import imagespace as isp
-from imagespace.singular.cusps import Cusp, CuspLoop, cusp_edges, cusp_loop, cusps, linking_number, mode_count_map
+from imagespace.paths.cusp_loops import CuspLoop, cusp_loop
+from imagespace.singular.cusps import Cusp, cusp_edges, cusps, linking_number, mode_count_map
 
 W = [(8, 14), (2, 8)]
 

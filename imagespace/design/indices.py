@@ -107,7 +107,8 @@ def local_indices(manipulator, poses, length, working_modes=None):
     >>> sorted(ind)
     ['isotropy', 'isotropy_frobenius', 'manipulability', 'resistivity']
     """
-    from ..singular.surface import _check_manipulator, _scalar
+    from ..core.mechanism import check_mechanism as _check_manipulator
+    from ..singular.surface import _scalar
 
     _check_manipulator(manipulator)
     poses = as_float_array(poses, "poses", last=3)
@@ -150,7 +151,7 @@ def global_indices(manipulator, position, phi_range, length, n=73, working_modes
     >>> 0 < g["isotropy"] <= 1
     True
     """
-    from ..singular.surface import _check_manipulator
+    from ..core.mechanism import check_mechanism as _check_manipulator
     from .workspace import MAX_ORIENTATIONS, _phi_range
 
     _check_manipulator(manipulator)

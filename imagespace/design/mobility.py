@@ -199,7 +199,7 @@ def manipulator_mobility(manipulator, locked=False):
     >>> manipulator_mobility(m).M, manipulator_mobility(m, locked=True).M
     (3, 0)
     """
-    from ..singular.surface import _check_manipulator
+    from ..core.mechanism import check_mechanism as _check_manipulator
 
     _check_manipulator(manipulator)
     locked = as_flag(locked, "locked")

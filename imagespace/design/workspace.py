@@ -168,7 +168,7 @@ def _scalar(value, name):
 
 
 def _check_manipulator(manipulator):
-    from ..singular.surface import _check_manipulator as check
+    from ..core.mechanism import check_mechanism as check
 
     return check(manipulator)
 

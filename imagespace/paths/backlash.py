@@ -134,11 +134,11 @@ def released_curve(manipulator, q, leg, samples=20000, max_memory=MAX_MEMORY):
     >>> X.shape
     (1000, 2, 4)
     """
-    from ..singular.surface import _check_manipulator
+    from ..core.mechanism import check_mechanism as _check_manipulator
 
     _check_manipulator(manipulator)
     samples = _check_samples(samples, max_memory, "released_curve")
-    qf = manipulator._check_q(q)
+    qf = manipulator.check_q(q)
     if qf.shape != (3,):
         raise InputError(f"q must have shape (3,), got {qf.shape}")
     leg = _check_leg(leg)
@@ -278,7 +278,7 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000, max_memory=MAX_MEMOR
     >>> res.thresholds.shape, bool(np.all(np.diag(res.thresholds) == 0))
     ((6, 6), True)
     """
-    from ..singular.surface import _check_manipulator
+    from ..core.mechanism import check_mechanism as _check_manipulator
 
     _check_manipulator(manipulator)
     samples = _check_samples(samples, max_memory, "backlash")
@@ -289,7 +289,7 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000, max_memory=MAX_MEMOR
         raise InputError(f"delta must be a finite play >= 0, got {delta!r}")
     delta = float(d)
     leg = _check_leg(leg)
-    qf = manipulator._check_q(q)
+    qf = manipulator.check_q(q)
     theta, X = released_curve(manipulator, qf, leg, samples, max_memory=max_memory)
     L = manipulator.legs[leg]
     modes = manipulator.direct_kinematics(qf)

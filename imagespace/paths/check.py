@@ -361,14 +361,11 @@ class _Quartic:
 
 
 def _prepare(target):
-    from ..manipulator import PlanarParallel
-    from ..singular.surface import SingularitySurface
+    from ..core.mechanism import Mechanism
+    from ..singular.surface import SingularitySurface, singularity_surface
 
-    if isinstance(target, PlanarParallel):
-        cache = getattr(target, "_symbolic_cache", {})
-        if "paths: prepared quartic" not in cache:
-            cache["paths: prepared quartic"] = _prepare(target.singularity_surface())
-        return cache["paths: prepared quartic"]
+    if isinstance(target, Mechanism):
+        return target.cached("paths: prepared quartic", lambda: _prepare(singularity_surface(target)))
     if isinstance(target, SingularitySurface):
         S = target
     else:
@@ -376,8 +373,10 @@ def _prepare(target):
     if not S.is_polynomial:
         raise InputError("path checks need a polynomial surface; use singularity_surface(q=...) "
                          "for a design whose surface depends on the joint values")
-    if "paths" in S._cache:
-        return S._cache["paths"]
+    return S.cached("paths", lambda: _prepare_surface(S))
+
+
+def _prepare_surface(S):
     P = S.polynomial
     if P.is_zero:
         raise InputError("the singularity quartic vanishes identically: every pose is singular")
@@ -388,9 +387,7 @@ def _prepare(target):
         if len(_PREPARED) >= _PREPARED_MAX:
             _PREPARED.clear()
         _PREPARED[key] = prep
-    prep = replace(prep, surface=S)
-    S._cache["paths"] = prep
-    return prep
+    return replace(prep, surface=S)
 
 
 def _exact_ratio(c, lead):
@@ -797,12 +794,9 @@ def _domain_exits(m, path, joint_limits):
                     bounds.append((i, sp.Rational(Fraction(float(L[i, j]))), name))
     if not bounds or path.kind == "pose":
         return out
-    cache = getattr(m, "_symbolic_cache", {})
     for i, value, what in bounds:
-        key = ("paths: leg quadric at a bound", i, value)
-        if key not in cache:
-            cache[key] = _leg_quadric(m.legs[i], value)
-        prep = cache[key]
+        prep = m.cached(("paths: leg quadric at a bound", i, value),
+                        lambda i=i, value=value: _leg_quadric(m.legs[i], value))
         if prep is None:
             continue
         for k, piece in enumerate(path.pieces):

@@ -75,7 +75,7 @@ MAX_SAMPLES = 1_000_000
 
 
 def _check_manipulator(manipulator):
-    from ..singular.surface import _check_manipulator as check
+    from ..core.mechanism import check_mechanism as check
 
     return check(manipulator)
 
@@ -197,7 +197,7 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
         raise InputError(f"seed must be a non-negative whole number, got {seed}")
     if box is not None:
         _check_box(box)
-    qf = manipulator._check_q(q)
+    qf = manipulator.check_q(q)
     if qf.shape != (3,):
         raise InputError(f"q must have shape (3,), got shape {qf.shape}")
     Xa, Xb = _as_image(mode_a, "mode_a"), _as_image(mode_b, "mode_b")

@@ -36,7 +36,7 @@ from .._validate import _short, as_count, as_float_array
 from ..core.codegen import compile_exprs
 from ..exceptions import InputError
 
-__all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_loop", "CuspLoop", "cusp_edges",
+__all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "free_joints", "half_angle_gap",
            "linking_number"]
 
 
@@ -83,11 +83,15 @@ class ModeCountMap:
         return np.argwhere(edge & (C >= 0))
 
 
-MAX_STEPS = 1_000_000
-"""The largest ``steps`` :func:`cusp_loop` accepts (one direct-kinematics batch row per step)."""
+def free_joints(fixed):
+    """The indices of the two joints that vary when joint ``fixed`` (0, 1 or 2) is held.
 
-
-def _free(fixed):
+    Examples
+    --------
+    >>> from imagespace.singular.cusps import free_joints
+    >>> free_joints(2)
+    (0, 1)
+    """
     if isinstance(fixed, (bool, np.bool_)) or not isinstance(fixed, (numbers.Integral, np.integer)):
         raise TypeError(f"fixed must be the whole number 0, 1 or 2 (the joint held constant), got "
                         f"{type(fixed).__name__} {_short(fixed)}")
@@ -118,7 +122,7 @@ def _resolution(resolution, name="resolution"):
 
 
 def _grid(fixed, value, window, resolution):
-    _free(fixed)
+    free_joints(fixed)
     value = _scalar(value, "value")
     w = _window(window)
     resolution = _resolution(resolution)
@@ -126,7 +130,7 @@ def _grid(fixed, value, window, resolution):
     b = np.linspace(w[1, 0], w[1, 1], resolution)
     A, B = np.meshgrid(a, b, indexing="ij")
     Q = np.empty((A.size, 3))
-    fa, fb = _free(fixed)
+    fa, fb = free_joints(fixed)
     Q[:, fa], Q[:, fb], Q[:, fixed] = A.ravel(), B.ravel(), float(value)
     return a, b, Q
 
@@ -157,7 +161,7 @@ def mode_count_map(manipulator, fixed, value, window, resolution=120):
     >>> int(cm.counts.max()) <= 6
     True
     """
-    from .surface import _check_manipulator
+    from ..core.mechanism import check_mechanism as _check_manipulator
 
     _check_manipulator(manipulator)
     a, b, Q = _grid(fixed, value, window, resolution)
@@ -168,22 +172,23 @@ def mode_count_map(manipulator, fixed, value, window, resolution=120):
                              f"{Q[~ok, i][0]}")
     res = manipulator.direct_kinematics_batch(Q)
     counts = np.where(res.row_ok, res.count, -1).reshape(len(a), len(b))
-    return ModeCountMap(int(fixed), float(value), _free(fixed), (a, b), counts)
+    return ModeCountMap(int(fixed), float(value), free_joints(fixed), (a, b), counts)
 
 
 # -- the cusp system -----------------------------------------------------------------------------------
 def _coefficient_functions(m):
     """Compiled coefficients of the kinematic form and their derivatives in q1, q2, q3."""
-    key = "cusp_functions"
-    if key not in m._symbolic_cache:
-        comp = m.compiled()
-        P, d = comp.polynomial, comp.degree
-        coeffs = [P.coeff_monomial((d - k, k)) for k in range(d + 1)]
-        exprs = list(coeffs)
-        for s in m.joint_symbols:
-            exprs += [sp.diff(c, s) for c in coeffs]
-        m._symbolic_cache[key] = (d, compile_exprs(exprs, m.joint_symbols))
-    return m._symbolic_cache[key]
+    return m.cached("cusp_functions", lambda: _build_coefficient_functions(m))
+
+
+def _build_coefficient_functions(m):
+    comp = m.compiled()
+    P, d = comp.polynomial, comp.degree
+    coeffs = [P.coeff_monomial((d - k, k)) for k in range(d + 1)]
+    exprs = list(coeffs)
+    for s in m.joint_symbols:
+        exprs += [sp.diff(c, s) for c in coeffs]
+    return d, compile_exprs(exprs, m.joint_symbols)
 
 
 def _mul(u, v):
@@ -220,7 +225,7 @@ def _system(m, x, fixed, value):
     """The cusp system at points ``x`` (n, 3) = (theta, q_a, q_b): values (n, 3), Jacobians
     (n, 3, 3), coefficient scales (n,) and the joint vectors (n, 3)."""
     d, fn = _coefficient_functions(m)
-    fa, fb = _free(fixed)
+    fa, fb = free_joints(fixed)
     x = np.atleast_2d(x)
     q = np.empty((len(x), 3))
     q[:, fa], q[:, fb], q[:, fixed] = x[:, 1], x[:, 2], value
@@ -235,6 +240,28 @@ def _system(m, x, fixed, value):
         J[:, :, col] = (_series(x[:, 0], allc[:, n * (1 + j): n * (2 + j)], d) * _FACT)[:, :3]
     scale = np.sum(np.abs(c), axis=1)
     return G, J, scale, q
+
+
+def half_angle_gap(phi, theta):
+    """Distance of the half-angle ``phi/2`` from ``theta`` modulo ``pi`` (X and -X are one point).
+
+    Examples
+    --------
+    >>> from imagespace.singular.cusps import half_angle_gap
+    >>> round(float(half_angle_gap(0.2, 0.1 + 3.141592653589793)), 12)
+    0.0
+    """
+    return abs(np.remainder(phi / 2 - theta + np.pi / 2, np.pi) - np.pi / 2)
+
+
+def _pose_at(m, q, theta):
+    # a cusp is a triple root: the float DK is near-singular there by construction, so the batch
+    # path (which flags instead of warning) gives the modes; the one nearest theta is the cusp's
+    modes = m.direct_kinematics_batch(np.asarray(q, dtype=float)[None, :], method="numpy").modes(0)
+    if not modes:
+        return np.full(3, np.nan)
+    dist = [half_angle_gap(mm.pose[2], theta) for mm in modes]
+    return modes[int(np.argmin(dist))].pose
 
 
 @dataclass(frozen=True)
@@ -357,190 +384,6 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
     return sorted(out, key=lambda c: (c.q[fa], c.q[fb]))
 
 
-def _half_angle_gap(phi, theta):
-    """Distance of the half-angle ``phi/2`` from ``theta`` modulo ``pi`` (X and -X are one point)."""
-    return abs(np.remainder(phi / 2 - theta + np.pi / 2, np.pi) - np.pi / 2)
-
-
-def _pose_at(m, q, theta):
-    # a cusp is a triple root: the float DK is near-singular there by construction, so the batch
-    # path (which flags instead of warning) gives the modes; the one nearest theta is the cusp's
-    modes = m.direct_kinematics_batch(np.asarray(q, dtype=float)[None, :], method="numpy").modes(0)
-    if not modes:
-        return np.full(3, np.nan)
-    dist = [_half_angle_gap(mm.pose[2], theta) for mm in modes]
-    return modes[int(np.argmin(dist))].pose
-
-
-@dataclass(frozen=True)
-class CuspLoop:
-    """A circle of joint vectors around a cusp, walked with one assembly mode followed by continuation.
-
-    Attributes
-    ----------
-    q : (n, 3) float
-        The loop (closed: first = last).
-    poses : (n, 3) float
-        The followed mode at each joint vector.
-    start_mode, end_mode : int
-        Index (in ``direct_kinematics(q[0])``) of the mode at the start and where the walk ends.
-    changed : bool
-        ``end_mode != start_mode``: the loop changed the assembly mode.
-    aspects : (n,) int
-        Sign of det J along the walk (constant: the walk never meets a singularity).
-    winding : float
-        Winding number of the loop around the cusp in the section (1 for the circle).
-    continuous : bool
-        No step of the walk jumped (a step more than 20 times the median would mean the followed
-        mode was lost - it met a singularity - and another one was picked up).
-    """
-
-    q: np.ndarray
-    poses: np.ndarray
-    start_mode: int
-    end_mode: int
-    changed: bool
-    aspects: np.ndarray
-    winding: float = 1.0
-    continuous: bool = True
-
-    def certified_path(self, manipulator, every=8):
-        """The followed modes as an image-space polyline, with its exact certificate.
-
-        A polyline through every ``every``-th pose of the walk (signs of the representatives
-        aligned); it joins the start mode to the end mode, and :func:`imagespace.paths.check.check_path`
-        decides exactly whether it touches the singularity surface. If it does, the polyline is
-        refined (``every`` halved, down to every pose) before the answer is returned.
-
-        Returns
-        -------
-        (ImagePath, PathCheck)
-
-        Examples
-        --------
-        >>> import imagespace as isp
-        >>> from imagespace.singular.cusps import cusps, cusp_loop
-        >>> m = isp.examples.general_3rpr()
-        >>> loop = cusp_loop(m, cusps(m, 2, 10.0, [(8, 14), (2, 8)], 60)[0], 2, 0.05)
-        >>> path, chk = loop.certified_path(m)
-        >>> chk.singularity_free
-        True
-        """
-        from ..core.kinematic_map import image_point
-        from ..paths.check import check_path, polyline
-        from .surface import _check_manipulator
-
-        _check_manipulator(manipulator)
-        every = min(as_count(every, "every"), len(self.poses))      # larger steps all mean "ends only"
-        while True:
-            idx = np.unique(np.append(np.arange(0, len(self.poses), every), len(self.poses) - 1))
-            X = image_point(self.poses[idx])
-            for k in range(1, len(X)):
-                if X[k, :2] @ X[k - 1, :2] < 0:
-                    X[k] = -X[k]
-            path = polyline(X)
-            chk = check_path(manipulator, path)
-            if chk.singularity_free or every == 1:
-                return path, chk
-            every = max(1, every // 2)          # chords cut corners near the surface: refine
-
-
-def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
-    """Walk a circle of radius ``radius`` around a cusp in the section and follow a mode.
-
-    The walk starts in the middle of the arc of the circle with the most real modes (inside the
-    cusp's wedge, where the three modes that merge at the cusp are all real) and follows, by
-    continuation, each of the three modes nearest to the cusp's orientation; the first that comes
-    back as another mode is returned (the classical non-singular assembly-mode change), otherwise
-    the walk of the nearest one.
-
-    Parameters
-    ----------
-    manipulator : PlanarParallel
-    cusp : Cusp
-    fixed : int
-        The section's fixed joint (as given to :func:`cusps`).
-    radius : float
-    steps : int
-
-    Returns
-    -------
-    CuspLoop
-
-    Examples
-    --------
-    >>> import imagespace as isp
-    >>> from imagespace.singular.cusps import cusps, cusp_loop
-    >>> m = isp.examples.general_3rpr()
-    >>> c = cusps(m, 2, 10.0, [(8, 14), (2, 8)], 60)[0]
-    >>> loop = cusp_loop(m, c, 2, 0.05)
-    >>> loop.changed, loop.continuous, bool(np.all(loop.aspects == loop.aspects[0]))
-    (True, True, True)
-    """
-    from .surface import _check_manipulator
-
-    _check_manipulator(manipulator)
-    if not isinstance(cusp, Cusp):
-        raise TypeError(f"cusp must be a Cusp (an item of cusps(...)), got {type(cusp).__name__} {_short(cusp)}")
-    fa, fb = _free(fixed)
-    radius = _scalar(radius, "radius")
-    if not radius > 0:
-        raise InputError(f"radius must be positive, got {radius!r}")
-    steps = as_count(steps, "steps", 8)
-    if steps > MAX_STEPS:
-        raise InputError(f"steps must be at most MAX_STEPS = {MAX_STEPS}, got {_short(steps)}")
-    ang = np.linspace(0, 2 * np.pi, steps + 1)[:-1]
-    Q = np.repeat(cusp.q[None], steps, axis=0)
-    Q[:, fa] += radius * np.cos(ang)
-    Q[:, fb] += radius * np.sin(ang)
-    res = manipulator.direct_kinematics_batch(Q, method="numpy")
-    count = np.where(res.row_ok, res.count, -1)
-    top = count == count.max()
-    # the middle of the longest run of maximal count (cyclically)
-    idx = np.flatnonzero(top)
-    if len(idx) == len(top):
-        k0 = 0
-    else:
-        start = idx[np.flatnonzero(~top[(idx - 1) % len(top)])]
-        runs = [(int(np.sum(top[np.arange(a, a + len(top)) % len(top)].cumprod())), a) for a in start]
-        length, a = max(runs)
-        k0 = (a + length // 2) % len(top)
-    order = np.append(np.roll(np.arange(steps), -k0), k0)
-    Qo = Q[order]
-    v0 = res.valid[k0]                          # modes numbered among the valid ones, as in ``end``
-    modes0 = list(enumerate(zip(res.image_points[k0][v0], res.poses[k0][v0], res.aspect[k0][v0])))
-    modes0 = [(j, X, P, asp) for j, (X, P, asp) in modes0]
-    near = sorted(modes0, key=lambda mm: _half_angle_gap(mm[2][2], cusp.theta))[:3]
-    walks = []
-    for j0, X0, P0, a0 in near:
-        X, poses, aspects, jumps = X0, [P0], [int(a0)], []
-        for k in order[1:]:
-            cand = res.image_points[k][res.valid[k]]
-            if len(cand) == 0:
-                break
-            d = np.minimum(np.linalg.norm(cand - X, axis=1), np.linalg.norm(cand + X, axis=1))
-            j = int(np.argmin(d))
-            jumps.append(d[j])
-            X = cand[j]
-            poses.append(res.poses[k][res.valid[k]][j])
-            aspects.append(int(res.aspect[k][res.valid[k]][j]))
-        if len(poses) < len(order):
-            continue
-        d0 = [min(np.linalg.norm(Y - X), np.linalg.norm(Y + X)) for Y in res.image_points[k0][v0]]
-        end = int(np.argmin(d0))
-        start_j = j0
-        jumps = np.array(jumps)
-        continuous = bool(jumps.max() <= max(20 * np.median(jumps), 1e-9))
-        loop = CuspLoop(Qo, np.array(poses), start_j, end, end != start_j, np.array(aspects),
-                        continuous=continuous)
-        if loop.changed and loop.continuous and np.all(loop.aspects == loop.aspects[0]):
-            return loop
-        walks.append(loop)
-    if not walks:
-        raise InputError("the loop loses every real mode; choose a smaller radius")
-    return walks[0]
-
-
 def cusp_edges(manipulator, fixed, values, window, resolution=60):
     """The cusp points of many parallel sections, chained into curves of joint space (the cusp
     edges of the discriminant surface).
@@ -575,10 +418,10 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     vals = as_float_array(values, "values")
     if vals.ndim != 1 or len(vals) < 2 or np.any(np.diff(vals) <= 0):
         raise InputError(f"values must be at least two increasing numbers, got {np.asarray(values).tolist()}")
-    from .surface import _check_manipulator
+    from ..core.mechanism import check_mechanism as _check_manipulator
 
     _check_manipulator(manipulator)
-    fa, fb = _free(fixed)
+    fa, fb = free_joints(fixed)
     w = _window(window)
     _resolution(resolution)
     reach = 0.1 * float(np.max(w[:, 1] - w[:, 0]))

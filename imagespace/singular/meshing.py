@@ -717,7 +717,7 @@ def surface_implicit(surface, chart="image"):
     >>> type(surface_implicit(isp.examples.stigger_husty().singularity_surface(), "pose")).__name__
     'PolynomialImplicit'
     """
-    from .surface import SingularitySurface, image_chart_point, pose_chart_point
+    from .surface import SingularitySurface
 
     if not isinstance(surface, SingularitySurface):
         raise TypeError(f"surface must be a SingularitySurface (from PlanarParallel.singularity_surface), "
@@ -726,22 +726,23 @@ def surface_implicit(surface, chart="image"):
         raise TypeError(f"chart must be 'image' or 'pose', got {type(chart).__name__} {_short(chart)}")
     if chart not in ("image", "pose"):
         raise InputError(f"chart must be 'image' or 'pose', got {chart!r}")
-    key = ("implicit", chart)
-    if key in surface._cache:
-        return surface._cache[key]
+    return surface.cached(("implicit", chart), lambda: _build_implicit(surface, chart))
+
+
+def _build_implicit(surface, chart):
+    from .surface import image_chart_point, pose_chart_point
+
     to_X = image_chart_point if chart == "image" else pose_chart_point
     if surface.is_polynomial:
         expr, syms = surface.chart_expression(chart)
-        surface._cache[key] = PolynomialImplicit(expr, syms)
-        return surface._cache[key]
+        return PolynomialImplicit(expr, syms)
 
     def vg(P):
         X, dX = to_X(P)
         v, G = surface.value_and_gradient(X)
         return v, np.einsum("ni,nik->nk", G, dX)
 
-    surface._cache[key] = FunctionImplicit(vg, lambda P: surface(to_X(P)[0]))
-    return surface._cache[key]
+    return FunctionImplicit(vg, lambda P: surface(to_X(P)[0]))
 
 
 # -- meshing ------------------------------------------------------------------------------------

@@ -47,6 +47,7 @@ from ..core.codegen import compile_exprs
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
 from ..core.kinematic_map import pose_of
+from ..core.mechanism import check_mechanism
 
 __all__ = ["SingularitySurface", "PoseJacobians", "ConicSection", "singularity_surface",
            "singularity_surfaces", "jacobians", "symbolic_jacobians", "pose_chart_point", "image_chart_point"]
@@ -117,12 +118,7 @@ def image_chart_point(U):
 # -- input checks shared by the analysis modules ------------------------------------------------
 def _check_manipulator(manipulator, name="manipulator"):
     """Refuse anything but a :class:`PlanarParallel` with a clear ``TypeError``."""
-    from ..manipulator import PlanarParallel
-
-    if not isinstance(manipulator, PlanarParallel):
-        raise TypeError(f"{name} must be a PlanarParallel (e.g. isp.examples.general_3rpr()), got "
-                        f"{type(manipulator).__name__} {_short(manipulator)}")
-    return manipulator
+    return check_mechanism(manipulator, name)
 
 
 def _scalar(value, name, finite=True):
@@ -159,7 +155,7 @@ def _check_joint_values(manipulator, q, name="q"):
         if len(items) != 3:
             raise InputError(f"{name} must have shape (3,), got {len(items)} entries: {_short(q)}")
         return tuple(as_exact(v, f"{name}[{i}]") for i, v in enumerate(items))
-    qa = manipulator._check_q(q, name)
+    qa = manipulator.check_q(q, name)
     if qa.shape != (3,):
         raise InputError(f"{name} must have shape (3,), got {qa.shape}")
     return tuple(as_exact(float(v), f"{name}[{i}]") for i, v in enumerate(qa))
@@ -168,20 +164,21 @@ def _check_joint_values(manipulator, q, name="q"):
 # -- compiled constraint functions ----------------------------------------------------------------
 def _constraint_functions(m):
     """Compiled ``[Q_i, dQ_i/dx (4), dQ_i/dq_i]`` for the three legs, arguments ``(x0..x3, q1..q3)``."""
-    key = "constraint_functions"
-    if key not in m._symbolic_cache:
-        _require_numeric(m)
-        x = image_symbols()
-        qs = m.joint_symbols
-        exprs = []
-        for leg, qi in zip(m.legs, qs):
-            Q = sp.expand(leg.dyad(qi).expr())
-            if any(not c.is_Rational for c in sp.Poly(Q, *x).coeffs() if c.is_number):
-                Q = sp.expand(sp.N(Q, 20))          # exact trig/radical constants: evaluate once
-            P = sp.Poly(Q, *x)
-            exprs += [Q] + [P.diff(v).as_expr() for v in x] + [sp.diff(Q, qi)]
-        m._symbolic_cache[key] = compile_exprs(exprs, list(x) + list(qs))
-    return m._symbolic_cache[key]
+    return m.cached("constraint_functions", lambda: _build_constraint_functions(m))
+
+
+def _build_constraint_functions(m):
+    _require_numeric(m)
+    x = image_symbols()
+    qs = m.joint_symbols
+    exprs = []
+    for leg, qi in zip(m.legs, qs):
+        Q = sp.expand(leg.dyad(qi).expr())
+        if any(not c.is_Rational for c in sp.Poly(Q, *x).coeffs() if c.is_number):
+            Q = sp.expand(sp.N(Q, 20))          # exact trig/radical constants: evaluate once
+        P = sp.Poly(Q, *x)
+        exprs += [Q] + [P.diff(v).as_expr() for v in x] + [sp.diff(Q, qi)]
+    return compile_exprs(exprs, list(x) + list(qs))
 
 
 def _require_numeric(m):
@@ -246,6 +243,22 @@ class SingularitySurface:
     working_modes: tuple | None = None
     eliminated: tuple = ()
     _cache: dict = field(default_factory=dict, repr=False)
+
+
+    def cached(self, key, factory):
+        """The artefact stored on this surface under ``key``, built by ``factory()`` on first use
+        (compiled functions, the mesher's implicit function, the path checker's prepared quartic).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> S = isp.singularity_surface(isp.examples.general_3rpr())
+        >>> S.cached("answer", lambda: 42), S.cached("answer", lambda: 0)
+        (42, 42)
+        """
+        if key not in self._cache:
+            self._cache[key] = factory()
+        return self._cache[key]
 
     def __repr__(self):
         qtext = None if self.q is None else "(" + ", ".join(f"{float(v):.10g}" for v in self.q) + ")"
@@ -460,23 +473,28 @@ class SingularitySurface:
         >>> bool(np.allclose(S.section_coefficients([0.7])[0], S.section(0.7).coefficients))
         True
         """
-        from .meshing import surface_implicit
-
         if self.kind == "working-mode":
             raise InputError("section_coefficients() needs a polynomial surface; use "
                              "singularity_surface(q=...) for given joint values")
         phi = np.atleast_1d(as_float_array(phi, "phi"))
         if phi.ndim != 1:
             raise InputError(f"phi must be a number or a (n,) array of orientations, got shape {phi.shape}")
-        imp = surface_implicit(self, "pose")
-        C = imp._coeffs(phi)
+        monomials, coefficients = self.cached("section coefficients", self._section_functions)
+        C = coefficients(phi)
         order = {(2, 0): 0, (1, 1): 1, (0, 2): 2, (1, 0): 3, (0, 1): 4, (0, 0): 5}
         out = np.zeros((len(phi), 6))
-        for k, mono in enumerate(imp._monomials):
+        for k, mono in enumerate(monomials):
             if mono not in order:
                 raise InputError(f"the section has the monomial x**{mono[0]} y**{mono[1]}; expected a conic")
             out[:, order[mono]] = C[:, k]
         return out
+
+    def _section_functions(self):
+        """The monomials in ``(x, y)`` of the pose-chart quartic and their coefficients compiled
+        as functions of ``phi``."""
+        expr, (x, y, w) = self.chart_expression("pose")
+        poly = sp.Poly(sp.expand(expr), x, y)
+        return poly.monoms(), compile_exprs(poly.coeffs(), [w])
 
     def chart_expression(self, chart):
         """The quartic in chart coordinates as a sympy expression (polynomial kinds).
@@ -740,7 +758,7 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
     if q is None:
         Q = np.atleast_2d(manipulator.inverse_kinematics(P, working_modes))
     else:
-        Q = np.atleast_2d(manipulator._check_q(q))
+        Q = np.atleast_2d(manipulator.check_q(q))
         if len(Q) != len(P) and len(Q) != 1 and len(P) != 1:
             raise InputError(f"q must have shape (3,) or (n, 3) with n = {len(P)} (one row per pose), "
                              f"got shape {Q.shape}")

@@ -46,6 +46,7 @@ compiled in memory.
 from __future__ import annotations
 
 import hashlib
+import itertools
 import math
 import os
 import stat
@@ -72,14 +73,10 @@ _TOUCH_DUPLICATE = 1e-12     # a root touching the axis this close to a crossing
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
 # into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
 # polynomial p, up to 12 chart candidates, the scaled quadrics Cs and Newton's val, dx, X, J.
-_WORK_LAYOUT = (("W", 49), ("PTS", 8), ("VALS", 8), ("NEW", 7), ("RTS", 6), ("P", 7),
-                ("CAND", 48), ("CS", 24), ("VAL", 4), ("DX", 4), ("X", 4), ("J", 16))
-_o = 0
-for _name, _size in _WORK_LAYOUT:
-    globals()[f"_W_{_name}"] = _o
-    _o += _size
-_WORK_SIZE = _o
-del _o, _name, _size
+_WORK_SIZES = (49, 8, 8, 7, 6, 7, 48, 24, 4, 4, 4, 16)
+(_W_W, _W_PTS, _W_VALS, _W_NEW, _W_RTS, _W_P, _W_CAND, _W_CS, _W_VAL, _W_DX, _W_X,
+ _W_J) = (0, *itertools.accumulate(_WORK_SIZES[:-1]))
+_WORK_SIZE = sum(_WORK_SIZES)
 
 # The kernel's decision thresholds arrive as one float array (from the design's Tolerances, see
 # kernel_tolerances); these name its entries.
@@ -906,11 +903,11 @@ def build_kernel(manipulator):
     """
     from ..core.elimination import eliminate
 
-    if not HAVE_NUMBA or "PP" in manipulator._kinds:
+    if not HAVE_NUMBA or "PP" in manipulator.kinds:
         return None
     q = manipulator.joint_symbols
     quads = manipulator.quadrics(None)
-    el = eliminate(quads, manipulator._plan)
+    el = eliminate(quads, manipulator.elimination_plan)
     D = [sp.expand(v) for v in el.D]
     if all(v == 0 for v in D):
         return None

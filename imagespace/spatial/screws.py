@@ -652,7 +652,7 @@ def planar_leg_wrenches(manipulator, pose):
     >>> W.shape
     (3, 3)
     """
-    from ..singular.surface import _check_manipulator
+    from ..core.mechanism import check_mechanism as _check_manipulator
 
     _check_manipulator(manipulator)
     p = as_float_array(pose, "pose", last=3, allow_batch=False)

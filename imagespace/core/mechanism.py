@@ -1,0 +1,574 @@
+"""Mechanism: three legs and everything derived from them once.
+
+The core of :class:`~imagespace.PlanarParallel` (which adds the direct kinematics on top): the
+legs and their dyad quadrics, the joint symbols, the constraint equations, the kinematic
+polynomial and its elimination forms, the singularity polynomial, the legs' inverse kinematics,
+and every derived or compiled artefact, cached on the object (:meth:`Mechanism.cached`,
+:meth:`Mechanism.clear_cache`). Imports nothing above :mod:`imagespace.core`.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Hashable
+
+import numpy as np
+import sympy as sp
+
+from .._validate import as_exact, as_float_array, is_symbolic
+from ..exceptions import DegenerateDesignError, InputError
+from ..tolerances import TOLERANCES, Tolerances
+from .elimination import binary_form_poly, eliminate, orientation_form, plan_elimination
+from .legs import Leg
+from .quadrics import image_symbols
+
+__all__ = ["Mechanism", "check_mechanism", "form_coefficients"]
+
+
+def check_mechanism(value, name="manipulator"):
+    """Refuse anything but a :class:`Mechanism` (a :class:`~imagespace.PlanarParallel`) by name.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.core.mechanism import check_mechanism
+    >>> check_mechanism(isp.examples.general_3rpr()).name
+    'general 3-RPR'
+    """
+    if not isinstance(value, Mechanism):
+        raise TypeError(f"{name} must be a PlanarParallel (e.g. isp.examples.general_3rpr()), got "
+                        f"{type(value).__name__} {value!r:.80}")
+    return value
+
+
+def form_coefficients(poly):
+    """Coefficients ``[f_0 .. f_d]`` (of ``x0^(d-k) x1^k``) of a homogeneous Poly in ``(x0, x1)``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace.core.mechanism import form_coefficients
+    >>> x0, x1 = sp.symbols("x0 x1")
+    >>> form_coefficients(sp.Poly(x0**2 - 3 * x1**2, x0, x1))
+    [1, 0, -3]
+    """
+    d = poly.total_degree()
+    return [poly.coeff_monomial((d - k, k)) for k in range(d + 1)]
+
+def _three_joint_values(q, name="q"):
+    """The three entries of one joint vector ``q`` (numbers or sympy expressions), refusing
+    other shapes, strings and None by name."""
+    if isinstance(q, (str, bytes)) or q is None or isinstance(q, sp.MatrixBase) and min(q.shape) > 1:
+        raise TypeError(f"{name} must be three joint values, got {type(q).__name__} {q!r:.80}")
+    try:
+        items = list(q)
+    except TypeError:
+        raise TypeError(f"{name} must be three joint values, got {type(q).__name__} {q!r:.80}") from None
+    if len(items) != 3 or any(np.ndim(v) != 0 or isinstance(v, (list, tuple)) for v in items):
+        raise InputError(f"{name} must have shape (3,), got {np.shape(np.asarray(q, dtype=object))}")
+    return items
+def _cache_key(q):
+    """Key of the symbolic caches for joint values ``q`` (None: general in the joint symbols).
+
+    Exact: every entry becomes the exact sympy number it denotes (a float its binary rational,
+    an int or Fraction itself), so ``2**53 + 1`` and ``2**53``, or ``Fraction(1, 3)`` and
+    ``1/3``, are different keys.
+    """
+    if q is None:
+        return None
+    items = _three_joint_values(q)
+    return tuple(sp.sympify(v) if isinstance(v, sp.Basic) else as_exact(v, f"q[{i}]")
+                 for i, v in enumerate(items))
+
+
+class Mechanism:
+    """Three legs, their quadrics and every derivation from them, each made once and cached.
+
+    Parameters
+    ----------
+    legs : sequence of three Leg
+    name : str, optional
+    tolerances : Tolerances, optional
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.core.mechanism import Mechanism
+    >>> m = Mechanism(isp.examples.general_3rpr().legs)
+    >>> m.kinematic_polynomial().total_degree(), m.kinds
+    (6, ('RR', 'RR', 'RR'))
+    """
+
+    def __init__(self, legs, name=None, tolerances: Tolerances = TOLERANCES):
+        if isinstance(legs, (str, bytes)) or legs is None or not (isinstance(legs, Leg) or hasattr(legs, "__iter__")):
+            raise TypeError(f"legs must be a sequence of three Leg objects (RPR, RRR, PRR, RRP, RPP, "
+                            f"PRP, PPR), got {type(legs).__name__} {legs!r}")
+        if not isinstance(tolerances, Tolerances):
+            raise TypeError(f"tolerances must be an imagespace.Tolerances, got {type(tolerances).__name__} "
+                            f"{tolerances!r}")
+        if name is not None and not isinstance(name, str):
+            raise TypeError(f"name must be a string, got {type(name).__name__} {name!r}")
+        legs = list(legs) if not isinstance(legs, Leg) else [legs]
+        if len(legs) != 3:
+            raise InputError(f"legs must be a sequence of three legs, got {len(legs)}")
+        for i, leg in enumerate(legs):
+            if not isinstance(leg, Leg):
+                raise TypeError(f"legs[{i}] must be a Leg (RPR, RRR, PRR, RRP, RPP, PRP, PPR), "
+                                f"got {type(leg).__name__}")
+        self.legs = tuple(legs)
+        self.name = name or "-".join(leg.joints for leg in legs)
+        self.tolerances = tolerances
+        self.q_example = None
+        self._kinds = tuple(leg.dyad(sp.Symbol("_q")).kind for leg in self.legs)
+        self._plan = plan_elimination(list(self._kinds))
+        self._symbolic_cache = {}
+        self._check_design()
+
+    def _check_design(self):
+        """Reject designs that are degenerate for every joint value (coincident anchors)."""
+        anchors = []
+        for i, leg in enumerate(self.legs):
+            g = leg._geometry()
+            # legs whose locked dyad keeps one platform point on a circle
+            if (leg.joints, leg.actuated) in {("RPR", 1), ("RRR", 0), ("RRR", 1), ("PRR", 0)}:
+                anchors.append((i, g["base"], g["platform"]))
+        for a in range(len(anchors)):
+            for b in range(a + 1, len(anchors)):
+                i, A1, a1 = anchors[a]
+                j, A2, a2 = anchors[b]
+                if A1 == A2 and a1 == a2 and self.legs[i].joints == self.legs[j].joints == "RPR":
+                    raise DegenerateDesignError(
+                        f"legs[{i}] and legs[{j}] have the same base anchor {A1} and platform anchor "
+                        f"{a1}: they impose the same constraint, the design has a continuum of modes")
+        if len(anchors) == 3 and anchors[0][2] == anchors[1][2] == anchors[2][2]:
+            raise DegenerateDesignError(
+                f"all three legs hold the same platform anchor {anchors[0][2]}: the platform can "
+                "rotate freely about it (architecture singularity)")
+
+    @property
+    def joint_symbols(self):
+        """The sympy symbols ``(q1, q2, q3)`` of the actuated joints (real).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.examples.stigger_husty().joint_symbols
+        (q1, q2, q3)
+        """
+        return sp.symbols("q1:4", real=True)
+
+    def check_q(self, q, name="q"):
+        """Joint values ``q`` ``(3,)`` or ``(n, 3)`` as a checked float array: real, finite, inside
+        every actuated joint's domain; the error names ``name``.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.examples.general_3rpr().check_q([11, 5, 10]).tolist()
+        [11.0, 5.0, 10.0]
+        """
+        arr = as_float_array(q, name, last=3)
+        for i, leg in enumerate(self.legs):
+            leg.check_joint_value(arr[..., i], f"{name}[{i}]")
+        return arr
+
+    def quadrics(self, q=None):
+        """The three dyad quadrics at the joint values ``q``.
+
+        Parameters
+        ----------
+        q : None, (3,) sympy/exact numbers, (3,) float or (n, 3) float
+            ``None``: general in :attr:`joint_symbols`; exact/sympy: exact coefficients;
+            floats: float coefficients (arrays for a batch).
+
+        Returns
+        -------
+        list of three Quadric
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> [qd.kind for qd in m.quadrics()]
+        ['RR', 'RR', 'PR']
+        """
+        if q is None:
+            q = self.joint_symbols
+        if is_symbolic(q) or all(isinstance(v, (int, np.integer)) for v in np.ravel(np.array(q, dtype=object))):
+            items = list(q)
+            if len(items) != 3:
+                raise InputError(f"q must have shape (3,), got {len(items)} entries")
+            return [leg.dyad(as_exact(v, f"q[{i}]")) for i, (leg, v) in enumerate(zip(self.legs, items))]
+        arr = self.check_q(q)
+        return [leg.dyad(arr[..., i]) for i, leg in enumerate(self.legs)]
+
+    def constraint_equations(self, q=None):
+        """The three constraint quadrics as sympy expressions in ``x0..x3``.
+
+        Parameters
+        ----------
+        q : None or (3,) numbers / sympy expressions
+            ``None`` keeps the joint values as the symbols :attr:`joint_symbols`. Floats are
+            taken as exact binary rationals.
+
+        Returns
+        -------
+        list of three sympy expressions
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.constraint_equations(m.q_example)[0]
+        -100*x0**2 - 100*x1**2 + 4*x2**2 + 4*x3**2
+        """
+        if q is not None and not is_symbolic(q):
+            items = _three_joint_values(q)
+            as_float_array([float(v) for v in items], "q", last=3)
+            q = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
+        return [qd.expr() for qd in self.quadrics(q)]
+
+    def kinematic_polynomial(self, q=None):
+        """The binary form in ``(x0, x1)`` whose real roots are the orientations of the assembly modes.
+
+        Eliminates ``x2, x3`` as in :mod:`imagespace.core.elimination`: a form of degree <= 6 (degree
+        4 before the removal of a factor ``x0**2 + x1**2`` when no leg has an RR dyad). Factors
+        ``x0**2 + x1**2`` (no real roots) are divided out exactly. In case (a) of the elimination
+        (the Cramer denominator vanishes identically, e.g. seed 003's collinear 3-RPR) the result
+        is the binary quadratic that fixes the orientations, each carrying up to two modes.
+        With a PP dyad the form also has the root ``phi_c + pi`` of the pair of planes, which
+        :meth:`direct_kinematics` discards.
+
+        Parameters
+        ----------
+        q : None or (3,) numbers / sympy expressions
+            ``None``: general in :attr:`joint_symbols` (and in the design's symbols, if any).
+
+        Returns
+        -------
+        sympy.Poly
+            In the generators ``(x0, x1)``.
+
+        Raises
+        ------
+        DegenerateDesignError
+            If the polynomial vanishes identically (infinitely many assembly modes).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.kinematic_polynomial(m.q_example).total_degree()
+        6
+        """
+        return self._exact_forms(q)[0]
+
+    def _exact_forms(self, q):
+        """``(P, elimination, case_a)`` for exact/symbolic ``q`` (None: general), cached by the
+        exact value of ``q``: the kinematic polynomial, the sympy elimination it came from, and
+        whether the Cramer denominator vanishes identically."""
+        key = _cache_key(q)
+        if key in self._symbolic_cache:
+            return self._symbolic_cache[key]
+        eqs = self.quadrics(None if q is None else [as_exact(v, f"q[{i}]") for i, v in enumerate(q)]
+                            if not is_symbolic(q) else q)
+        x0, x1 = image_symbols()[:2]
+        el = eliminate(eqs, self._plan)
+        D = [sp.expand(v) for v in el.D]
+        case_a = all(v == 0 for v in D)
+        if case_a:
+            form = orientation_form(el.rows)
+        else:
+            form = [sp.expand(v) for v in el.F]
+            if all(v == 0 for v in form):
+                raise DegenerateDesignError(
+                    f"the kinematic polynomial of {self.name} vanishes identically"
+                    + (" at q = " + str(list(q)) if q is not None else "")
+                    + ": infinitely many assembly modes (architecture singularity)")
+        expr = binary_form_poly(form).as_expr()
+        N = x0**2 + x1**2
+        while True:
+            quo, rem = sp.div(expr, N, x0, x1)
+            if sp.expand(rem) != 0 or sp.expand(quo) == 0:
+                break
+            expr = sp.expand(quo)
+        poly = sp.Poly(expr, x0, x1)
+        out = (poly, el, case_a)
+        self._symbolic_cache[key] = out
+        return out
+
+    def compiled(self):
+        """The kinematic polynomial general in the joint values, derived once and compiled (cached).
+
+        Returns
+        -------
+        CompiledPolynomial
+            ``.coefficients(Q)`` evaluates the coefficients for a batch ``(n, 3)`` of joint
+            vectors in one vectorised call.
+
+        Raises
+        ------
+        InputError
+            If the design has free symbols (substitute numbers first).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.compiled().degree
+        6
+        """
+        if "compiled" not in self._symbolic_cache:
+            free = set().union(*(leg.free_symbols for leg in self.legs))
+            if free:
+                raise InputError(f"compiled() needs a numeric design; the design has the symbols "
+                                 f"{sorted(map(str, free))}")
+            from .codegen import CompiledPolynomial, compile_exprs
+
+            P = self.kinematic_polynomial()
+            d = P.total_degree()
+            coeffs = [P.coeff_monomial((d - k, k)) for k in range(d + 1)]
+            fn = compile_exprs(coeffs, self.joint_symbols)
+            self._symbolic_cache["compiled"] = CompiledPolynomial(P, d, self.joint_symbols, fn)
+        return self._symbolic_cache["compiled"]
+
+    def singularity_polynomial(self, q=None):
+        """``det`` of the Jacobian of ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` with respect to ``x0..x3``.
+
+        A homogeneous quartic in the image coordinates; its zero set is the direct-kinematic
+        singularity surface, and its sign at a normalised mode is :attr:`AssemblyMode.aspect`.
+        Where every actuated joint only changes a radius or an offset (RPR, PPR and the like) the
+        joint values drop out: they multiply ``x0**2 + x1**2`` in the quadric, whose gradient is
+        a multiple of the normalisation row. Where an actuated joint moves a circle's centre or a
+        line (an actuated RRR base revolute ...) the joint symbols stay in the result.
+
+        Parameters
+        ----------
+        q : None or (3,) numbers / sympy expressions
+            ``None``: general in :attr:`joint_symbols`.
+
+        Returns
+        -------
+        sympy.Poly
+            In ``(x0, x1, x2, x3)``; :attr:`joint_symbols` among its free symbols only where the
+            surface depends on the joint values.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> S = m.singularity_polynomial()
+        >>> S.total_degree(), S.free_symbols & set(m.joint_symbols)
+        (4, set())
+        """
+        key = ("singularity", _cache_key(q))
+        if key not in self._symbolic_cache:
+            x = image_symbols()
+            eqs = self.constraint_equations(q) + [x[0]**2 + x[1]**2 - 1]
+            J = sp.Matrix(eqs).jacobian(sp.Matrix(x))
+            det = sp.expand(J.det(method="berkowitz"))
+            for s in self.joint_symbols:        # canonical in sin/cos of an actuated angle
+                if det.has(sp.sin(s)):
+                    det = sp.expand(det.subs(sp.sin(s)**2, 1 - sp.cos(s)**2))
+            self._symbolic_cache[key] = sp.Poly(det, *x)
+        return self._symbolic_cache[key]
+
+    def inverse_kinematics(self, pose, working_modes=None):
+        """Actuated joint values at a pose.
+
+        Parameters
+        ----------
+        pose : (3,) or (n, 3) float
+            ``(x, y, phi)``.
+        working_modes : sequence of three ints, optional
+            The branch of each leg's inverse kinematics (see :mod:`imagespace.core.legs`); default 0.
+
+        Returns
+        -------
+        (3,) or (n, 3) float
+            For a batch, NaN where a leg cannot reach the pose.
+
+        Raises
+        ------
+        InputError
+            For a single pose that a leg cannot reach.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> m.inverse_kinematics([-7.7528, 6.3162, -1.6549]).round(2)
+        array([10.  , 15.23, 13.25])
+        """
+        p = as_float_array(pose, "pose", last=3)
+        if working_modes is not None and (isinstance(working_modes, (str, bytes))
+                                          or not hasattr(working_modes, "__iter__")):
+            raise TypeError(f"working_modes must be a sequence of three whole numbers, got {working_modes!r}")
+        wm = (0, 0, 0) if working_modes is None else tuple(working_modes)
+        if len(wm) != 3:
+            raise InputError(f"working_modes must have three entries, got {working_modes!r}")
+        cols = []
+        for i, (leg, b) in enumerate(zip(self.legs, wm)):
+            if isinstance(b, (bool, np.bool_)) or not isinstance(b, (int, np.integer)):
+                raise TypeError(f"working_modes[{i}] must be a whole number (a branch index), got "
+                                f"{type(b).__name__} {b!r}")
+            if not 0 <= b < leg.n_branches:
+                raise InputError(f"working_modes[{i}] must be in 0..{leg.n_branches - 1} for "
+                                 f"{leg.joints}, got {b}")
+            cols.append(leg.actuated_values(p)[..., b])
+        q = np.stack(cols, axis=-1)
+        if p.ndim == 1 and np.any(np.isnan(q)):
+            bad = [i for i in range(3) if np.isnan(q[i])]
+            raise InputError(f"pose {p.tolist()} is out of reach of leg(s) {bad} "
+                             f"(working_modes={wm})")
+        return q
+
+    def joint_residual(self, pose, q, length=1.0):
+        """Largest deviation of the legs' inverse kinematics (best branch) from ``q``.
+
+        Angles are compared modulo ``2 pi`` (radians); prismatic joints relatively,
+        ``|dq| / max(|q|, length)``.
+
+        Parameters
+        ----------
+        pose : (3,) or (n, 3) float
+        q : (3,) or (n, 3) float
+        length : float or (n,) float
+            The length scale below which prismatic deviations count absolutely (default 1; the
+            direct kinematics passes the design's length scale, so its checks do not depend on
+            units).
+
+        Returns
+        -------
+        float or (n,) float
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> bool(m.joint_residual([1.8441, -9.8285, -1.3391], m.q_example_float) < 1e-3)
+        True
+        """
+        p = as_float_array(pose, "pose", last=3)
+        qa = as_float_array(q, "q", last=3)
+        length = as_float_array(length, "length")
+        if np.any(length <= 0):
+            raise InputError(f"length must be positive (a length scale), got {length.tolist()}")
+        if length.ndim > 1 or (length.ndim == 1 and (p.ndim < 2 and qa.ndim < 2
+                                                      or length.shape[0] != max(len(p) if p.ndim == 2 else 1,
+                                                                                len(qa) if qa.ndim == 2 else 1))):
+            raise InputError(f"length must be a number or one per row (n,), got shape {length.shape}")
+        if length.ndim:
+            length = length[..., None]
+        errs = []
+        for i, leg in enumerate(self.legs):
+            vals = leg.actuated_values(p)                  # (..., nb)
+            qi = qa[..., i][..., None]
+            if leg.actuated_is_angle:
+                d = np.abs(np.remainder(vals - qi + np.pi, 2 * np.pi) - np.pi)
+            else:
+                d = np.abs(vals - qi) / np.maximum(length, np.abs(qi))
+            errs.append(np.nanmin(np.where(np.isnan(d), np.inf, d), axis=-1))
+        return np.max(np.stack(errs, axis=-1), axis=-1)
+
+    @property
+    def q_example_float(self):
+        """``q_example`` as floats (``None`` if the mechanism has no example joint values)."""
+        return None if self.q_example is None else np.array([float(v) for v in self.q_example])
+
+    def _enclosure(self):
+        """The kinematic polynomial general in q, expanded for rigorous batch evaluation (cached)."""
+        if "enclosure" not in self._symbolic_cache:
+            from .codegen import CoefficientEnclosure
+
+            free = set().union(*(leg.free_symbols for leg in self.legs))
+            if free:
+                raise InputError(f"certified batches need a numeric design; the design has the "
+                                 f"symbols {sorted(map(str, free))}")
+            self._symbolic_cache["enclosure"] = CoefficientEnclosure(self.kinematic_polynomial(),
+                                                                     self.joint_symbols)
+        return self._symbolic_cache["enclosure"]
+
+    def leg_points(self, pose, q=None):
+        """Each leg as a polyline ``(k, 2)`` in the base frame at ``pose`` (for drawings).
+
+        When ``q`` is given, the branch of each leg whose actuated value matches it is drawn.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.stigger_husty()
+        >>> [p.shape for p in m.leg_points([1.8441, -9.8285, -1.3391])]
+        [(2, 2), (2, 2), (3, 2)]
+        """
+        p = as_float_array(pose, "pose", last=3, allow_batch=False)
+        qv = None
+        if q is not None:
+            qv = as_float_array(q, "q", last=3, allow_batch=False)
+        out = []
+        for i, leg in enumerate(self.legs):
+            branch = 0
+            if qv is not None:
+                vals = leg.actuated_values(p)
+                d = np.abs(vals - qv[i])
+                branch = int(np.nanargmin(np.where(np.isnan(d), np.inf, d)))
+            out.append(leg.joint_points(p, branch))
+        return out
+
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self.name!r}, legs={list(self.legs)!r})"
+
+    @property
+    def kinds(self):
+        """The dyad kind of each leg with its actuated joint locked (``"RR"``, ``"PR"``, ``"RP"``, ``"PP"``)."""
+        return self._kinds
+
+    @property
+    def elimination_plan(self):
+        """How ``x2, x3`` are eliminated for these dyad kinds (:func:`imagespace.core.elimination.plan_elimination`)."""
+        return self._plan
+
+    @property
+    def is_numeric(self):
+        """True when the design has no free symbols (only the joint values are variables)."""
+        return not set().union(*(leg.free_symbols for leg in self.legs))
+
+    def cached(self, key: Hashable, factory: Callable[[], Any]):
+        """The artefact stored under ``key``, built by ``factory()`` on first use.
+
+        Every derived or compiled artefact of the design lives here (symbolic polynomials,
+        lambdified functions, the compiled kernel ...), so :meth:`clear_cache` frees them all.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> m.cached("answer", lambda: 42), m.cached("answer", lambda: 0)
+        (42, 42)
+        """
+        if key not in self._symbolic_cache:
+            self._symbolic_cache[key] = factory()
+        return self._symbolic_cache[key]
+
+    def clear_cache(self):
+        """Forget every derived and compiled artefact (they are rebuilt on demand).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> _ = m.kinematic_polynomial(); m.clear_cache(); len(m.cache_keys())
+        0
+        """
+        self._symbolic_cache.clear()
+
+    def cache_keys(self):
+        """The keys of the artefacts built so far (for inspection).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.examples.general_3rpr().cache_keys()
+        []
+        """
+        return list(self._symbolic_cache)

@@ -1,0 +1,171 @@
+"""The package's layers (ARCHITECTURE.md): imports point downwards, no cycles, no module reaches
+into another object's private ``_cache``. Walks the AST of every module, function-level (lazy)
+imports included: a lazy import may delay a dependency, never hide an upward one."""
+
+import ast
+import os
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1] / "imagespace"
+
+# rank of each layer: a module may import modules of its own or a lower rank; spatial and dynamics
+# stand beside solve and use core only
+BASE = {"exceptions", "tolerances", "_validate", "_memory", "_files"}
+RANK = {"base": 0, "core": 1, "solve": 2, "spatial": 2, "dynamics": 2, "singular": 3, "paths": 4,
+        "design": 5, "top": 9}
+SIDE = {"spatial", "dynamics"}           # may use base and core only
+
+
+
+def module_name(path):
+    rel = path.relative_to(ROOT.parent).with_suffix("")
+    parts = list(rel.parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def layer(mod):
+    parts = mod.split(".")
+    if len(parts) == 1:
+        return "top"
+    head = parts[1]
+    if head in BASE:
+        return "base"
+    if head in RANK:
+        return head
+    return "top"
+
+
+def modules():
+    out = {}
+    for path in ROOT.rglob("*.py"):
+        if "__pycache__" in path.parts or path.name == "conftest.py":
+            continue
+        out[module_name(path)] = path
+    return out
+
+
+def imports_of(mod, path):
+    """(target module, line, lazy) for every import of an imagespace module in ``path``."""
+    tree = ast.parse(path.read_text())
+    is_pkg = path.name == "__init__.py"
+    pkg = mod if is_pkg else mod.rsplit(".", 1)[0]
+    found = []
+    top_level = {id(n) for n in tree.body}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = pkg.split(".")
+                base = base[: len(base) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if not target.startswith("imagespace"):
+                continue
+            names = [a.name for a in node.names]
+            for n in names if not node.module else [None]:
+                found.append((f"{target}.{n}" if n else target, node.lineno, id(node) not in top_level))
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.startswith("imagespace"):
+                    found.append((a.name, node.lineno, id(node) not in top_level))
+    return found
+
+
+def resolve(target, mods):
+    while target and target not in mods:
+        target = target.rsplit(".", 1)[0] if "." in target else ""
+    return target
+
+
+def graph():
+    mods = modules()
+    edges = {}
+    for mod, path in mods.items():
+        edges[mod] = [(resolve(t, mods), line, lazy) for t, line, lazy in imports_of(mod, path)]
+    return mods, edges
+
+
+def allowed(src, dst):
+    ls, ld = layer(src), layer(dst)
+    if ls == "top":
+        return True
+    if ld == "top":
+        return False
+    if ls in SIDE:                       # spatial and dynamics use core only
+        return ld in ("base", "core", ls)
+    if ld in SIDE:                       # ... and only the top layer uses them
+        return False
+    return RANK[ld] <= RANK[ls]
+
+
+def test_imports_point_downwards():
+    mods, edges = graph()
+    bad = set()
+    for src, targets in edges.items():
+        for dst, line, _ in targets:
+            if dst and dst != src and not dst.startswith(src + ".") and not allowed(src, dst):
+                bad.add((src, dst))
+    assert not bad, "upward imports: " + ", ".join(f"{a} -> {b}" for a, b in sorted(bad))
+
+
+def test_no_import_cycles():
+    mods, edges = graph()
+    adj = {m: {d for d, _, _ in edges[m] if d and d != m and not m.startswith(d + ".")
+               and not d.startswith(m + ".")} for m in mods}
+    index, low, stack, on, cycles = {}, {}, [], set(), []
+    counter = [0]
+
+    def strong(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in adj[v]:
+            if w not in index:
+                strong(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                cycles.append(sorted(comp))
+
+    for v in mods:
+        if v not in index:
+            strong(v)
+    assert not cycles, f"import cycles: {cycles}"
+
+
+def test_no_module_touches_another_objects_private_cache():
+    """Derived artefacts live behind Mechanism.cached / SingularitySurface.cached."""
+    offenders = []
+    for mod, path in modules().items():
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Attribute) and node.attr in ("_cache", "_symbolic_cache"):
+                owner = node.value
+                if not (isinstance(owner, ast.Name) and owner.id in ("self", "cls")):
+                    offenders.append(f"{mod}:{node.lineno} .{node.attr}")
+    assert not offenders, offenders
+
+
+def test_every_internal_import_names_an_existing_module():
+    """A lazy import in a branch the tests rarely take must still point at a real module."""
+    mods = modules()
+    broken = []
+    for mod, path in mods.items():
+        for target, line, _ in imports_of(mod, path):
+            if target not in mods and target.rsplit(".", 1)[0] not in mods:
+                broken.append(f"{mod}:{line} -> {target}")
+    assert not broken, broken
