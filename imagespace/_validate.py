@@ -17,6 +17,8 @@ __all__ = [
     "check_positive",
     "as_flag",
     "as_count",
+    "as_scalar",
+    "as_sympy_entry",
 ]
 
 
@@ -219,3 +221,18 @@ def as_sympy_entry(value, name: str):
             raise InputError(f"{name} must be finite, got {v}")
         return sp.Float(v)
     raise TypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
+
+
+def as_scalar(value, name: str, finite: bool = True) -> float:
+    """One real number as a float (no bools, strings, complex, or arrays of several entries).
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_scalar
+    >>> as_scalar(0.25, "radius")
+    0.25
+    """
+    v = as_float_array(value, name, finite=finite)
+    if v.ndim != 0:
+        raise InputError(f"{name} must be a single number, got shape {v.shape}")
+    return float(v)

@@ -1,6 +1,7 @@
 """``import imagespace`` is cheap: no heavy dependency is imported until a feature needs it, and
 every public name and subpackage is reachable from the top-level module (issue [10])."""
 
+import pytest
 import subprocess
 import sys
 
@@ -20,6 +21,7 @@ def test_import_loads_no_heavy_dependency():
     assert not loaded & set(HEAVY), sorted(loaded & set(HEAVY))
 
 
+@pytest.mark.slow
 def test_direct_kinematics_does_not_load_numba_or_the_plotting_stack():
     """The per-call DK needs sympy and flint, nothing compiled and nothing graphical."""
     loaded = _modules_after("import imagespace as isp\nm = isp.examples.general_3rpr()\n"
@@ -38,8 +40,21 @@ def test_every_public_name_and_subpackage_is_reachable():
     assert isp.InputError.__module__ == "imagespace.exceptions"
 
 
+@pytest.mark.slow
 def test_cusps_stays_the_function_after_its_module_is_loaded():
     loaded = subprocess.run([sys.executable, "-c", "import imagespace as isp\nimport imagespace.singular.cusps\n"
                              "from imagespace.singular.cusps import Cusp\nprint(callable(isp.cusps), type(isp.cusps).__name__)"],
                             capture_output=True, text=True, check=True).stdout.split()
     assert loaded == ["True", "function"]
+
+
+def test_the_notebooks_short_paths_still_import():
+    """Modules moved into the layered packages stay importable under their former names (the
+    notebooks and users' scripts use them)."""
+    import importlib
+
+    expected = {"screws": "reciprocal_system", "modechange": "plan_mode_change", "clearance": "backlash",
+                "mobility": "gruebler", "workspace": "reachable_workspace", "indices": "local_indices",
+                "cusps": "cusp_loop", "paths": "check_path", "design": "fuzzy_minmax"}
+    for old, name in expected.items():
+        assert callable(getattr(importlib.import_module(f"imagespace.{old}"), name)), old

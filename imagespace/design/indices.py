@@ -18,7 +18,7 @@ import numpy as np
 
 import warnings
 
-from .._validate import _short, as_count, as_float_array
+from .._validate import _short, as_count, as_float_array, as_scalar
 from ..exceptions import InputError
 
 __all__ = ["manipulability", "resistivity", "isotropy", "local_indices", "global_indices"]
@@ -108,11 +108,10 @@ def local_indices(manipulator, poses, length, working_modes=None):
     ['isotropy', 'isotropy_frobenius', 'manipulability', 'resistivity']
     """
     from ..core.mechanism import check_mechanism as _check_manipulator
-    from ..singular.surface import _scalar
 
     _check_manipulator(manipulator)
     poses = as_float_array(poses, "poses", last=3)
-    L = _scalar(length, "length")
+    L = as_scalar(length, "length")
     if not L > 0:
         raise InputError(f"length must be a positive characteristic length, got {length!r}")
     jac = manipulator.jacobians(poses, working_modes=working_modes)

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import _short, as_count, as_float_array
+from .._validate import _short, as_count, as_float_array, as_scalar
 from ..exceptions import InputError
 
 __all__ = ["Workspace", "halfplane_polygon", "polygon_area", "constant_orientation_workspace",
@@ -110,7 +110,7 @@ def halfplane_polygon(A, b, box=1e6):
     A = as_float_array(A, "A", last=2)
     b = as_float_array(b, "b")
     A = np.atleast_2d(A)
-    box = _scalar(box, "box")
+    box = as_scalar(box, "box")
     if not box > 0:
         raise InputError(f"box must be a positive half-width, got {box!r}")
     if b.shape != (len(A),):
@@ -160,11 +160,6 @@ def _limits(limits):
     return L
 
 
-def _scalar(value, name):
-    v = as_float_array(value, name)
-    if v.ndim != 0:
-        raise InputError(f"{name} must be a single number, got shape {v.shape}")
-    return float(v)
 
 
 def _check_manipulator(manipulator):
@@ -282,7 +277,7 @@ def constant_orientation_workspace(manipulator, phi, limits, box=None, resolutio
     """
     _check_manipulator(manipulator)
     L = _limits(limits)
-    phi = _scalar(phi, "phi")
+    phi = as_scalar(phi, "phi")
     _check_box(box)
     _check_grid(resolution, None)
     aff = _affine(manipulator, np.array([phi]))
@@ -290,6 +285,20 @@ def constant_orientation_workspace(manipulator, phi, limits, box=None, resolutio
         a, c = aff
         return _exact_result("constant-orientation", _limit_polygon(a, L, c[0], c[0]), "exact: half-planes")
     return sampled_workspace(manipulator, L, (phi, phi), box, resolution, n_phi=1, kind="constant-orientation")
+
+
+def _orientation_range_inputs(manipulator, phi_range, limits, box, resolution, n_phi):
+    """The checked inputs of the workspaces over an orientation range: limits, range, the sampled
+    orientations and the design's affine form (None where it has none)."""
+    _check_manipulator(manipulator)
+    L = _limits(limits)
+    lo, hi = _phi_range(phi_range)
+    _check_box(box)
+    _, n_phi = _check_grid(resolution, n_phi)
+    if n_phi < 2:
+        raise InputError(f"n_phi must be at least 2 (orientations sampled over phi_range), got {n_phi}")
+    phis = np.linspace(lo, hi, n_phi)
+    return L, lo, hi, phis, _affine(manipulator, phis)
 
 
 def dexterous_workspace(manipulator, phi_range, limits, box=None, resolution=400, n_phi=181):
@@ -303,15 +312,7 @@ def dexterous_workspace(manipulator, phi_range, limits, box=None, resolution=400
     >>> dexterous_workspace(m, (-0.5, 0.5), [[-np.sqrt(3), np.sqrt(3)]] * 3).method
     'exact: half-planes'
     """
-    _check_manipulator(manipulator)
-    L = _limits(limits)
-    lo, hi = _phi_range(phi_range)
-    _check_box(box)
-    _, n_phi = _check_grid(resolution, n_phi)
-    if n_phi < 2:
-        raise InputError(f"n_phi must be at least 2 (orientations sampled over phi_range), got {n_phi}")
-    phis = np.linspace(lo, hi, n_phi)
-    aff = _affine(manipulator, phis)
+    L, lo, hi, phis, aff = _orientation_range_inputs(manipulator, phi_range, limits, box, resolution, n_phi)
     if aff is not None:
         a, c = aff
         cmax = np.array([_extreme(manipulator, i, lo, hi, phis, c, 1.0) for i in range(3)])
@@ -331,15 +332,7 @@ def reachable_workspace(manipulator, phi_range, limits, box=None, resolution=400
     >>> reachable_workspace(m, (-0.5, 0.5), [[-np.sqrt(3), np.sqrt(3)]] * 3).method
     'exact: polytope projection'
     """
-    _check_manipulator(manipulator)
-    L = _limits(limits)
-    lo, hi = _phi_range(phi_range)
-    _check_box(box)
-    _, n_phi = _check_grid(resolution, n_phi)
-    if n_phi < 2:
-        raise InputError(f"n_phi must be at least 2 (orientations sampled over phi_range), got {n_phi}")
-    phis = np.linspace(lo, hi, n_phi)
-    aff = _affine(manipulator, phis)
+    L, lo, hi, phis, aff = _orientation_range_inputs(manipulator, phi_range, limits, box, resolution, n_phi)
     if aff is not None:
         a, c = aff
         offs = c - c[:, :1]

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import _short, as_count, as_float_array
+from .._validate import _short, as_count, as_scalar
 from ..core.mechanism import check_mechanism
 from ..exceptions import InputError
 from ..singular.cusps import Cusp, free_joints, half_angle_gap
@@ -130,7 +130,7 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     if not isinstance(cusp, Cusp):
         raise TypeError(f"cusp must be a Cusp (an item of cusps(...)), got {type(cusp).__name__} {_short(cusp)}")
     fa, fb = free_joints(fixed)
-    radius = _scalar(radius, "radius")
+    radius = as_scalar(radius, "radius")
     if not radius > 0:
         raise InputError(f"radius must be positive, got {radius!r}")
     steps = as_count(steps, "steps", 8)
@@ -188,8 +188,3 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     return walks[0]
 
 
-def _scalar(value, name):
-    v = as_float_array(value, name)
-    if v.ndim != 0:
-        raise InputError(f"{name} must be a single number, got shape {v.shape}")
-    return float(v)

@@ -32,7 +32,7 @@ import sympy as sp
 
 import numbers
 
-from .._validate import _short, as_count, as_float_array
+from .._validate import _short, as_count, as_float_array, as_scalar
 from ..core.codegen import compile_exprs
 from ..exceptions import InputError
 
@@ -107,11 +107,6 @@ def _window(window):
     return w
 
 
-def _scalar(value, name):
-    v = as_float_array(value, name)
-    if v.ndim != 0:
-        raise InputError(f"{name} must be a single number, got shape {v.shape}")
-    return float(v)
 
 
 def _resolution(resolution, name="resolution"):
@@ -123,7 +118,7 @@ def _resolution(resolution, name="resolution"):
 
 def _grid(fixed, value, window, resolution):
     free_joints(fixed)
-    value = _scalar(value, "value")
+    value = as_scalar(value, "value")
     w = _window(window)
     resolution = _resolution(resolution)
     a = np.linspace(w[0, 0], w[0, 1], resolution)
@@ -316,12 +311,12 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
     >>> all(c.residual < 1e-9 for c in found)
     True
     """
-    tol = _scalar(tol, "tol")
+    tol = as_scalar(tol, "tol")
     if not tol > 0:
         raise InputError(f"tol must be a positive relative residual, got {tol!r}")
     max_seeds = as_count(max_seeds, "max_seeds")
     cm = mode_count_map(manipulator, fixed, value, window, resolution)
-    value = _scalar(value, "value")
+    value = as_scalar(value, "value")
     w = _window(window)
     fa, fb = cm.free
     comp = manipulator.compiled()

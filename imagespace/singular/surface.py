@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .._validate import _short, as_exact, as_flag, as_float_array, is_symbolic
+from .._validate import _short, as_exact, as_flag, as_float_array, is_symbolic, as_scalar
 from ..core.codegen import compile_exprs
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
@@ -121,12 +121,6 @@ def _check_manipulator(manipulator, name="manipulator"):
     return check_mechanism(manipulator, name)
 
 
-def _scalar(value, name, finite=True):
-    """One real number (no bools, strings, complex, arrays of several entries)."""
-    v = as_float_array(value, name, finite=finite)
-    if v.ndim != 0:
-        raise InputError(f"{name} must be a single number, got shape {v.shape}")
-    return float(v)
 
 
 def _check_working_modes(manipulator, working_modes, name="working_modes"):
@@ -696,7 +690,7 @@ class PoseJacobians:
         >>> jac.homogeneous(1.0).shape
         (1, 3, 3)
         """
-        L = _scalar(length, "length", finite=False)
+        L = as_scalar(length, "length", finite=False)
         if not np.isfinite(L) or L <= 0:
             raise InputError(f"length must be a positive characteristic length, got {length!r}")
         return self.J * np.array([1.0, 1.0, 1.0 / L])
@@ -891,7 +885,7 @@ class ConicSection:
             half = sp.simplify(sp.tan(phi_s / 2))
             c0, s0 = (sp.Integer(0), sp.Integer(1)) if half in (sp.zoo, sp.oo, -sp.oo) else (sp.Integer(1), half)
         else:
-            phi_f = _scalar(phi, "phi")
+            phi_f = as_scalar(phi, "phi")
             c0, s0 = sp.Float(np.cos(phi_f / 2), 17), sp.Float(np.sin(phi_f / 2), 17)
         sub = {x0: c0, x1: s0, x2: (s0 * u - c0 * v) / 2, x3: (c0 * u + s0 * v) / 2}
         poly = sp.Poly(sp.expand(e.xreplace(sub)), u, v)

@@ -30,7 +30,7 @@ import sympy as sp
 
 import numbers
 
-from .._validate import _short, as_count, as_exact, as_float_array, is_symbolic
+from .._validate import _short, as_count, as_exact, as_float_array, is_symbolic, as_scalar
 from ..exceptions import InputError
 
 __all__ = ["revolute", "prismatic", "helical", "transfer", "reciprocal_product", "reciprocal_system",
@@ -38,15 +38,10 @@ __all__ = ["revolute", "prismatic", "helical", "transfer", "reciprocal_product",
            "singularity_fractions"]
 
 
-def _scalar(value, name, finite=True):
-    v = as_float_array(value, name, finite=finite)
-    if v.ndim != 0:
-        raise InputError(f"{name} must be a single number, got shape {v.shape}")
-    return float(v)
 
 
 def _tol(tol):
-    t = _scalar(tol, "tol")
+    t = as_scalar(tol, "tol")
     if not 0 < t < 1:
         raise InputError(f"tol must be a relative tolerance in (0, 1), got {tol!r}")
     return t
@@ -483,7 +478,7 @@ class TranslationalFiveR:
 
     def __post_init__(self):
         for name in ("a", "b", "c", "l1", "l2"):
-            object.__setattr__(self, name, _scalar(getattr(self, name), name))
+            object.__setattr__(self, name, as_scalar(getattr(self, name), name))
         for name in ("l1", "l2"):
             if not getattr(self, name) > 0:
                 raise InputError(f"{name} must be a positive link length, got {getattr(self, name)!r}")
@@ -587,10 +582,10 @@ def singularity_fractions(mechanism, box=0.4, n=2000, eps=0.05, seed=0):
     """
     if not isinstance(mechanism, TranslationalFiveR):
         raise TypeError(f"mechanism must be a TranslationalFiveR, got {type(mechanism).__name__} {_short(mechanism)}")
-    eps = _scalar(eps, "eps")
+    eps = as_scalar(eps, "eps")
     if not 0 < eps < 1:
         raise InputError(f"eps must be in (0, 1), got {eps!r}")
-    box = _scalar(box, "box")
+    box = as_scalar(box, "box")
     if not box > 0:
         raise InputError(f"box must be a positive half-width, got {box!r}")
     n = as_count(n, "n")
