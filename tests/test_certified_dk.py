@@ -122,6 +122,7 @@ def rows_near_discriminant(m, rng, n, eps_range=(-12, -3)):
 
 # --------------------------------------------------------------------------- item 1
 
+@pytest.mark.slow
 def test_exact_double_root_is_one_singular_mode_on_every_path():
     m = double_design()
     res = m.direct_kinematics(DOUBLE_Q, certify=True)
@@ -187,6 +188,7 @@ def test_modes_closer_than_float_resolution_are_two_modes(target):
 
 # --------------------------------------------------------------------------- item 3
 
+@pytest.mark.slow
 def test_modes_carry_their_roots_near_a_half_turn():
     """The issue's row: two modes ~6e-8 rad apart at t ~ 51 (near a half-turn); every mode's t
     lies in its root's certified interval and the bookkeeping adds up."""
@@ -209,6 +211,7 @@ def test_modes_carry_their_roots_near_a_half_turn():
 
 # --------------------------------------------------------------------------- item 5
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["numpy", "kernel"])
 def test_float_paths_flag_every_doubtful_row_near_the_discriminant(method, rng):
     m = isp.examples.general_3rpr()
@@ -224,6 +227,7 @@ def test_float_paths_flag_every_doubtful_row_near_the_discriminant(method, rng):
     assert (b.near_singular & ok).sum() < 0.6 * ok.sum()   # the flag is not raised everywhere
 
 
+@pytest.mark.slow
 def test_certified_batch_near_the_discriminant(rng):
     m = isp.examples.general_3rpr()
     Q = rows_near_discriminant(m, rng, 3000, eps_range=(-14, -4))
@@ -407,6 +411,7 @@ def test_distinct_orientation_count_equals_a_plain_loop(rng):
     assert np.array_equal(got, want) and len(set(want.tolist())) >= 4
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["numpy", "kernel"])
 def test_certified_batch_at_and_near_half_turns(method):
     """Rows whose modes sit at phi = pi exactly or within 1e-9 of it: certified counts equal the

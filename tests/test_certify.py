@@ -19,6 +19,7 @@ def sturm_count(coeffs):
     return u.count_roots() + (1 if u.degree() < sqf.total_degree() else 0)
 
 
+@pytest.mark.slow
 def test_random_rational_forms_against_sturm(rng):
     checked = 0
     for _ in range(150):
@@ -125,6 +126,7 @@ def test_bad_input():
         certify_real_roots([0, 0, 0])
 
 
+@pytest.mark.slow
 def test_batch_certified_counts_agree_with_exact_isolation(rng):
     """2,000 rows: kinematic sextics of mixed designs, constructed double roots and half-turns."""
     from imagespace.core.certify import certify_real_roots_batch
@@ -173,6 +175,7 @@ def test_batch_odd_inputs():
         certify_real_roots_batch(np.zeros(7))
 
 
+@pytest.mark.slow
 def test_batch_dk_with_certificates(rng):
     m = isp.examples.stigger_husty()
     poses = np.column_stack([rng.uniform(-6, 6, 300), rng.uniform(-6, 6, 300), rng.uniform(-np.pi, np.pi, 300)])
@@ -193,6 +196,7 @@ def test_batch_dk_with_certificates(rng):
     assert rt.certified_roots.tolist() == [3] and rt.count.tolist() == [3] and rt.consistent.tolist() == [True]
 
 
+@pytest.mark.slow
 def test_derivative_cascade_kernel_against_exact_counts(rng):
     """The compiled real-root kernel: same counts as exact isolation wherever it does not flag the row."""
     from imagespace.solve.kernel import real_roots_cascade

@@ -83,6 +83,7 @@ def sweep():
     return fourbar_graph()
 
 
+@pytest.mark.slow
 def test_thresholds_match_an_independent_four_bar_sweep(analysis, sweep):
     m, res = analysis
     poses, q3, edges = sweep
@@ -112,6 +113,7 @@ def test_released_curve_satisfies_the_locked_legs(analysis):
         assert np.allclose(q, m.q_example_float[j], rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_connections_follow_the_play(analysis, sweep):
     """Which pairs of modes a play connects, against the independent four-bar sweep: for every pair
     of distinct modes, ``connected`` must say what a flood fill of the band ``|q3 - q0| <= delta``

@@ -104,6 +104,7 @@ def test_cli_png_write_failure_names_the_path(command, tmp_path, capsys, monkeyp
     assert not target.exists()
 
 
+@pytest.mark.slow
 def test_cli_filesystem_error_in_a_real_process_has_no_traceback(a_file):
     target = a_file / "out.ply"
     r = subprocess.run([sys.executable, "-m", "imagespace.cli", "mesh", "--resolution", "8", "-o", str(target)],
@@ -167,6 +168,7 @@ def test_cli_non_finite_box_and_phi_are_refused(argv, tmp_path, capsys):
     _assert_one_line_error(rc, err, "--box" if argv[0] == "mesh" else "--phi", "finite")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("option", [["--q", "10", "11", "12"], ["--working-modes", "0", "1", "0"]])
 def test_cli_mesh_refuses_joint_options_for_a_joint_free_surface(option, tmp_path, capsys):
     target = tmp_path / "s.ply"
@@ -209,6 +211,7 @@ def failing_savefig(monkeypatch):
     return install
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("exc, rc_expected", [(OSError(errno.ENOSPC, os.strerror(errno.ENOSPC)), 2),
                                               (KeyboardInterrupt(), None)])
 @pytest.mark.parametrize("command", ["demo", "plot"])
@@ -228,6 +231,7 @@ def test_cli_png_is_left_unchanged_when_saving_fails(command, exc, rc_expected, 
     assert sorted(p.name for p in tmp_path.iterdir()) == [target.name]      # no temporary file left
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["demo", "plot"])
 def test_cli_png_goes_through_a_temporary_file_and_os_replace(command, tmp_path, capsys, monkeypatch):
     import tempfile
@@ -266,6 +270,7 @@ def test_cli_png_goes_through_a_temporary_file_and_os_replace(command, tmp_path,
     assert str(target) in out
 
 
+@pytest.mark.slow
 def test_cli_plot_without_suffix_writes_png_as_savefig_did(tmp_path, capsys):
     rc, out, err = _run(["plot", "modes", "-o", str(tmp_path / "figure")], capsys)
     assert rc == 0, err

@@ -1,3 +1,4 @@
+import pytest
 import numpy as np
 import sympy as sp
 
@@ -61,6 +62,7 @@ def test_quadrics_against_euclidean_geometry(rng):
         assert np.isclose(pp, np.sin(pose[2] - phic))
 
 
+@pytest.mark.slow
 def test_symbolic_and_numeric_quadric_agree(rng):
     for _ in range(10):
         p, M = rng.normal(size=2), rng.normal(size=2)

@@ -21,6 +21,7 @@ def case(request):
     return m, fixed, value, window, cusps(m, fixed, value, window, 80)
 
 
+@pytest.mark.slow
 def test_every_cusp_is_a_triple_root_of_the_exact_polynomial(case):
     m, fixed, value, window, found = case
     assert len(found) >= 2
@@ -50,6 +51,7 @@ def test_mode_counts_are_even_and_change_across_the_discriminant():
     assert len(cm.boundary()) > 20 and len(np.unique(cm.counts)) >= 3
 
 
+@pytest.mark.slow
 def test_a_loop_around_a_cusp_changes_the_mode_without_a_singularity(case):
     m, fixed, value, window, found = case
     loops = [cusp_loop(m, c, fixed, 0.05) for c in found]
@@ -79,6 +81,7 @@ def test_bad_input():
         mode_count_map(m, 2, 10.0, [(-6, 16), (1, 9)], 10)
 
 
+@pytest.mark.slow
 def test_a_mode_changing_loop_links_the_cusp_edge_and_a_distant_one_does_not():
     from imagespace.singular.cusps import cusp_edges, linking_number
     m = isp.examples.general_3rpr()

@@ -51,6 +51,7 @@ LEG_CASES = [
 ]
 
 
+@pytest.mark.slow
 def test_jacobian_rows_are_derivatives_of_the_leg_ik(rng):
     """Row i of J = Jq^-1 Jx is the gradient of leg i's IK (central differences), every leg type."""
     others = [isp.RPR(base=(4, 0), platform=(1, 0)), isp.RPR(base=(0, 4), platform=(0, 1))]
@@ -120,6 +121,7 @@ def test_seed_003_singular_configurations():
     assert m.jacobians([x, y, th]).direct_kinematic[0]
 
 
+@pytest.mark.slow
 def test_seed_004_closed_form_two_modes_and_det(rng):
     for alpha in (7 * np.pi / 18, 11 * np.pi / 18, np.pi / 3):
         m = isp.examples.choi_3ppr(1, 0.5, alpha)
@@ -162,6 +164,7 @@ def test_seed_004_rotation_limits_are_where_a_link_enters_the_plate():
 
 
 # -- workspaces and indices ---------------------------------------------------------------------------------
+@pytest.mark.slow
 @pytest.mark.parametrize("ratio", [0.3, 0.5, 0.7])
 def test_exact_workspaces_against_grid_sampling(ratio):
     alpha = 7 * np.pi / 18
@@ -205,6 +208,7 @@ def test_published_optimum_of_seed_004():
     assert best == [(70, 0.5), (110, 0.5)]                  # (7 pi/18, 0.5) and (11 pi/18, 0.5)
 
 
+@pytest.mark.slow
 def test_dask_and_local_sweeps_return_the_same_table():
     distributed = pytest.importorskip("distributed")
     grid = {"alpha": np.array([60, 70, 80]) * np.pi / 180, "r_over_R": np.array([0.4, 0.5])}
@@ -231,6 +235,7 @@ def test_design_bad_input():
         halfplane_polygon([[1, 0]], [1, 2])
 
 
+@pytest.mark.slow
 def test_symbolic_jacobians_equal_the_numeric_ones(rng):
     import sympy as sp
     from imagespace.singular.surface import symbolic_jacobians

@@ -32,6 +32,7 @@ def test_sextic_meets_the_seven_conditions_and_the_printed_eq_21():
     assert law.coefficients[0] == pytest.approx(0, abs=1e-12) and law.coefficients[1] == pytest.approx(0, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_det_A_and_the_row_dependence(setup):
     model, path, st, sing, law, info = setup
     AT = sp.Matrix.hstack(model.Gamma_sym[:2, :].T, sp.Matrix(model.Z.T.tolist()))
@@ -45,6 +46,7 @@ def test_det_A_and_the_row_dependence(setup):
     assert sp.simplify(model.M_sym[1, 1] - 6.0) == 0
 
 
+@pytest.mark.slow
 def test_consistent_law_is_monotone_and_forces_are_bounded(setup):
     model, path, st, sing, law, info = setup
     assert info["monotone"] and law.is_monotone()
@@ -55,6 +57,7 @@ def test_consistent_law_is_monotone_and_forces_are_bounded(setup):
     assert np.abs(res.mu).max() < 1e4
 
 
+@pytest.mark.slow
 def test_eq_11_at_the_singularity_agrees_with_eq_5_next_to_it(setup):
     model, path, st, sing, law, info = setup
     Td = info["Td"]
@@ -72,6 +75,7 @@ def test_power_balance_along_the_consistent_trajectory(setup):
     assert np.abs(power_balance(model, path, law, res)).max() < 1e-9
 
 
+@pytest.mark.slow
 def test_forward_simulation_tracks_the_plan(setup):
     model, path, st, sing, law, info = setup
     res = inverse_dynamics(model, path, law, np.linspace(0, 1, 201), st.eta, sing, eps=1e-3)
@@ -94,6 +98,7 @@ def test_the_cubic_law_is_flagged_and_its_forces_grow_like_one_over_delta(setup)
     assert np.allclose(growth[1:], growth[0], rtol=0.2)                        # |F| ~ C / delta
 
 
+@pytest.mark.slow
 def test_bad_input(setup):
     model, path, st, sing, law, info = setup
     with pytest.raises(isp.InputError, match="never reaches"):
@@ -104,6 +109,7 @@ def test_bad_input(setup):
         sextic_through(1.0, 1.5, 1.2, 0.6, 1.0, 0.0)
 
 
+@pytest.mark.slow
 def test_band_forces_join_eq_5_with_the_mu_dot_term_restored(setup):
     model, path, st, sing, law, info = setup
     ts = np.linspace(info["Td"] - 0.01, info["Td"] + 0.01, 41)

@@ -70,6 +70,7 @@ def hundred_thousand(seed002):
     return Q, len(near), lines
 
 
+@pytest.mark.slow
 def test_kernel_counts_equal_certified_counts_on_100000_rows(seed002, hundred_thousand):
     Q, n_near, lines = hundred_thousand
     assert lines == 500
@@ -230,6 +231,7 @@ def test_chunks_cover_the_batch(seed002):
         next(seed002.direct_kinematics_chunks(Q, chunk_size=0))
 
 
+@pytest.mark.slow
 def test_the_kernel_reads_its_thresholds_from_the_design_tolerances():
     """With kernel_residual so small that no float mode meets it, the kernel must hand every
     row to the numpy path (solver 'numpy'), and the counts stay those of the numpy path."""

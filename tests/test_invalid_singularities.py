@@ -66,6 +66,7 @@ def test_bad_working_modes_of_a_joint_dependent_surface(rrr):
         isp.singularity_surface(rrr, working_modes=(1, True, 0))
 
 
+@pytest.mark.slow
 def test_valid_input_still_works(m, rrr):
     assert isp.singularity_surface(m, m.q_example_float).kind == "joint-free"
     assert isp.singularity_surface(m, m.q_example).kind == "joint-free"

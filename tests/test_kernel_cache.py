@@ -161,6 +161,7 @@ def test_sticky_world_writable_parent_is_accepted(tmp_path, monkeypatch):
     assert fastdk._cache_dir() == str(root / "mine" / "kernels")
 
 
+@pytest.mark.slow
 def test_refused_directory_gets_no_files_and_the_kernel_still_works(tmp_path, monkeypatch):
     monkeypatch.setenv("IMAGESPACE_CACHE", str(tmp_path))
     d = tmp_path / "kernels"
@@ -184,6 +185,7 @@ def run(Q, layout, nbuf, X, P, R, A, cnt, flag):
 """
 
 
+@pytest.mark.slow
 def test_planted_module_is_never_executed(cache, template, tmp_path):
     marker = tmp_path / "marker"
     module = cache / template[1]
@@ -196,6 +198,7 @@ def test_planted_module_is_never_executed(cache, template, tmp_path):
     assert len(cache_warnings(rec)) == 1
 
 
+@pytest.mark.slow
 def test_planted_symlinks_are_never_followed(cache, template, tmp_path):
     marker = tmp_path / "marker"
     outside = tmp_path / "outside.py"                  # code outside the cache ...
@@ -219,6 +222,7 @@ def test_planted_symlinks_are_never_followed(cache, template, tmp_path):
     assert stat.S_IMODE(module.stat().st_mode) & 0o022 == 0
 
 
+@pytest.mark.slow
 def test_temporaries_are_unpredictable_and_cleaned_up(cache, template):
     (cache / template[1]).unlink()
     with warnings.catch_warnings(record=True):
@@ -250,6 +254,7 @@ def _empty(p):
     p.write_bytes(b"")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pattern, damage", [("*.run-*.nbi", _truncate), ("*.run-*.nbi", _garbage),
                                              ("*.run-*.nbc", _truncate), ("*.run-*.nbc", _garbage),
                                              ("*.run-*.nbc", _empty)])
@@ -291,6 +296,7 @@ print("OK")
 """
 
 
+@pytest.mark.slow
 def test_import_and_kernel_work_when_nothing_is_writable(tmp_path):
     """A read-only install: the package's own __pycache__ cannot be created (a file is in the
     way, which stops root too), HOME and IMAGESPACE_CACHE lie under a regular file, and

@@ -16,6 +16,7 @@ def rot(phi):
     return np.array([[c, -s], [s, c]])
 
 
+@pytest.mark.slow
 @given(pose_st)
 @settings(max_examples=200, deadline=None)
 def test_pose_image_round_trip(pose):
@@ -28,6 +29,7 @@ def test_pose_image_round_trip(pose):
     assert np.allclose(isp.pose_of(-3.5 * x), back, atol=1e-9)
 
 
+@pytest.mark.slow
 @given(pose_st, st.tuples(finite, finite))
 @settings(max_examples=100, deadline=None)
 def test_transform_matrix_moves_points_like_a_rigid_motion(pose, p):

@@ -3,10 +3,8 @@ into another object's private ``_cache``. Walks the AST of every module, functio
 imports included: a lazy import may delay a dependency, never hide an upward one."""
 
 import ast
-import os
 from pathlib import Path
 
-import pytest
 
 ROOT = Path(__file__).resolve().parents[1] / "imagespace"
 

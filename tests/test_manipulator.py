@@ -71,6 +71,7 @@ def test_seed_002_exact_polynomial_has_six_real_roots():
     assert np.allclose(roots, PAPER_X1, atol=5e-8)
 
 
+@pytest.mark.slow
 def test_seed_002_matches_brute_force():
     m = isp.examples.stigger_husty()
     q = m.q_example_float
@@ -259,6 +260,7 @@ def test_symbolic_polynomial_at_q_equals_numeric(rng):
     assert roots_checked >= 5
 
 
+@pytest.mark.slow
 def test_polynomial_is_general_in_design_parameters():
     px, qx = sp.symbols("p_x q_x", real=True)
     m = isp.PlanarParallel([isp.RPR(base=(0, 0), platform=(0, 0)), isp.RPR(base=(px, 0), platform=(qx, 0)),
@@ -388,6 +390,7 @@ def exact_real_root_count(poly):
     return u.count_roots() + at_infinity
 
 
+@pytest.mark.slow
 def test_every_leg_variant_recovers_the_pose_and_the_exact_count(rng):
     kinds = ["RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR"]
     done, counted = 0, 0
@@ -423,6 +426,7 @@ def test_every_leg_variant_recovers_the_pose_and_the_exact_count(rng):
     assert counted >= 20
 
 
+@pytest.mark.slow
 def test_denominator_vanishing_at_a_root_case_b():
     """Build a 2RPR-PPR whose Cramer denominator vanishes at the orientation of a known mode."""
     from imagespace.core.elimination import bf_eval, eliminate
@@ -456,6 +460,7 @@ def test_denominator_vanishing_at_a_root_case_b():
     assert match(modes, brute_force_dk(m, q), 1e-6)
 
 
+@pytest.mark.slow
 def test_compiled_coefficients_equal_numeric_elimination(rng):
     """The compiled general-q polynomial is proportional to the float elimination at each q."""
     from imagespace.core.elimination import eliminate
@@ -499,6 +504,7 @@ def test_batch_odd_inputs():
     assert rn.row_ok.tolist() == [True, False, True] and rn.count.tolist() == [6, 0, 6]
 
 
+@pytest.mark.slow
 def test_cli_mesh_and_plot(tmp_path):
     import io
 

@@ -111,6 +111,7 @@ def test_exports_load_back(image_mesh, tmp_path, suffix):
     assert len(back.faces) == len(image_mesh.faces)
 
 
+@pytest.mark.slow
 def test_working_mode_surface_meshes_through_the_leg_ik():
     m = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3, 2), actuated=0),
                             isp.RPR(base=(6, 0), platform=(1, 0)),
@@ -211,6 +212,7 @@ def collinear():
     return isp.examples.collinear_3rpr()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("chart", ["image", "pose"])
 def test_collinear_3rpr_every_vertex_is_certified_and_rechecked(collinear, chart):
     """Seed 003 at 48^3 left 10 (image) and 27 (pose) vertices uncertified: marching cubes put them
@@ -397,6 +399,7 @@ def test_cli_mesh_float32_formats_say_so(tmp_path, capsys):
     assert rc == 0 and "float32" in out and "STL" in out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("keep", [False, True])
 def test_cli_mesh_reports_uncertified_vertices_and_strict_fails(tmp_path, capsys, keep):
     """--tol 1e-18 cannot be certified (see above): the CLI must not claim every vertex, must give

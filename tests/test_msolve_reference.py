@@ -353,6 +353,7 @@ def scaled(m, k):
                                for leg in m.legs])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scale", [1e-6, 1e-3, 10.0, 1e3, 1e6])
 @pytest.mark.parametrize("name", sorted(UNIT_DESIGNS))
 def test_units_against_msolve(name, scale):

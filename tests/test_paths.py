@@ -35,6 +35,7 @@ def eq11_along(a, b):
     return sp.Poly(sp.expand(EQ11.as_expr().xreplace(dict(zip((x0, x1, x2, x3), X)))), T)
 
 
+@pytest.mark.slow
 def test_check_agrees_with_dense_exact_sampling_and_sturm(m, rng):
     sampled_crossing = 0
     for _ in range(40):
@@ -150,6 +151,7 @@ def test_pose_segments_are_certified_by_intervals(m, rng):
     assert sampled_crossing >= 1 and certified_free >= 1            # both branches were checked
 
 
+@pytest.mark.slow
 def test_every_chord_between_two_modes_is_singular_at_its_midpoint(rng):
     """The midpoint lemma of modechange.py, on random joint values of two designs."""
     checked = {}
@@ -351,6 +353,7 @@ def test_opposite_aspect_chords_cross_at_any_flint_precision(m, S_rational, kind
     assert flint.ctx.prec == prec                                        # the user's setting is left alone
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind, value", [("prec", 53), ("dps", 30)])
 def test_crossing_counts_equal_an_exact_sturm_count(m, segments_and_counts, kind, value, user_flint_precision):
     A, B, counts = segments_and_counts
@@ -376,6 +379,7 @@ def _summary(res):
             tuple((c.piece, c.t, c.multiplicity) for c in res.crossings))
 
 
+@pytest.mark.slow
 def test_path_checks_from_two_threads_while_one_flips_flint_precision(m, segments_and_counts, user_flint_precision):
     A, B, counts = segments_and_counts
     rng = np.random.default_rng(2)

@@ -22,6 +22,7 @@ def test_reciprocal_product_is_invariant_under_a_change_of_reference_point(rng):
     assert reciprocal_product(t, w) == 1.0 and t @ w == 0.0
 
 
+@pytest.mark.slow
 def test_chain_1_reciprocal_wrench_symbolically():
     th = sp.Symbol("theta1", real=True)
     e = sp.Matrix([1, 0, 0])
@@ -120,6 +121,7 @@ def test_planar_wrench_determinant_is_the_image_space_quartic(rng):
     assert abs(v) < 1e-9 * np.linalg.norm(g)
 
 
+@pytest.mark.slow
 def test_fractions_are_consistent():
     f = singularity_fractions(TranslationalFiveR(), n=300, eps=0.05)
     assert f["reachable"] > 200

@@ -37,6 +37,7 @@ def test_joint_values_stay_for_an_actuated_base_revolute():
     assert m.joint_symbols[0] in m.singularity_polynomial().free_symbols
 
 
+@pytest.mark.slow
 def test_zero_set_is_where_the_legs_are_concurrent(rng):
     m = isp.examples.general_3rpr()
     S = m.singularity_polynomial()
@@ -109,6 +110,7 @@ def _design_through(rng, t, d, meet=None, direction=None):
     return isp.PlanarParallel(legs)
 
 
+@pytest.mark.slow
 def test_quartic_vanishes_exactly_at_constructed_concurrent_and_parallel_poses(rng):
     checked = 0
     for k in range(8):
@@ -188,6 +190,7 @@ def test_direct_kinematic_singularity_found_by_bisection_on_a_euclidean_criterio
     assert jac.kind[0] == "direct-kinematic"
 
 
+@pytest.mark.slow
 def test_image_space_surface_is_the_direct_kinematic_one(rng):
     """S(image_point(pose)) = -16 det Jx(pose) when q is the inverse kinematics (any design)."""
     for m in (isp.examples.general_3rpr(), isp.examples.stigger_husty(), _rrr_design()):

@@ -64,6 +64,7 @@ def _check_recorded(t, grid, bad, message):
     assert [(float(x), float(y)) for x, y in zip(t.params["a"], t.params["b"])] == rows
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("processes", [None, 2])
 def test_record_keeps_every_finished_row(processes):
     grid, bad = _grid_and_bad(1)
@@ -72,6 +73,7 @@ def test_record_keeps_every_finished_row(processes):
     assert t.how == ("serial" if processes is None else "processes (2)")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("processes", [None, 2])
 def test_raise_names_the_failing_design_and_chains_the_cause(processes):
     grid, bad = _grid_and_bad(2)
@@ -105,12 +107,14 @@ def test_bad_returns_are_reported_like_errors(kind, message):
         sweep(_failing(bad, kind), grid, progress=False)
 
 
+@pytest.mark.slow
 def test_bad_return_in_worker_processes():
     grid, bad = _grid_and_bad(4)
     t = sweep(_failing(bad, "missing"), grid, processes=2, chunksize=2, progress=False, on_error="record")
     _check_recorded(t, grid, bad, "no value for ['product']")
 
 
+@pytest.mark.slow
 def test_default_is_serial_and_a_local_function_runs_in_processes():
     grid, _ = _grid_and_bad(5)
     offset = 0.25
@@ -127,6 +131,7 @@ def test_default_is_serial_and_a_local_function_runs_in_processes():
     np.testing.assert_array_equal(pooled.values["d"], [x - y for x, y in rows])
 
 
+@pytest.mark.slow
 def test_unguarded_script_runs_in_processes(tmp_path):
     script = tmp_path / "unguarded.py"
     script.write_text(textwrap.dedent("""
@@ -144,6 +149,7 @@ def test_unguarded_script_runs_in_processes(tmp_path):
     assert out.stdout.strip() == "processes (2) [13.0, 14.0, 15.0, 23.0, 24.0, 25.0]"
 
 
+@pytest.mark.slow
 def test_dask_records_and_raises():
     distributed = pytest.importorskip("distributed")
     grid, bad = _grid_and_bad(6)
