@@ -336,7 +336,7 @@ def test_tolerances_reach_the_root_filter():
     """A real_root_imag of 0.5 lets complex roots through as candidates; they are then polished
     and checked, so the modes do not change: the knob reaches the filter (the candidates grow),
     and the checks still hold."""
-    import imagespace.manipulator as man
+    import imagespace.solve.numpy_path as man
 
     m = isp.examples.general_3rpr()
     q = m.q_example_float
@@ -392,7 +392,7 @@ def test_strings_are_not_coefficients(tmp_path):
 def test_distinct_orientation_count_equals_a_plain_loop(rng):
     """The vectorised count of distinct orientations (used to decide near_singular) against a
     plain per-row loop written here, with near-duplicates and the identified ends +-pi/2."""
-    from imagespace.manipulator import _distinct_orientations_batch
+    from imagespace.solve.numpy_path import _distinct_orientations_batch
 
     def plain(h, tol):
         h = sorted(h)

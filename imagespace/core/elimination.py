@@ -38,10 +38,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, List
 
-import numpy as np
 import sympy as sp
 
-from .quadrics import Quadric, image_symbols
+from .quadrics import image_symbols
 from ..exceptions import DegenerateDesignError
 
 __all__ = [

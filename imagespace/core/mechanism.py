@@ -260,12 +260,21 @@ class Mechanism:
         >>> m.kinematic_polynomial(m.q_example).total_degree()
         6
         """
-        return self._exact_forms(q)[0]
+        return self.exact_forms(q)[0]
 
-    def _exact_forms(self, q):
+    def exact_forms(self, q):
         """``(P, elimination, case_a)`` for exact/symbolic ``q`` (None: general), cached by the
         exact value of ``q``: the kinematic polynomial, the sympy elimination it came from, and
-        whether the Cramer denominator vanishes identically."""
+        whether the Cramer denominator vanishes identically.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> P, el, case_a = m.exact_forms(m.q_example)
+        >>> P.total_degree(), case_a
+        (6, False)
+        """
         key = _cache_key(q)
         if key in self._symbolic_cache:
             return self._symbolic_cache[key]
@@ -475,8 +484,16 @@ class Mechanism:
         """``q_example`` as floats (``None`` if the mechanism has no example joint values)."""
         return None if self.q_example is None else np.array([float(v) for v in self.q_example])
 
-    def _enclosure(self):
-        """The kinematic polynomial general in q, expanded for rigorous batch evaluation (cached)."""
+    def enclosure(self):
+        """The kinematic polynomial general in q, expanded for rigorous batch evaluation (cached):
+        a :class:`~imagespace.core.codegen.CoefficientEnclosure`.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> type(isp.examples.general_3rpr().enclosure()).__name__
+        'CoefficientEnclosure'
+        """
         if "enclosure" not in self._symbolic_cache:
             from .codegen import CoefficientEnclosure
 

@@ -320,7 +320,6 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
     w = _window(window)
     fa, fb = cm.free
     comp = manipulator.compiled()
-    d = comp.degree
     found = []
     cells = cm.boundary()
     if len(cells) > max_seeds:

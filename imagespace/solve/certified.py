@@ -27,6 +27,7 @@ This module holds the exact arithmetic; :class:`imagespace.PlanarParallel` orche
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Optional
 
@@ -34,6 +35,14 @@ import numpy as np
 import sympy as sp
 
 from ..core.certify import to_arb, flint_precision
+from .._validate import as_exact, is_symbolic
+from ..core.certify import certify_real_roots, certify_real_roots_batch, exact_is_zero
+from ..core.kinematic_map import pose_of as _pose_of
+from ..core.mechanism import form_coefficients
+from ..core.quadrics import dk_system as _system
+from ..exceptions import DegenerateDesignError, NearSingularWarning
+from .numpy_path import _finish, _row_quadrics, _scaled_quadrics, _solve, _solve_orientation, _store_modes
+from .results import AssemblyMode, CertifiedModes, _MAX_MODES
 
 __all__ = ["RootPlan", "plan_roots"]
 
@@ -219,3 +228,171 @@ def plan_roots(P, D, X2, X3, certificate, case_a):
         else:
             plans.append(RootPlan(k, "cramer", int(mult), x0, x1, _normalised_point(t, *pos)))
     return plans
+
+
+def _general_at(P, symbols, q_exact):
+    """Exact coefficients of the general-q polynomial ``P`` at exact joint values."""
+    sub = dict(zip(symbols, q_exact))
+    return [sp.expand(c.subs(sub)) for c in form_coefficients(P)]
+
+
+def _exact_evaluators(m):
+    """The general-q forms ``P`` and ``(D, X2, X3)`` expanded for exact evaluation (None for a
+    symbolic design or Cramer case (a))."""
+    if not m.is_numeric:
+        return None
+    from ..core.codegen import CoefficientEnclosure
+
+    _, el, case_a = m.exact_forms(None)
+    if case_a:
+        return None
+    return (CoefficientEnclosure(m.kinematic_polynomial(), m.joint_symbols),
+            CoefficientEnclosure(list(el.D) + list(el.X2) + list(el.X3), m.joint_symbols))
+
+
+def _fast_exact_forms(m, q_exact):
+    """``(P, D, X2, X3)`` exact coefficient lists (sympy numbers) at rational ``q`` from the
+    general-q derivation (no sympy elimination per call), or None where that route does not
+    apply (symbolic or irrational input, trigonometric features, or a Cramer case at this
+    ``q`` that the general formulas do not see: then ``exact_forms`` decides)."""
+    if not all(v.is_Rational for v in q_exact) or any(leg.actuated_is_angle for leg in m.legs):
+        return None                 # cos/sin of an actuated angle: not rational, sympy decides
+    ev = m.cached("exact_evaluators", lambda: _exact_evaluators(m))
+    if ev is None:
+        return None
+    if ev[0].rational and ev[1].rational:
+        from fractions import Fraction
+
+        qq = [Fraction(int(v.p), int(v.q)) for v in q_exact]
+        P, rest = ev[0].exact(qq), ev[1].exact(qq)
+        P = [sp.Rational(v.numerator, v.denominator) for v in P]
+        rest = [sp.Rational(v.numerator, v.denominator) for v in rest]
+    else:
+        P, rest = ev[0].exact_sympy(q_exact), ev[1].exact_sympy(q_exact)
+    D, X2, X3 = rest[:3], rest[3:7], rest[7:11]
+    if all(v == 0 for v in D) or all(exact_is_zero(v) for v in P):
+        return None
+    return P, D, X2, X3
+
+
+def _certified(m, q, qf):
+    """The certified per-call path: modes computed root by root from the exact certificate."""
+    items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
+    q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
+    fast = _fast_exact_forms(m, q_exact)
+    if fast is not None:
+        P, D, X2, X3 = fast
+        case_a = False
+        cert = certify_real_roots(P)
+    else:
+        Pp, el, case_a = m.exact_forms(q_exact)
+        P = form_coefficients(Pp)
+        D, X2, X3 = list(el.D), list(el.X2), list(el.X3)
+        cert = certify_real_roots(Pp)
+    if not cert.certified:
+        res = _solve(m, qf[None, :], raise_degenerate=True)
+        warnings.warn(f"{m.name} at q = {qf.tolist()}: the real roots could not be "
+                      f"certified ({cert.method}); the floating-point modes are returned",
+                      NearSingularWarning, stacklevel=3)
+        return CertifiedModes(res.modes(0), cert, (), ())
+    plans = plan_roots(P, D, X2, X3, cert, case_a)
+    C, _, L = _scaled_quadrics(m, qf[None, :])
+    quads = _row_quadrics(m, C[0])
+    tol = m.tolerances
+    per_root = [[] for _ in plans]
+    cramer = [p for p in plans if p.kind == "cramer"]
+    if cramer:
+        X = np.array([p.image_point for p in cramer])
+        poses = _pose_of(X)
+        resid = np.atleast_1d(m.joint_residual(poses, np.tile(qf, (len(cramer), 1)), length=L[0]))
+        Xs = X.copy()
+        Xs[:, 2:] /= L[0]
+        _, J = _system(np.repeat(C, len(cramer), axis=0), Xs[:, None, :])
+        det = np.linalg.det(J[:, 0])
+        for j, plan in enumerate(cramer):
+            if not resid[j] <= tol.joint_residual:
+                continue                            # e.g. the spurious root of a PP dyad
+            aspect = 0 if plan.multiplicity > 1 else int(np.sign(det[j]))
+            per_root[plan.index] = [AssemblyMode(X[j], poses[j], float(resid[j]), aspect, True,
+                                                 plan.multiplicity)]
+    for plan in plans:
+        if plan.kind == "cramer":
+            continue
+        cand = _solve_orientation(m, qf, quads, plan.x0, plan.x1, L[0])
+        if not cand:
+            continue
+        arr = np.full((1, max(len(cand), _MAX_MODES), 4), np.nan)
+        arr[0, :len(cand)] = cand
+        sub = _finish(m, qf[None, :], C, arr, np.array([True]), {}, np.array([True]), L)
+        found = sub.modes(0)
+        if plan.multiplicity > 1:       # a multiple orientation root: its modes are singular
+            found = [AssemblyMode(mm.image_point, mm.pose, mm.residual, 0, True, plan.multiplicity)
+                     for mm in found]
+        per_root[plan.index] = found
+    tagged = [(mm, k) for k, lst in enumerate(per_root) for mm in lst]
+    tagged.sort(key=lambda item: item[0].pose[2])
+    return CertifiedModes([mm for mm, _ in tagged], cert, [len(lst) for lst in per_root],
+                          [k for _, k in tagged])
+
+
+def _certify_batch(m, Q, res):
+    """Certified counts per row on the exact input, and modes held to them (see DKBatchResult)."""
+    n = Q.shape[0]
+    enc = m.enclosure()
+    Qs = np.where(res.row_ok[:, None], Q, 0.0)
+    F, E = enc.evaluate(Qs)
+    F = np.where(res.row_ok[:, None], F, np.nan)
+
+    def exact(i):
+        vals = enc.exact(Q[i])
+        if vals is not None:
+            return [sp.Rational(v.numerator, v.denominator) for v in vals]
+        return _general_at(m.kinematic_polynomial(), m.joint_symbols,
+                           [as_exact(float(v), "q") for v in Q[i]])
+
+    if n:
+        counts, path, ivals = certify_real_roots_batch(F, E, exact, return_intervals=True)
+    else:
+        counts, path, ivals = np.zeros(0, int), np.zeros(0, str), np.zeros((0, enc.degree, 2))
+    consistent = np.zeros(n, dtype=bool)
+    # disc-certified rows: every real root simple; each must hold exactly one float mode, and
+    # no float mode may lie outside them (t = x1/x0 of the normalised image point)
+    disc = np.flatnonzero(res.row_ok & (path == "discs"))
+    if disc.size:
+        X = res.image_points[disc]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = X[..., 1] / X[..., 0]
+        lo, hi = ivals[disc, :, 0], ivals[disc, :, 1]            # (m, d)
+        inside = (t[:, :, None] >= lo[:, None, :]) & (t[:, :, None] <= hi[:, None, :])
+        inside &= res.valid[disc][:, :, None]
+        per_root = inside.sum(axis=1)                              # (m, d)
+        per_mode = inside.sum(axis=2)                              # (m, 6)
+        real_slot = np.isfinite(lo)
+        ok_rows = (np.all(np.where(real_slot, per_root == 1, per_root == 0), axis=1)
+                   & np.all(np.where(res.valid[disc], per_mode == 1, True), axis=1)
+                   & (res.count[disc] == counts[disc]))
+        consistent[disc[ok_rows]] = True
+    for i in np.flatnonzero(res.row_ok & ~consistent):
+        try:
+            modes = m.direct_kinematics(Q[i], certify=True)
+        except DegenerateDesignError as e:
+            res.row_ok[i] = False
+            res.errors[int(i)] = str(e)
+            counts[i] = -1
+            path[i] = "continuum"
+            _store_modes(res, i, [])
+            if res.solver is not None:
+                res.solver[i] = "invalid"
+            continue
+        _store_modes(res, i, modes)
+        if res.solver is not None:
+            res.solver[i] = "certified"
+        cert = modes.certificate
+        counts[i] = cert.count if cert.certified else -1
+        if path[i] != "flint":
+            path[i] = "flint" if cert.certified and cert.exact else (
+                "arb" if cert.certified else "uncertified")
+        consistent[i] = bool(cert.certified)
+        res.near_singular[i] = not cert.certified
+    res.near_singular = res.near_singular & ~consistent      # proven rows are not in doubt
+    res.certified_roots, res.certificate_path, res.consistent = counts, path, consistent

@@ -1,0 +1,276 @@
+"""Direct kinematics entry points, bound as methods of :class:`~imagespace.PlanarParallel`: one
+call (:func:`direct_kinematics`), a batch (:func:`direct_kinematics_batch`: compiled kernel or
+numpy path, optionally certified) and chunks of a large batch."""
+
+from __future__ import annotations
+
+import numpy as np
+import warnings
+
+from .._memory import check_memory
+from .._validate import as_count, as_flag, as_float_array
+from ..exceptions import InputError, NearSingularWarning
+from .certified import _certified, _certify_batch
+from .numpy_path import _complex_modes, _row_check, _solve
+from .results import DKBatchResult, _MAX_MODES
+
+
+_KERNEL_MIN_ROWS = 2000
+
+
+#: Peak bytes per row of a batch, measured with tracemalloc on 20,000 rows of the general 3-RPR
+#: (2026-12-01: numpy path 4.2 kB, kernel 0.7 kB, result 0.49 kB; certify=True adds 3.5 kB),
+#: rounded up; the memory check before a batch multiplies them by the rows.
+BATCH_PEAK_BYTES_PER_ROW = {"numpy": 5000, "kernel": 1000, "certify": 4000}
+
+
+def _have_numba():
+    """Whether numba is installed, without importing it (its import alone takes ~0.3 s)."""
+    import importlib.util
+
+    return importlib.util.find_spec("numba") is not None
+
+
+def direct_kinematics(m, q, include_complex=False, certify=False):
+    """All real assembly modes for the joint values ``q``.
+
+    Parameters
+    ----------
+    q : (3,) float or exact numbers
+    include_complex : bool
+        Also return the complex solutions (back-substituted, not polished; ``is_real`` False).
+    certify : bool
+        Prove the answer at the exact joint values (floats taken as the binary rationals
+        they are, sympy values as given): the real roots of the exact kinematic polynomial
+        are isolated and refined (:func:`imagespace.core.certify.certify_real_roots`) and every
+        mode is computed from its root (:mod:`imagespace.solve.certified`): one mode per
+        simple root, a multiple root once as a singular mode with ``.multiplicity``, two
+        modes even where they are closer than double precision can show. See
+        :class:`CertifiedModes` for the semantics and their exceptions.
+
+    Returns
+    -------
+    list of AssemblyMode, or CertifiedModes (a list with ``.certificate``) if ``certify``
+        Sorted by ``phi``; empty when no real mode exists.
+
+    Raises
+    ------
+    DegenerateDesignError
+        When the design at these joint values has infinitely many modes (a continuum).
+
+    Warns
+    -----
+    NearSingularWarning
+        Without ``certify``: the floating-point count may be wrong (roots closer than the
+        float path can separate, or modes that do not account for the real roots).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> m = isp.examples.stigger_husty()
+    >>> len(m.direct_kinematics(m.q_example))
+    6
+    >>> cm = m.direct_kinematics(m.q_example, certify=True)
+    >>> cm.certificate.count, sum(cm.modes_per_root)
+    (6, 6)
+    """
+    include_complex = as_flag(include_complex, "include_complex")
+    certify = as_flag(certify, "certify")
+    qf = m.check_q(q)          # exact sympy numbers pass, free symbols are refused by name
+    if qf.ndim != 1:
+        raise InputError(f"q must have shape (3,), got {qf.shape}; use direct_kinematics_batch")
+    if certify:
+        modes = _certified(m, q, qf)
+    else:
+        res = _solve(m, qf[None, :], raise_degenerate=True)
+        modes = res.modes(0)
+        if res.near_singular[0]:
+            warnings.warn(
+                f"{m.name} at q = {qf.tolist()}: the floating-point direct kinematics could "
+                f"not separate the roots of the kinematic polynomial (a singular or nearly "
+                f"singular configuration); the {len(modes)} mode(s) returned may not be all. "
+                "Use direct_kinematics(q, certify=True) for the proven answer.",
+                NearSingularWarning, stacklevel=2)
+    if include_complex:
+        modes += _complex_modes(m, qf)
+    return modes
+
+
+def direct_kinematics_batch(m, Q, certify=False, method="auto"):
+    """Direct kinematics of many joint vectors at once.
+
+    Parameters
+    ----------
+    Q : (n, 3) float
+        One joint vector per row. Rows with NaN or out-of-domain values are masked
+        (``row_ok`` False), not raised.
+    certify : bool
+        Also prove the number of real roots per row (:func:`~imagespace.core.certify.certify_real_roots_batch`
+        on the compiled kinematic polynomial, floats taken as exact binary rationals) and
+        hold the modes to it; rows that disagree are re-solved per row with the certified
+        path. Fills ``certified_roots``, ``certificate_path`` and ``consistent``.
+    method : {"auto", "kernel", "numpy"}
+        ``"kernel"``: the compiled one-pass kernel of :mod:`imagespace.solve.kernel` (numba; real
+        roots only, no eigenvalues); rows it cannot decide in floating point are handed to
+        the numpy path (``special``) or, for a root touching the axis, to the certified
+        per-row path. ``"numpy"``: the vectorised numpy path (companion eigenvalues,
+        Newton, every mode checked by the legs' inverse kinematics). ``"auto"``: the kernel
+        for batches of at least 2,000 rows when numba is installed and the design suits it
+        (no PP dyad, Cramer denominator not identically zero), else numpy. The first kernel
+        call for a design compiles it (a few seconds).
+
+    Returns
+    -------
+    DKBatchResult
+        ``solver`` says per row which path answered.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> import numpy as np
+    >>> m = isp.examples.stigger_husty()
+    >>> r = m.direct_kinematics_batch(np.array([m.q_example_float, [np.nan, 1, 1]]))
+    >>> r.count.tolist(), r.row_ok.tolist(), r.solver.tolist()
+    ([6, 0], [True, False], ['numpy', 'invalid'])
+    """
+    Q = as_float_array(Q, "Q", last=3, finite=False)
+    certify = as_flag(certify, "certify")
+    if Q.ndim == 1:
+        Q = Q[None, :]
+    if not isinstance(method, str) or method not in ("auto", "kernel", "numpy"):
+        raise InputError(f"method must be 'auto', 'kernel' or 'numpy', got {method!r}")
+    kernel = None
+    if method == "kernel" or (method == "auto" and Q.shape[0] >= _KERNEL_MIN_ROWS):
+        kernel = batch_kernel(m)
+        if kernel is None and method == "kernel":
+            raise InputError(
+                f"method='kernel' is not available for {m.name}: "
+                + ("numba is not installed" if not _have_numba() else
+                   "the design has a PP dyad or a Cramer denominator vanishing identically")
+                + "; use method='numpy' or 'auto'")
+    per_row = (BATCH_PEAK_BYTES_PER_ROW["kernel" if kernel is not None else "numpy"]
+               + (BATCH_PEAK_BYTES_PER_ROW["certify"] if certify else 0))
+    check_memory(Q.shape[0] * per_row, f"direct_kinematics_batch of {Q.shape[0]:,} rows",
+                 f"use direct_kinematics_chunks(Q, chunk_size=...) to solve it chunk by chunk "
+                 f"(a chunk of 65,536 rows needs about {65536 * per_row / 1e9:.2g} GB)")
+    res = _solve_kernel(m, Q, kernel) if kernel is not None else _solve(m, Q, raise_degenerate=False)
+    if certify:
+        _certify_batch(m, Q, res)
+    return res
+
+
+def direct_kinematics_chunks(m, Q, chunk_size=65536, certify=False, method="auto"):
+    """Direct kinematics of a large batch, chunk by chunk (memory bounded by the chunk).
+
+    Parameters
+    ----------
+    Q : (n, 3) float array (a numpy memmap works)
+    chunk_size : int
+        Rows per chunk; the result of one chunk of 65,536 rows takes ~26 MB.
+    certify, method
+        As in :meth:`direct_kinematics_batch`.
+
+    Yields
+    ------
+    (start, DKBatchResult)
+        The rows ``start : start + len(result.count)`` of ``Q``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> import numpy as np
+    >>> m = isp.examples.general_3rpr()
+    >>> Q = np.tile(m.q_example_float, (5, 1))
+    >>> [(s, r.count.tolist()) for s, r in m.direct_kinematics_chunks(Q, chunk_size=2)]
+    [(0, [6, 6]), (2, [6, 6]), (4, [6])]
+    """
+    chunk_size = as_count(chunk_size, "chunk_size")
+    certify = as_flag(certify, "certify")
+    if not isinstance(method, str) or method not in ("auto", "kernel", "numpy"):
+        raise InputError(f"method must be 'auto', 'kernel' or 'numpy', got {method!r}")
+    if not isinstance(Q, np.ndarray):               # a memmap is validated chunk by chunk
+        Q = as_float_array(Q, "Q", last=3, finite=False)
+    elif Q.dtype.kind not in "iuf":
+        raise TypeError(f"Q must be a real float or integer array, got dtype {Q.dtype}")
+    if Q.ndim != 2 or Q.shape[-1] != 3:
+        raise InputError(f"Q must have shape (n, 3), got {Q.shape}")
+    return _chunks(m, Q, chunk_size, certify, method)    # validated now, solved lazily
+
+
+def _chunks(m, Q, chunk_size, certify, method):
+    for start in range(0, Q.shape[0], chunk_size):
+        yield start, direct_kinematics_batch(m, Q[start:start + chunk_size], certify, method)
+
+
+def batch_kernel(m):
+    """The compiled batch kernel of the design ``m`` (built once, cached on it), or None where it
+    does not apply (numba missing, free symbols in the design).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.solve.dispatch import batch_kernel
+    >>> from imagespace.solve.kernel import HAVE_NUMBA
+    >>> (batch_kernel(isp.examples.general_3rpr()) is not None) == HAVE_NUMBA
+    True
+    """
+    return m.cached("kernel", lambda: _build_batch_kernel(m))
+
+
+def _build_batch_kernel(m):
+    if not m.is_numeric or not _have_numba():
+        return None
+    from .kernel import build_kernel          # numba is imported on the first kernel only
+
+    return build_kernel(m)
+
+
+def _solve_kernel(m, Q, kernel):
+    n = Q.shape[0]
+    tol = m.tolerances
+    row_ok, errors = _row_check(m, Q)
+    ok = np.flatnonzero(row_ok)
+    if ok.size == n:                       # the usual case: the kernel's arrays are the result
+        X, P, R, A8, cnt, flag = kernel(Q)
+    else:                                  # masked rows stay NaN / 0
+        X = np.full((n, _MAX_MODES, 4), np.nan)
+        P = np.full((n, _MAX_MODES, 3), np.nan)
+        R = np.full((n, _MAX_MODES), np.nan)
+        A8 = np.zeros((n, _MAX_MODES), dtype=np.int8)
+        cnt = np.zeros(n, dtype=np.int64)
+        flag = np.zeros(n, dtype=np.int8)
+        if ok.size:
+            X[ok], P[ok], R[ok], A8[ok], cnt[ok], flag[ok] = kernel(Q[ok])
+    A = A8.astype(int)
+    solver = np.where(row_ok, "kernel", "invalid").astype("<U9")
+    special = row_ok & (flag != 0)
+    valid = np.arange(_MAX_MODES) < cnt[:, None]
+    # cheap indicators of a count the kernel may have got wrong: a real root pair closer
+    # than near_singular_gap (in the half-angle), or an odd count (the kinematic polynomial
+    # has even degree and real coefficients: an odd number of distinct real roots means a
+    # multiple root)
+    with np.errstate(invalid="ignore"):
+        half = np.where(valid, np.arctan2(X[..., 1], X[..., 0]), np.nan)
+        hs = np.sort(np.where(valid, half, np.inf), axis=1)
+        gaps = np.diff(hs, axis=1)
+        wrap = hs[:, 0] + np.pi - np.max(np.where(np.isfinite(hs), hs, -np.inf), axis=1)
+    close = np.any(np.where(np.isfinite(gaps), gaps, np.inf) < tol.near_singular_gap, axis=1)
+    close |= (cnt > 1) & (wrap < tol.near_singular_gap)
+    near = row_ok & ((cnt % 2 == 1) | close)
+    res = DKBatchResult(X, P, valid, cnt, R, A, row_ok, errors, special,
+                        near_singular=near, multiplicity=np.ones((n, _MAX_MODES), dtype=np.int8))
+    # rows the kernel could not decide in floating point (flag 1: Cramer denominator small
+    # at a root, Newton not converging; flag 2: a root touching the axis) take the numpy path,
+    # which solves case (b) per row and computes its own near_singular mask
+    careful = np.flatnonzero(row_ok & (flag != 0))
+    if careful.size:
+        sub = _solve(m, Q[careful], raise_degenerate=False)
+        for name in ("image_points", "poses", "valid", "count", "residual", "aspect", "row_ok",
+                     "near_singular"):
+            getattr(res, name)[careful] = getattr(sub, name)
+        for k, msg in sub.errors.items():   # only DegenerateDesignError messages (q stated)
+            errors[int(careful[k])] = msg
+        solver[careful] = "numpy"
+    solver[~res.row_ok] = "invalid"
+    res.solver = solver
+    return res

@@ -1,0 +1,515 @@
+"""The vectorised numpy path of the batch direct kinematics: companion eigenvalues, Newton on
+the balanced system, every mode checked by the legs' inverse kinematics, and the careful
+per-orientation solves of the Cramer cases (a)/(b).
+
+The functions take the mechanism ``m`` (a :class:`~imagespace.PlanarParallel`) first."""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from ..core.certify import inclusion_discs
+from ..core.elimination import bf_eval, eliminate
+from ..core.kinematic_map import pose_of as _pose_of, representative_sign
+from ..core.mechanism import form_coefficients
+from ..core.quadrics import Quadric, dk_system as _system
+from ..core.roots import real_half_angles
+from ..exceptions import DegenerateDesignError
+from .results import AssemblyMode, DKBatchResult, _MAX_MODES
+
+
+def _coef_array(quadrics, n):
+    """(n, 3, 8) float coefficient array of three numeric quadrics."""
+    C = np.empty((n, 3, 8))
+    for i, q in enumerate(quadrics):
+        for k, v in enumerate(q.coefficients()):
+            C[:, i, k] = np.broadcast_to(np.asarray(v, dtype=float), (n,))
+    return C
+
+
+def _newton(C, X, tol):
+    """Newton on [Q1, Q2, Q3, x0^2 + x1^2 - 1]; each candidate stops once its step is below
+    ``tol.newton_stop`` of its size (or its Jacobian is singular), so converged rows cost nothing
+    more. C are balanced coefficients (see :func:`_balance`), so the sizes are comparable."""
+    X = X.copy()
+    active = np.all(np.isfinite(X), axis=-1)
+    for _ in range(int(tol.newton_steps)):
+        idx = np.nonzero(active)
+        if idx[0].size == 0:
+            break
+        Ca = C[idx[0]][:, None]                     # (m, 1, 3, 8)
+        Fv, J = _system(Ca[:, 0], X[idx][:, None, :])
+        Fv, J = Fv[:, 0], J[:, 0]
+        det = np.linalg.det(J)
+        scale = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+        solvable = np.abs(det) > tol.newton_stop * scale
+        step = np.zeros((idx[0].size, 4))
+        if np.any(solvable):
+            step[solvable] = np.linalg.solve(J[solvable], -Fv[solvable][..., None])[..., 0]
+        X[idx] = X[idx] + step
+        size = np.maximum(1.0, np.max(np.abs(X[idx]), axis=-1))
+        done = ~solvable | (np.max(np.abs(step), axis=-1) <= 0.1 * tol.newton_stop * size)
+        # one more step after the first tiny one is pointless: retire converged candidates
+        active[idx[0][done], idx[1][done]] = False
+    return X
+
+
+def _balance(C):
+    """Balance raw quadric coefficients to the row's length scale.
+
+    ``C`` (n, 3, 8) are coefficients ``(c, a0, a1, b0, b1, k0, k1, k2)`` in ``x0..x3``. With the
+    length scale ``L`` of each row (from the quadrics themselves: ``sqrt(|k|/|c|)`` and
+    ``|a, b|/|c|`` of circles, ``|k|/|a, b|`` of lines), the substitution ``x2 = L x2'``,
+    ``x3 = L x3'`` gives coefficients ``(c L^2, a L, b L, k)``, each quadric then scaled to max
+    coefficient 1. Solving in the primed coordinates makes every threshold relative: the same
+    robot in millimetres or kilometres meets the same decisions. Returns ``(C', L)``.
+    """
+    c = np.abs(C[..., 0])
+    ab = np.max(np.abs(C[..., 1:5]), axis=-1)
+    k = np.max(np.abs(C[..., 5:8]), axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        cands = np.stack([np.where(c > 0, np.sqrt(k / c), 0.0), np.where(c > 0, ab / c, 0.0),
+                          np.where((c == 0) & (ab > 0), k / ab, 0.0)], axis=-1)
+    cands = np.where(np.isfinite(cands), cands, 0.0)
+    L = np.max(cands, axis=(-1, -2))
+    L = np.where(L > 0, L, 1.0)
+    B = C.copy()
+    B[..., 0] *= (L * L)[:, None]
+    B[..., 1:5] *= L[:, None, None]
+    B = B / np.maximum(np.max(np.abs(B), axis=2, keepdims=True), 1e-300)
+    return B, L
+
+
+def _normalize_rows(X):
+    n = np.sqrt(X[..., 0]**2 + X[..., 1]**2)
+    s = representative_sign(X[..., 0], X[..., 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return X * (s / n)[..., None]
+
+
+def _rotated_with_bound(Fn):
+    """Each form in the chart of its largest leading coefficient
+    (:func:`imagespace.core.roots.rotated_forms`), with a generous bound on the rounding of the
+    rotation for every rotated coefficient: ``(G, ok, gamma, E)``."""
+    from ..core.roots import rotated_forms
+
+    G, ok, gamma = rotated_forms(Fn)
+    d = G.shape[1] - 1
+    E = (4 * d + 8) * 2.0**-53 * np.max(np.abs(G), axis=1, keepdims=True) * np.ones_like(G)
+    return G, ok, gamma, E
+
+
+def _separated(Fn):
+    """Inclusion-disc separation of the roots of float binary forms ``Fn`` (n, d+1), in the
+    chart where each form's leading coefficient is largest. Returns ``(separated (n,), real
+    roots (n,))``: where ``separated`` is False, roots could not be told apart in floating point."""
+    n = Fn.shape[0]
+    sep = np.zeros(n, dtype=bool)
+    nreal = np.zeros(n, dtype=int)
+    G, ok, _, E = _rotated_with_bound(Fn)
+    d = G.shape[1] - 1
+    if d < 1:
+        return ok, nreal
+    use = ok & (np.abs(G[:, d]) > E[:, d])
+    if np.any(use):
+        good, real, _, _ = inclusion_discs(G[use], E[use])
+        sep[use] = good
+        nreal[use] = np.where(good, real.sum(axis=1), 0)
+    return sep, nreal
+
+
+def _root_clusters(Fn):
+    """Clusters of roots that inclusion discs cannot separate, for one float binary form ``Fn``
+    (d+1,): a list of ``(theta, radius, size)`` (half-angle centre, half-angle radius, number of
+    roots) for each group of two or more overlapping discs that meets the real axis."""
+    G, ok, gamma, E = _rotated_with_bound(Fn[None, :])
+    d = G.shape[1] - 1
+    if not ok[0] or d < 2:
+        return []
+    gamma = float(gamma[0])
+    good, real, z, hull_r = inclusion_discs(G, E)
+    if good[0]:
+        return []
+    z = z[0]
+    r = hull_r[0] - np.abs(z.imag)                 # the inclusion radius of each disc
+    if not np.all(np.isfinite(z)):
+        return [(0.0, np.pi, d)]
+    parent = list(range(d))
+
+    def find(a):
+        while parent[a] != a:
+            a = parent[a]
+        return a
+
+    for a in range(d):
+        for b in range(a + 1, d):
+            if abs(z[a] - z[b]) <= r[a] + r[b]:
+                parent[find(a)] = find(b)
+    out = []
+    for root in set(find(a) for a in range(d)):
+        members = [a for a in range(d) if find(a) == root]
+        if len(members) < 2 or min(abs(z[a].imag) - r[a] for a in members) > 0:
+            continue
+        c = float(np.mean([z[a].real for a in members]))
+        rad = max(abs(z[a].real - c) + r[a] + abs(z[a].imag) for a in members)
+        out.append((gamma + float(np.arctan(c)), float(rad), len(members)))
+    return out
+
+
+def _distinct_orientations_batch(half, valid, tol):
+    """Per row, the number of distinct orientations among the valid half-angles (n, k) in
+    (-pi/2, pi/2] (the ends identified): gaps above ``tol`` separate them (vectorised)."""
+    with np.errstate(invalid="ignore"):
+        h = np.sort(np.where(valid, half, np.inf), axis=1)
+        cnt = valid.sum(axis=1)
+        first = h[:, 0]
+        nxt = np.concatenate([h[:, 1:], np.full((h.shape[0], 1), np.inf)], axis=1)
+        idx = np.arange(h.shape[1])
+        # the gap after the last valid angle wraps around to the first one + pi
+        nxt = np.where(idx[None, :] == (cnt - 1)[:, None], first[:, None] + np.pi, nxt)
+        gaps = np.where(idx[None, :] < cnt[:, None], nxt - h, -np.inf)
+    return np.where(cnt > 0, np.maximum(1, np.sum(gaps > tol, axis=1)), 0)
+
+
+def _row_check(m, Q):
+    """Rows with finite joint values inside every actuated joint's domain, and messages."""
+    errors = {}
+    row_ok = np.all(np.isfinite(Q), axis=1)
+    for i in np.flatnonzero(~row_ok):
+        errors[int(i)] = f"Q[{i}] is not finite: {Q[i].tolist()}"
+    for j, leg in enumerate(m.legs):
+        bad = row_ok & ~leg.joint_values_ok(np.where(row_ok, Q[:, j], 0.0))
+        for i in np.flatnonzero(bad):
+            row_ok[i] = False
+            errors[int(i)] = (f"Q[{i}, {j}] = {Q[i, j]} is outside the domain of the actuated "
+                              f"joint {leg.actuated_name} of {leg.joints}")
+    return row_ok, errors
+
+
+def _store_modes(res, i, modes):
+    """Write a list of AssemblyMode into row ``i`` of a DKBatchResult."""
+    k = min(len(modes), res.valid.shape[1])
+    res.image_points[i], res.poses[i], res.residual[i] = np.nan, np.nan, np.nan
+    res.valid[i], res.aspect[i] = False, 0
+    if res.multiplicity is not None:
+        res.multiplicity[i] = 1
+    for j, mm in enumerate(modes[:k]):
+        res.image_points[i, j], res.poses[i, j] = mm.image_point, mm.pose
+        res.residual[i, j], res.aspect[i, j], res.valid[i, j] = mm.residual, mm.aspect, True
+        if res.multiplicity is not None:
+            res.multiplicity[i, j] = mm.multiplicity
+    res.count[i] = k
+
+
+def _solve(m, Q, raise_degenerate):
+    n = Q.shape[0]
+    tol = m.tolerances
+    row_ok, errors = _row_check(m, Q)
+    Qs = np.where(row_ok[:, None], Q, 0.0)
+    C, cq, L = _scaled_quadrics(m, Qs)
+    el = eliminate(cq, m.elimination_plan)
+    Darr = np.stack(np.broadcast_arrays(*el.D), axis=1)
+    Farr = np.stack(np.broadcast_arrays(*el.F), axis=1)
+    X2 = np.stack(np.broadcast_arrays(*el.X2), axis=1)
+    X3 = np.stack(np.broadcast_arrays(*el.X3), axis=1)
+    dnorm = np.max(np.abs(Darr), axis=1)
+    fnorm = np.max(np.abs(Farr), axis=1)
+    special = row_ok & ((dnorm <= tol.cramer_identically_zero) | (fnorm <= tol.degenerate))
+    Fn = Farr / np.where(fnorm > 0, fnorm, 1.0)[:, None]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        theta, ok = real_half_angles(Fn, tol.real_root_imag)
+    x0, x1 = np.cos(theta), np.sin(theta)
+    Dv = bf_eval([c[:, None] for c in Darr.T], x0, x1)
+    small_d = np.isfinite(theta) & (np.abs(Dv) <= tol.cramer_small * dnorm[:, None])
+    special |= row_ok & np.any(small_d, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        x2 = bf_eval([c[:, None] for c in X2.T], x0, x1) / Dv
+        x3 = bf_eval([c[:, None] for c in X3.T], x0, x1) / Dv
+    cand = np.stack([x0, x1, x2, x3], axis=-1)
+    cand[~(row_ok & ~special)] = np.nan
+    width = max(cand.shape[1], _MAX_MODES)
+    if cand.shape[1] < width:
+        pad = np.full((n, width - cand.shape[1], 4), np.nan)
+        cand = np.concatenate([cand, pad], axis=1)
+    # separation of the roots (inclusion discs on the normalised float polynomial, in the
+    # chart of its largest leading coefficient): where they overlap the count is not trusted
+    separated, n_real = _separated(Fn)
+    # careful path for special rows
+    extra = {}
+    near_special = {}
+    for i in np.flatnonzero(special):
+        try:
+            extra[i], near_special[i] = _special_candidates(m, Q[i], C[i], L[i])
+        except DegenerateDesignError as e:
+            if raise_degenerate:
+                raise
+            row_ok[i] = False
+            errors[int(i)] = str(e)
+    if extra:
+        width = max(width, max(len(v) for v in extra.values()))
+        if cand.shape[1] < width:
+            cand = np.concatenate([cand, np.full((n, width - cand.shape[1], 4), np.nan)], axis=1)
+        for i, lst in extra.items():
+            cand[i] = np.nan
+            for j, x in enumerate(lst):
+                cand[i, j] = x
+    res = _finish(m, Q, C, cand, row_ok, errors, special, L)
+    half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])
+    distinct = _distinct_orientations_batch(half, res.valid, tol.duplicate)
+    # the spurious orientation phi_c + pi of a PP dyad is a root that carries no mode
+    n_real = n_real - _spurious_roots(m, C, theta)
+    near = row_ok & ~special & (~separated | (distinct != n_real))
+    for i, (flag, clusters) in near_special.items():
+        # a cluster of k roots the discs cannot separate must carry k modes (case (b): a
+        # double root with two positions); anything else is a count not to be trusted
+        hv = half[i][res.valid[i]]
+        for theta_c, rad, size in clusters:
+            dist = np.abs(np.remainder(hv - theta_c + np.pi / 2, np.pi) - np.pi / 2)
+            flag = flag or int(np.sum(dist <= rad + tol.near_singular_gap)) != size
+        near[i] = row_ok[i] and (flag or bool(res.near_singular[i]))
+        if near[i]:
+            # a continuum hides behind a Cramer case seen in floating point: decide exactly
+            try:
+                m.direct_kinematics(Q[i], certify=True)
+            except DegenerateDesignError as e:
+                if raise_degenerate:
+                    raise
+                row_ok[i] = False
+                errors[int(i)] = str(e)
+                _store_modes(res, i, [])
+                res.solver[i] = "invalid"
+                near[i] = False
+    res.near_singular = near
+    return res
+
+
+def _spurious_roots(m, C, theta):
+    """Per row, how many of the real half-angles ``theta`` (n, k) are the spurious
+    orientation ``phi_c + pi`` of a PP dyad (its quadric ``sin(2 theta - phi_c)`` up to scale
+    has the roots ``theta = phi_c / 2`` and ``phi_c / 2 + pi / 2``; the first is the one)."""
+    n = C.shape[0]
+    out = np.zeros(n, dtype=int)
+    for j, kind in enumerate(m.kinds):
+        if kind != "PP":
+            continue
+        phi_c = np.arctan2(-C[:, j, 5], C[:, j, 6] / 2)
+        spur = phi_c / 2 + np.pi / 2
+        d = np.abs(np.remainder(theta - spur[:, None] + np.pi / 2, np.pi) - np.pi / 2)
+        out += np.sum(np.isfinite(theta) & (d <= m.tolerances.near_singular_gap), axis=1)
+    return out
+
+
+def _finish(m, Q, C, cand, row_ok, errors, special, L):
+    """Polish candidates (balanced coordinates), check them with the legs, sort; ``L`` (n,)
+    is the length scale the candidates' ``x2, x3`` are divided by (see :func:`_balance`)."""
+    tol = m.tolerances
+    n, k, _ = cand.shape
+    X = _newton(C, _normalize_rows(cand), tol)
+    X = _normalize_rows(X)
+    finite = np.all(np.isfinite(X), axis=-1)
+    # duplicates (balanced coordinates): a later candidate close to an earlier valid one
+    Xw = X * np.concatenate([np.ones((n, 1, 2)), np.repeat(L[:, None, None], 2, axis=2)], axis=2)
+    poses = np.full((n, k, 3), np.nan)
+    if np.any(finite):
+        poses[finite] = _pose_of(Xw[finite])
+    resid = np.full((n, k), np.inf)
+    if np.any(finite):
+        rows = np.nonzero(finite)[0]
+        resid[finite] = m.joint_residual(poses[finite], Q[rows], length=L[rows])
+    valid = finite & (resid <= tol.joint_residual)
+    for j in range(1, k):
+        for i0 in range(j):
+            dist = np.minimum(np.max(np.abs(X[:, j] - X[:, i0]), axis=-1),
+                              np.max(np.abs(X[:, j] + X[:, i0]), axis=-1))
+            valid[:, j] &= ~(valid[:, i0] & (dist <= tol.duplicate * (1 + np.max(np.abs(X[:, j]), axis=-1))))
+    _, J = _system(C, np.where(finite[..., None], X, 0.0))
+    detJ = np.linalg.det(J)
+    aspect = np.where(finite, np.sign(detJ), 0).astype(int)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.abs(detJ) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+    X = Xw
+    # sort valid first, by phi
+    key = np.where(valid, poses[..., 2], np.inf)
+    order = np.argsort(key, axis=1, kind="stable")
+    take = lambda a: np.take_along_axis(a, order.reshape(order.shape + (1,) * (a.ndim - 2)), axis=1)
+    X, poses, valid, resid, aspect = take(X), take(poses), take(valid), take(resid), take(aspect)
+    ill = np.any(valid & ~(take(ratio) > tol.near_singular_condition), axis=1)
+    count = valid.sum(axis=1)
+    if np.any(count > _MAX_MODES):
+        raise DegenerateDesignError(f"more than {_MAX_MODES} assembly modes found; the design is degenerate")
+    w = _MAX_MODES
+    X, poses, valid, resid, aspect = X[:, :w], poses[:, :w], valid[:, :w], resid[:, :w], aspect[:, :w]
+    X = np.where(valid[..., None], X, np.nan)
+    poses = np.where(valid[..., None], poses, np.nan)
+    resid = np.where(valid, resid, np.nan)
+    aspect = np.where(valid, aspect, 0)
+    solver = np.where(row_ok, "numpy", "invalid").astype("<U9")
+    return DKBatchResult(X, poses, valid, count, resid, aspect, row_ok, errors, special,
+                         solver=solver, near_singular=ill & row_ok,
+                         multiplicity=np.ones((n, w), dtype=np.int8))
+
+
+def _scaled_quadrics(m, Q):
+    """Balanced float quadrics for joint vectors Q (n, 3): see :func:`_balance`.
+
+    Returns the (n, 3, 8) coefficient array in the balanced coordinates, the matching list of
+    three Quadric (rows as arrays) and the length scale ``L`` (n,) of each row.
+    """
+    quads = [leg.dyad(Q[:, j]) for j, leg in enumerate(m.legs)]
+    C, L = _balance(_coef_array(quads, Q.shape[0]))
+    return C, [Quadric(m.kinds[j], *(C[:, j, k] for k in range(8))) for j in range(3)], L
+
+
+def _row_quadrics(m, c_row):
+    """The three scalar quadrics of one row of a (n, 3, 8) coefficient array."""
+    return [Quadric(m.kinds[j], *(c_row[j, k] for k in range(8))) for j in range(3)]
+
+
+def _special_candidates(m, q, C, L):
+    """Candidates (balanced coordinates) for one row whose Cramer denominator vanishes
+    (identically or at a root), and whether the orientations could not be separated."""
+    tol = m.tolerances
+    quads = _row_quadrics(m, C)
+    el = eliminate(quads, m.elimination_plan)
+    D = np.array(el.D, dtype=float)
+    F = np.array(el.F, dtype=float)
+    thetas = []
+    clusters = []
+    if np.max(np.abs(D)) <= tol.cramer_identically_zero:
+        E1, E2 = el.rows[0], el.rows[1]
+        M = np.array([[*E1.A, *E1.B], [*E2.A, *E2.B]], dtype=float)
+        U, S, _ = np.linalg.svd(M)
+        forms = []
+        if S[0] <= tol.rank:
+            forms = [np.array(E1.K, float), np.array(E2.K, float)]
+        else:
+            lam = U[:, -1]
+            forms = [lam[0] * np.array(E1.K, float) + lam[1] * np.array(E2.K, float)]
+        forms = [g for g in forms if np.max(np.abs(g)) > tol.rank]
+        if not forms:
+            _confirm_degenerate(m, q)
+        for g in forms:
+            gn = (g / np.max(np.abs(g)))[None, :]
+            th, ok = real_half_angles(gn, tol.real_root_imag)
+            thetas += [t for t in th[0] if np.isfinite(t)]
+    else:
+        if np.max(np.abs(F)) <= tol.degenerate:
+            poly = _exact_polynomial(m, q)
+            F = np.array([float(c) for c in form_coefficients(poly)], dtype=float)
+        Fn = (F / np.max(np.abs(F)))[None, :]
+        th, ok = real_half_angles(Fn, tol.real_root_imag)
+        thetas = [t for t in th[0] if np.isfinite(t)]
+        clusters = _root_clusters(Fn[0])
+    out = []
+    flags = []
+    for t in thetas:
+        out += _solve_orientation(m, q, quads, np.cos(t), np.sin(t), L, flags)
+    return out, (bool(flags), clusters)
+
+
+def _exact_polynomial(m, q):
+    return m.kinematic_polynomial([sp.Rational(float(v)) for v in q])
+
+
+def _confirm_degenerate(m, q):
+    _exact_polynomial(m, q)  # raises DegenerateDesignError when identically zero
+    raise DegenerateDesignError(
+        f"{m.name} at q = {np.asarray(q).tolist()}: the constraints leave a continuum of "
+        "assembly modes (architecture singularity)")
+
+
+def _solve_orientation(m, q, quads, x0, x1, L, flags=None):
+    """Positions (x2, x3) for a fixed orientation (x0, x1): candidate image points in the
+    balanced coordinates of ``quads`` (length scale ``L``). ``flags`` (a list) receives an
+    entry when two positions are about to merge (a near-zero discriminant)."""
+    tol = m.tolerances
+    rows = []
+    for qd in quads:
+        c, a0, a1, b0, b1, k0, k1, k2 = (float(v) for v in qd.coefficients())
+        rows.append((c, a0 * x0 + a1 * x1, b0 * x0 + b1 * x1, k0 * x0**2 + k1 * x0 * x1 + k2 * x1**2))
+    circles = [r for r in rows if r[0] != 0]
+    lin = [r[1:] for r in rows if r[0] == 0]
+    if circles:
+        c0 = circles[0]
+        lin += [tuple(r[j] - c0[j] * r[0] / c0[0] for j in (1, 2, 3)) for r in circles[1:]]
+    L2 = np.array([[r[0], r[1]] for r in lin]) if lin else np.zeros((0, 2))
+    rhs = np.array([-r[2] for r in lin]) if lin else np.zeros(0)
+    S = np.linalg.svd(L2, compute_uv=False) if len(lin) else np.zeros(0)
+    rank = int(np.sum(S > tol.rank * max(1.0, S[0] if len(S) else 0.0)))
+    if rank == 2:
+        p = np.linalg.lstsq(L2, rhs, rcond=None)[0]
+        out = [np.array([x0, x1, p[0], p[1]])]
+        if circles and S[1] <= tol.cramer_small * S[0]:
+            # nearly case (b): the two positions of the line-circle treatment are candidates
+            # too (Newton and the legs' check keep the true ones, duplicates are dropped)
+            out += _line_circle(L2, rhs, circles[0], x0, x1, tol, flags, strict=False)
+        return out
+    if rank == 1:
+        p0 = np.linalg.lstsq(L2, rhs, rcond=None)[0]
+        if np.max(np.abs(L2 @ p0 - rhs), initial=0.0) > 10 * tol.rank * max(1.0, np.max(np.abs(rhs), initial=0.0)):
+            return []
+        if not circles:
+            return _continuum(m, q, np.array([x0, x1, p0[0], p0[1]]), L)
+        return _line_circle(L2, rhs, circles[0], x0, x1, tol, flags)
+    consistent = all(abs(r) <= tol.rank for r in rhs)
+    if not consistent:
+        return []
+    if circles:
+        c, al, be, ka = circles[0]
+        centre = np.array([-al, -be]) / (2 * c)
+        r2 = centre @ centre - ka / c
+        if r2 < 0:
+            return []
+        return _continuum(m, q, np.array([x0, x1, centre[0] + np.sqrt(r2), centre[1]]), L)
+    return _continuum(m, q, np.array([x0, x1, 0.0, 0.0]), L)
+
+
+def _line_circle(L2, rhs, circle, x0, x1, tol, flags=None, strict=True):
+    """The (up to two) points of the circle row on the line of the rank-1 linear rows."""
+    U, S, Vt = np.linalg.svd(L2)
+    # the rank-1 least-squares point and the line's direction
+    p0 = Vt[0] * ((U[:, 0] @ rhs) / S[0])
+    d = Vt[1]
+    c, al, be, ka = circle
+    A2 = c * (d @ d)
+    A1 = 2 * c * (p0 @ d) + al * d[0] + be * d[1]
+    A0 = c * (p0 @ p0) + al * p0[0] + be * p0[1] + ka
+    disc = A1 * A1 - 4 * A2 * A0
+    if strict and flags is not None and abs(disc) <= tol.near_singular_condition * (A1 * A1 + abs(4 * A2 * A0)):
+        flags.append("merging positions")   # the count is not to be trusted
+    if disc < -tol.rank * max(1.0, A1 * A1):
+        return []
+    r = np.sqrt(max(disc, 0.0))
+    return [np.array([x0, x1, *(p0 + t * d)]) for t in ((-A1 + r) / (2 * A2), (-A1 - r) / (2 * A2))]
+
+
+def _continuum(m, q, X, L):
+    Xw = np.array([X[0], X[1], X[2] * L, X[3] * L])
+    pose = _pose_of(Xw)
+    if m.joint_residual(pose, q, length=L) <= m.tolerances.joint_residual:
+        raise DegenerateDesignError(
+            f"{m.name} at q = {np.asarray(q).tolist()}: a continuum of assembly modes at "
+            f"phi = {pose[2]:.6g} (architecture singularity or singular joint values)")
+    return []
+
+
+def _complex_modes(m, q):
+    poly = m.kinematic_polynomial([sp.Rational(float(v)) for v in q])
+    coeffs = np.array([complex(c) for c in form_coefficients(poly)])
+    d = len(coeffs) - 1
+    roots = np.roots(coeffs[::-1]) if d > 0 else []
+    out = []
+    quads = m.quadrics(np.asarray(q, float))
+    el = eliminate(quads, m.elimination_plan)
+    for t in roots:
+        if abs(t.imag) <= m.tolerances.real_root_imag * (1 + abs(t)):
+            continue
+        x0, x1 = 1.0 + 0j, complex(t)
+        Dv = bf_eval([complex(v) for v in el.D], x0, x1)
+        if Dv == 0:
+            continue
+        x2 = bf_eval([complex(v) for v in el.X2], x0, x1) / Dv
+        x3 = bf_eval([complex(v) for v in el.X3], x0, x1) / Dv
+        out.append(AssemblyMode(np.array([x0, x1, x2, x3]), np.full(3, np.nan), np.nan, 0, False))
+    return out
