@@ -13,7 +13,8 @@ import sympy as sp
 
 import imagespace as isp
 from imagespace.paths.modechange import plan_mode_change
-from imagespace.paths.check import _piece_polynomial, _prepare, _roots_in_unit_interval, segment, segments_free
+from imagespace.core.certify import roots_in_unit_interval
+from imagespace.paths.check import _piece_polynomial, _prepare, segment, segments_free
 
 
 def random_segments(n, rng):
@@ -38,7 +39,7 @@ def main(n=100000):
     exact = np.empty(n, dtype=bool)
     for i in range(n):
         p = _piece_polynomial(quartic, segment(A[i], B[i]).pieces[0])
-        exact[i] = not _roots_in_unit_interval(p)
+        exact[i] = not roots_in_unit_interval(p)
     t_exact = time.perf_counter() - t
     # sympy: polynomial by substitution and a Sturm count, on a subset
     k = 300

@@ -34,7 +34,6 @@ exact path above.
 
 from __future__ import annotations
 
-import math
 import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
@@ -44,6 +43,8 @@ import numpy as np
 import sympy as sp
 
 from .._validate import as_float_array
+from .curves import ImagePath, pose_segment, polyline, polynomial_curve, rational_curve, segment  # noqa: F401
+from ..core.certify import ISOLATION_WIDTH, float_down, float_up, fmpq_of, roots_in_unit_interval
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
 
@@ -52,7 +53,6 @@ __all__ = ["ImagePath", "PathCheck", "Crossing", "check_path", "segments_free", 
 
 # Every root is reported in an interval of the path parameter narrower than this (a promise
 # about the output, not a decision threshold: isolation is exact whatever the width).
-_ISOLATION_WIDTH = 1e-12
 # Working precision (bits) of the arb interval arithmetic for pose-space segments. arb enclosures
 # are valid at every precision; this only sets their width, hence how soon a sign is decided.
 # If a pose piece is left undecided at _POSE_PREC it is recomputed once at _POSE_PREC_RETRY
@@ -65,286 +65,6 @@ _FLINT_PREC_LOCK = threading.Lock()
 # Prepared quartics by polynomial: a PlanarParallel builds a new SingularitySurface per call.
 _PREPARED = {}
 _PREPARED_MAX = 64
-
-
-# -- paths ---------------------------------------------------------------------------------------
-def _exact(v):
-    """A coordinate as an exact Fraction: floats as the binary rationals they are, sympy rationals as such."""
-    if isinstance(v, Fraction):
-        return v
-    if isinstance(v, (str, bytes, bool, np.bool_, complex)) or v is None:
-        raise TypeError(f"path coefficients must be real numbers, got {type(v).__name__} {v!r}; "
-                        "strings are never parsed")
-    if isinstance(v, sp.Basic):
-        r = sp.Rational(v) if isinstance(v, sp.Float) else v      # a Float is its binary rational
-        if not r.is_Rational:
-            raise InputError(f"path coefficients must be rational, got {v}")
-        return Fraction(int(r.p), int(r.q))
-    if isinstance(v, (int, np.integer)):
-        return Fraction(int(v))
-    return Fraction(float(v))
-
-
-@dataclass(frozen=True)
-class ImagePath:
-    """A path ``t -> X(t)`` in image space made of pieces, each over ``t in [0, 1]``.
-
-    Build with :func:`segment`, :func:`polyline`, :func:`polynomial_curve`, :func:`rational_curve`
-    or :func:`pose_segment`.
-
-    Attributes
-    ----------
-    pieces : tuple
-        For polynomial pieces: ``(deg + 1, 4)`` exact rational coefficient arrays (object dtype;
-        row ``k`` multiplies ``t**k``). For pose segments: ``(2, 3)`` float endpoint poses.
-    kind : str
-        ``"polynomial"`` or ``"pose"``.
-    """
-
-    pieces: tuple
-    kind: str = "polynomial"
-
-    def __len__(self):
-        return len(self.pieces)
-
-    @property
-    def start(self):
-        """The first point, ``(4,)`` float."""
-        return self.evaluate(0, np.array([0.0]))[0]
-
-    @property
-    def end(self):
-        """The last point, ``(4,)`` float."""
-        return self.evaluate(len(self.pieces) - 1, np.array([1.0]))[0]
-
-    def evaluate(self, piece, t):
-        """Points of one piece at parameters ``t``: ``(n, 4)`` float (homogeneous).
-
-        Examples
-        --------
-        >>> from imagespace.paths.check import segment
-        >>> segment([1, 0, 0, 0], [1, 0, 2, 0]).evaluate(0, [0.5]).tolist()
-        [[1.0, 0.0, 1.0, 0.0]]
-        """
-        t = np.atleast_1d(np.asarray(t, dtype=float))
-        if self.kind == "pose":
-            from ..core.kinematic_map import image_point
-
-            p0, p1 = self.pieces[piece]
-            return image_point(p0[None, :] + t[:, None] * (p1 - p0)[None, :])
-        B = _bernstein_floats(self.pieces[piece])
-        # de Casteljau on the Bernstein coefficients (computed exactly, rounded once): stable where
-        # the monomial form cancels, e.g. (1 - t) a + t b with |a| >> |b| at t = 1
-        pts = np.broadcast_to(B[None, :, :], (len(t), *B.shape)).copy()
-        tt = t[:, None]
-        for r in range(1, B.shape[0]):
-            pts[:, : B.shape[0] - r, :] = (1 - tt[:, :, None]) * pts[:, : B.shape[0] - r, :] \
-                + tt[:, :, None] * pts[:, 1: B.shape[0] - r + 1, :]
-        return pts[:, 0, :]
-
-    def sample(self, per_piece=64):
-        """Points along the whole path: ``(len(self) * per_piece + 1, 4)`` float, and their
-        global parameters ``s in [0, len(self)]``.
-
-        Examples
-        --------
-        >>> from imagespace.paths.check import polyline
-        >>> X, s = polyline([[1, 0, 0, 0], [1, 0, 1, 0], [1, 0, 1, 1]]).sample(4)
-        >>> X.shape, float(s[-1])
-        ((9, 4), 2.0)
-        """
-        out, ss = [], []
-        for k in range(len(self.pieces)):
-            t = np.linspace(0, 1, per_piece + 1)[: -1 if k < len(self.pieces) - 1 else None]
-            out.append(self.evaluate(k, t))
-            ss.append(k + t)
-        return np.concatenate(out), np.concatenate(ss)
-
-    def poses(self, per_piece=64):
-        """Poses along the path: ``(n, 3)`` float, ``phi`` unwrapped to be continuous.
-
-        Examples
-        --------
-        >>> from imagespace.paths.check import pose_segment
-        >>> pose_segment([0, 0, 0], [1, 0, 0.5]).poses(2)[:, 2].tolist()
-        [0.0, 0.25, 0.5]
-        """
-        from ..core.kinematic_map import pose_of
-
-        X, _ = self.sample(per_piece)
-        P = pose_of(X)
-        P[:, 2] = np.unwrap(P[:, 2])
-        return P
-
-
-def _bernstein_floats(C):
-    """Bernstein coefficients ``(deg + 1, 4)`` on ``[0, 1]`` of the exact monomial rows ``C``,
-    computed in rational arithmetic and rounded once to float:
-    ``b_i = sum_{k <= i} binom(i, k) / binom(n, k) c_k``."""
-    n = len(C) - 1
-    out = np.empty((n + 1, 4))
-    for i in range(n + 1):
-        for j in range(4):
-            out[i, j] = float(sum(Fraction(math.comb(i, k), math.comb(n, k)) * _exact(C[k][j])
-                                  for k in range(i + 1)))
-    return out
-
-
-def _point(v, name):
-    a = as_float_array(v, name, last=4, allow_batch=False)
-    if a[0] == 0 and a[1] == 0:
-        raise InputError(f"{name} has x0 = x1 = 0, a point of the absolute line, not a displacement; got {a.tolist()}")
-    return a
-
-
-def segment(a, b):
-    """The straight segment ``(1 - t) a + t b`` between two image points (the representatives given).
-
-    Parameters
-    ----------
-    a, b : (4,) float
-        Image points; ``X`` and ``-X`` are the same point but give different segments: the one
-        through the representatives given is taken.
-
-    Returns
-    -------
-    ImagePath
-
-    Examples
-    --------
-    >>> from imagespace.paths.check import segment
-    >>> len(segment([1, 0, 0, 0], [1, 0.5, 1, 2]))
-    1
-    """
-    return polyline([a, b])
-
-
-def polyline(points):
-    """A polyline through image points (one straight segment per consecutive pair).
-
-    Parameters
-    ----------
-    points : (k, 4) float, k >= 2
-
-    Returns
-    -------
-    ImagePath
-
-    Raises
-    ------
-    InputError
-        Fewer than two points, a zero-length segment, a non-finite point, or a segment through
-        the absolute line ``x0 = x1 = 0``.
-
-    Examples
-    --------
-    >>> from imagespace.paths.check import polyline
-    >>> len(polyline([[1, 0, 0, 0], [1, 0, 1, 0], [1, 0.2, 1, 1]]))
-    2
-    """
-    P = as_float_array(points, "points", last=4)
-    if P.ndim != 2 or len(P) < 2:
-        raise InputError(f"points must be (k, 4) with k >= 2, got shape {P.shape}")
-    pieces = []
-    for k in range(len(P) - 1):
-        a, b = _point(P[k], f"points[{k}]"), _point(P[k + 1], f"points[{k + 1}]")
-        if np.array_equal(a, b):
-            raise InputError(f"points[{k}] and points[{k + 1}] are equal: a zero-length segment")
-        sa, sb = a / np.max(np.abs(a)), b / np.max(np.abs(b))      # signs only: no overflow
-        if sa[0] * sb[1] - sa[1] * sb[0] == 0 and sa[0] * sb[0] + sa[1] * sb[1] < 0:
-            raise InputError(f"the segment from points[{k}] to points[{k + 1}] passes through x0 = x1 = 0 "
-                             "(not a displacement); flip the sign of one representative")
-        C = np.empty((2, 4), dtype=object)
-        for j in range(4):
-            C[0, j] = _exact(a[j])
-            C[1, j] = _exact(b[j]) - C[0, j]
-        pieces.append(C)
-    return ImagePath(tuple(pieces))
-
-
-def polynomial_curve(coefficients):
-    """A polynomial curve ``X(t) = sum_k c_k t**k``, ``t in [0, 1]``.
-
-    Parameters
-    ----------
-    coefficients : (deg + 1, 4) numbers
-        Row ``k`` multiplies ``t**k``; exact sympy rationals are kept exact, floats are taken as
-        the binary rationals they are.
-
-    Returns
-    -------
-    ImagePath
-
-    Examples
-    --------
-    >>> from imagespace.paths.check import polynomial_curve
-    >>> polynomial_curve([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]).evaluate(0, [1.0]).tolist()
-    [[1.0, 1.0, 1.0, 0.0]]
-    """
-    rows = np.array(coefficients, dtype=object)
-    if rows.ndim != 2 or rows.shape[1] != 4 or rows.shape[0] < 1:
-        raise InputError(f"coefficients must be (deg + 1, 4), got shape {rows.shape}")
-    flo = as_float_array(rows, "coefficients", last=4)
-    if flo.shape[0] == 1 or not np.any(flo[1:]):
-        raise InputError("coefficients describe a constant curve (a zero-length path)")
-    C = np.empty(rows.shape, dtype=object)
-    for i in range(rows.shape[0]):
-        for j in range(4):
-            C[i, j] = _exact(rows[i, j])
-    return ImagePath((C,))
-
-
-def rational_curve(numerators, denominator):
-    """A rational curve ``X(t) = N(t) / d(t)``: as a point of image space it is ``N(t)``.
-
-    Parameters
-    ----------
-    numerators : (deg + 1, 4) numbers
-    denominator : (m + 1,) numbers
-        Must not vanish on ``[0, 1]`` (checked exactly); it does not change the points.
-
-    Returns
-    -------
-    ImagePath
-
-    Examples
-    --------
-    >>> from imagespace.paths.check import rational_curve
-    >>> len(rational_curve([[1, 0, 0, 0], [0, 1, 1, 0]], [1, 1]))
-    1
-    """
-    from flint import fmpq_poly
-
-    d = [_exact(v) for v in np.ravel(np.array(denominator, dtype=object))]
-    dp = fmpq_poly([_fmpq(c) for c in d])
-    if dp.is_zero() or _roots_in_unit_interval(dp):
-        raise InputError(f"denominator must not vanish on [0, 1], got {denominator!r}")
-    return polynomial_curve(numerators)
-
-
-def pose_segment(p0, p1):
-    """The straight segment in pose space from ``p0`` to ``p1`` (``phi`` linear in ``t``).
-
-    Parameters
-    ----------
-    p0, p1 : (3,) float
-
-    Returns
-    -------
-    ImagePath
-        ``kind == "pose"``; checked by interval arithmetic.
-
-    Examples
-    --------
-    >>> from imagespace.paths.check import pose_segment
-    >>> pose_segment([0, 0, 0], [1, 2, 0.3]).kind
-    'pose'
-    """
-    a = as_float_array(p0, "p0", last=3, allow_batch=False)
-    b = as_float_array(p1, "p1", last=3, allow_batch=False)
-    if np.array_equal(a, b):
-        raise InputError("p0 and p1 are equal: a zero-length segment")
-    return ImagePath(((a, b),), kind="pose")
 
 
 # -- the exact decision ----------------------------------------------------------------------------
@@ -437,24 +157,15 @@ def _value_and_gradient(quartic, X):
     return v, G
 
 
-def _fmpq(x):
-    from flint import fmpq
-
-    if isinstance(x, Fraction):
-        return fmpq(x.numerator, x.denominator)
-    x = sp.Rational(x)
-    return fmpq(int(x.p), int(x.q))
-
-
 def _piece_polynomial(quartic, C):
     """``S(X(t))`` as an fmpq_poly (rational case) for a piece with coefficient rows ``C``."""
     from flint import fmpq_poly
 
-    coords = [fmpq_poly([_fmpq(C[k, j]) for k in range(C.shape[0])]) for j in range(4)]
+    coords = [fmpq_poly([fmpq_of(C[k, j]) for k in range(C.shape[0])]) for j in range(4)]
     powers = [[fmpq_poly([1])] for _ in range(4)]
     total = fmpq_poly([0])
     for mono, c in zip(quartic.monomials, quartic.coeffs_q):
-        term = fmpq_poly([_fmpq(c)])
+        term = fmpq_poly([fmpq_of(c)])
         for j, e in enumerate(mono):
             while len(powers[j]) <= e:
                 powers[j].append(powers[j][-1] * coords[j])
@@ -462,99 +173,6 @@ def _piece_polynomial(quartic, C):
                 term = term * powers[j][e]
         total = total + term
     return total
-
-
-def _roots_in_unit_interval(p, width=_ISOLATION_WIDTH):
-    """Real roots of a non-zero fmpq_poly in ``[0, 1]``: sorted list of ``(lo, hi, multiplicity)``.
-
-    Exact rational arithmetic only (no arb ball, no float, nothing that reads
-    ``flint.ctx.prec``): ``p`` is factored over Q into irreducible factors ``g**e``; a linear
-    factor gives its rational root exactly; an irreducible ``g`` of degree >= 2 has no rational
-    root, so it is non-zero at every bisection point and its roots in ``(0, 1)`` are isolated by
-    Sturm counts (:func:`_sturm_count`), then each is refined by exact sign bisection until the
-    interval is narrower than ``width``. ``(lo, hi)`` are floats rounded outwards, so the float
-    interval contains the root; roots of distinct factors are distinct, so each interval holds
-    exactly one root of ``p``, of multiplicity ``e``.
-    """
-    from flint import fmpq
-
-    w = _fmpq(Fraction(width))
-    zero, one = fmpq(0), fmpq(1)
-    out = []
-    for g, mult in p.factor()[1]:
-        if g.degree() < 1:
-            continue
-        if g.degree() == 1:
-            c0, c1 = g.coeffs()
-            r = -c0 / c1
-            if zero <= r <= one:
-                out.append((_float_down(r), _float_up(r), mult))
-            continue
-        seq = _sturm_sequence(g)
-        stack = [(zero, one, _sturm_count(seq, zero), _sturm_count(seq, one))]
-        while stack:
-            lo, hi, v_lo, v_hi = stack.pop()
-            n = v_lo - v_hi                    # roots of g in (lo, hi): g(lo), g(hi) != 0
-            if n == 0:
-                continue
-            if n == 1:                         # one simple root: g changes sign on (lo, hi)
-                g_lo = g(lo)
-                while hi - lo >= w:
-                    mid = (lo + hi) / 2
-                    g_mid = g(mid)
-                    if (g_mid > 0) == (g_lo > 0):
-                        lo, g_lo = mid, g_mid
-                    else:
-                        hi = mid
-                out.append((_float_down(lo), _float_up(hi), mult))
-                continue
-            mid = (lo + hi) / 2
-            v_mid = _sturm_count(seq, mid)
-            stack += [(mid, hi, v_mid, v_hi), (lo, mid, v_lo, v_mid)]
-    out.sort()
-    return out
-
-
-def _sturm_sequence(g):
-    """The Sturm sequence ``g, g', -rem(g, g'), ...`` of a square-free fmpq_poly (exact)."""
-    seq = [g, g.derivative()]
-    while seq[-1].degree() > 0:
-        r = seq[-2] % seq[-1]
-        if r.is_zero():
-            break
-        seq.append(-r)
-    return seq
-
-
-def _sturm_count(seq, x):
-    """Sign variations of a Sturm sequence at the rational ``x`` (zeros skipped)."""
-    changes, last = 0, 0
-    for s in seq:
-        v = s(x)
-        sign = (v > 0) - (v < 0)
-        if sign:
-            changes += last * sign < 0
-            last = sign
-    return changes
-
-
-def _float_down(q):
-    """The largest float ``<= q`` (``q`` an exact rational: fmpq, Fraction or sympy Rational)."""
-    fr = _as_fraction(q)
-    f = float(fr)                              # correctly rounded
-    return f if Fraction(f) <= fr else math.nextafter(f, -math.inf)
-
-
-def _float_up(q):
-    """The smallest float ``>= q``."""
-    fr = _as_fraction(q)
-    f = float(fr)
-    return f if Fraction(f) >= fr else math.nextafter(f, math.inf)
-
-
-def _as_fraction(q):
-    """An exact rational (Fraction, fmpq or sympy Rational: the last two have ``.p``, ``.q``)."""
-    return q if isinstance(q, Fraction) else Fraction(int(q.p), int(q.q))
 
 
 def _sympy_roots(quartic, C):
@@ -566,7 +184,7 @@ def _sympy_roots(quartic, C):
     if e == 0:
         return None
     p = sp.Poly(e, t, extension=True)
-    width = sp.Rational(Fraction(_ISOLATION_WIDTH))
+    width = sp.Rational(Fraction(ISOLATION_WIDTH))
     out = []
     for f, mult in p.sqf_list()[1]:
         n = f.count_roots(0, 1)
@@ -580,7 +198,7 @@ def _sympy_roots(quartic, C):
             if k == 0:
                 continue
             if k == 1 and b - a < width:
-                out.append((_float_down(a), _float_up(b), mult))
+                out.append((float_down(a), float_up(b), mult))
                 continue
             m = (a + b) / 2
             while f.eval(m) == 0:               # split at a non-root, so every count is unambiguous
@@ -747,7 +365,7 @@ def check_path(target, path, joint_limits=None, manipulator=None):
             if p.is_zero():
                 roots = [(0.0, 1.0, 0)]
             else:
-                roots = _roots_in_unit_interval(p)
+                roots = roots_in_unit_interval(p)
             polys.append(sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(p.coeffs())] or [0], t_sym))
             methods.add("exact: fmpq_poly factors over Q, Sturm sequences and sign bisection in rational arithmetic")
         else:
@@ -802,7 +420,7 @@ def _domain_exits(m, path, joint_limits):
         for k, piece in enumerate(path.pieces):
             p = _piece_polynomial(prep, piece)
             if isinstance(p, fmpq_poly) and not p.is_zero():
-                for lo, hi, _ in _roots_in_unit_interval(p):
+                for lo, hi, _ in roots_in_unit_interval(p):
                     out.append({"piece": k, "leg": i, "t": (lo, hi), "what": what})
     return out
 
@@ -868,13 +486,13 @@ def _pose_roots_at_current_precision(quartic, piece, max_depth):
 
     p0, p1 = (np.asarray(v, float) for v in piece)
     if quartic.rational:
-        coeffs = [arb(_fmpq(c)) for c in quartic.coeffs_q]
+        coeffs = [arb(fmpq_of(c)) for c in quartic.coeffs_q]
     else:
         # float(sp.N(c, 20)) is within 2**-52 |c| of c (20 correct digits, then one rounding)
-        coeffs = [arb(_fmpq(Fraction(float(c)))) + arb(0, _fmpq(Fraction(abs(float(c))) / 2**50))
+        coeffs = [arb(fmpq_of(Fraction(float(c)))) + arb(0, fmpq_of(Fraction(abs(float(c))) / 2**50))
                   for c in quartic.coeffs_f]
-    P0 = [arb(_fmpq(Fraction(float(v)))) for v in p0]
-    D = [arb(_fmpq(Fraction(float(v1)) - Fraction(float(v0)))) for v0, v1 in zip(p0, p1)]
+    P0 = [arb(fmpq_of(Fraction(float(v)))) for v in p0]
+    D = [arb(fmpq_of(Fraction(float(v1)) - Fraction(float(v0)))) for v0, v1 in zip(p0, p1)]
 
     def value_and_slope(t):
         x, y, phi = (P0[j] + t * D[j] for j in range(3))
@@ -900,20 +518,20 @@ def _pose_roots_at_current_precision(quartic, piece, max_depth):
         return val, slope
 
     def sign_at(t):
-        v, _ = value_and_slope(arb(_fmpq(t)))
+        v, _ = value_and_slope(arb(fmpq_of(t)))
         if v.is_zero():
             return 0
         return 1 if v > 0 else (-1 if v < 0 else None)
 
-    width = Fraction(_ISOLATION_WIDTH)
+    width = Fraction(ISOLATION_WIDTH)
     roots, ok = [], True
     stack = [(Fraction(0), Fraction(1), 0)]
     while stack:
         a, b, depth = stack.pop()
         mid, rad = (a + b) / 2, (b - a) / 2
-        vm, _ = value_and_slope(arb(_fmpq(mid)))
-        _, dT = value_and_slope(arb(_fmpq(mid), _fmpq(rad)))
-        enclosure = vm + dT * arb(0, _fmpq(rad))
+        vm, _ = value_and_slope(arb(fmpq_of(mid)))
+        _, dT = value_and_slope(arb(fmpq_of(mid), fmpq_of(rad)))
+        enclosure = vm + dT * arb(0, fmpq_of(rad))
         if not enclosure.contains(0):
             continue
         if not dT.contains(0):                   # monotone on [a, b]
@@ -932,7 +550,7 @@ def _pose_roots_at_current_precision(quartic, piece, max_depth):
             roots.append((a, b, 2))
             continue
         stack += [(mid, b, depth + 1), (a, mid, depth + 1)]
-    roots = sorted({(_float_down(a), _float_up(b), mult) for a, b, mult in roots})
+    roots = sorted({(float_down(a), float_up(b), mult) for a, b, mult in roots})
     return roots, ok
 
 
@@ -1013,7 +631,7 @@ def segments_free(target, A, B, exact=True):
         for i in np.flatnonzero(~decided):
             path = segment(A[i], B[i])
             p = _piece_polynomial(quartic, path.pieces[0])
-            free[i] = (not p.is_zero()) and not _roots_in_unit_interval(p)
+            free[i] = (not p.is_zero()) and not roots_in_unit_interval(p)
             how[i] = "exact"
     elif exact:
         for i in np.flatnonzero(~decided):
