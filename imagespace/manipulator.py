@@ -83,7 +83,7 @@ class PlanarParallel(Mechanism):
         >>> m.jacobians(m.direct_kinematics(m.q_example)[0].pose).kind.tolist()
         ['regular']
         """
-        from .singular.surface import jacobians
+        from .singular.jacobians import jacobians
 
         return jacobians(self, pose, q=q, working_modes=working_modes)
 

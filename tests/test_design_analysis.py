@@ -238,7 +238,7 @@ def test_design_bad_input():
 @pytest.mark.slow
 def test_symbolic_jacobians_equal_the_numeric_ones(rng):
     import sympy as sp
-    from imagespace.singular.surface import symbolic_jacobians
+    from imagespace.singular.jacobians import symbolic_jacobians
     for m in (isp.examples.stigger_husty(), isp.examples.collinear_3rpr(2, 1)):
         Jx, Jq, syms = symbolic_jacobians(m)
         f = sp.lambdify(list(syms) + list(m.joint_symbols), [Jx, Jq], "numpy")

@@ -8,7 +8,8 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.singular.surface import image_chart_point, pose_chart_point, symbolic_jacobians
+from imagespace.singular.jacobians import symbolic_jacobians
+from imagespace.singular.surface import image_chart_point, pose_chart_point
 
 
 @pytest.fixture(scope="module")
