@@ -45,10 +45,11 @@ def new_file_mode(path):
     return 0o666 & ~mask
 
 
-def atomic_write(path, write):
+def atomic_write(path, write, mode=None):
     """Write a file atomically: ``write(f)`` fills a temporary file in the same folder, which is
     flushed, synced and renamed over ``path``; on any error the temporary file is removed and
-    ``path`` is untouched.
+    ``path`` is untouched. The file gets ``mode`` (default: what a plain ``open`` would give, see
+    :func:`new_file_mode`); ``os.replace`` replaces a symbolic link at ``path``, never follows it.
 
     Examples
     --------
@@ -66,7 +67,7 @@ def atomic_write(path, write):
             write(f)
             f.flush()
             os.fsync(f.fileno())
-        os.chmod(tmp, new_file_mode(path))
+        os.chmod(tmp, new_file_mode(path) if mode is None else mode)
         os.replace(tmp, path)
     except BaseException:
         try:

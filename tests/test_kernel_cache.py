@@ -22,6 +22,7 @@ import pytest
 
 import imagespace as isp
 from imagespace import fastdk
+from imagespace.core import codegen
 from imagespace.solve.kernel import HAVE_NUMBA
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel cache needs numba")
@@ -82,7 +83,7 @@ def test_cache_directories_are_created_0700_whatever_the_umask(tmp_path, monkeyp
     monkeypatch.setenv("IMAGESPACE_CACHE", str(root))
     old = os.umask(0)
     try:
-        fastdk._cache_dir()
+        codegen.kernel_cache_dir()
     finally:
         os.umask(old)
     for d in (tmp_path / "a", root, root / "kernels"):
@@ -122,7 +123,7 @@ def test_unsafe_cache_directory_is_refused_with_one_warning(tmp_path, monkeypatc
     make(d)
     with warnings.catch_warnings(record=True) as rec:
         warnings.simplefilter("always")
-        first, second = fastdk._cache_dir(), fastdk._cache_dir()
+        first, second = codegen.kernel_cache_dir(), codegen.kernel_cache_dir()
     assert first is None and second is None
     (w,) = cache_warnings(rec)
     assert issubclass(w.category, fastdk.KernelCacheWarning)
@@ -148,7 +149,7 @@ def test_unsafe_parent_directory_is_refused(tmp_path, monkeypatch, make, reason)
     make(root)
     with warnings.catch_warnings(record=True) as rec:
         warnings.simplefilter("always")
-        assert fastdk._cache_dir() is None
+        assert codegen.kernel_cache_dir() is None
     (w,) = cache_warnings(rec)
     assert reason in str(w.message) and str(root) in str(w.message)
 
@@ -158,7 +159,7 @@ def test_sticky_world_writable_parent_is_accepted(tmp_path, monkeypatch):
     root.mkdir()
     root.chmod(0o1777)                      # like /tmp: others cannot rename our entries
     monkeypatch.setenv("IMAGESPACE_CACHE", str(root / "mine"))
-    assert fastdk._cache_dir() == str(root / "mine" / "kernels")
+    assert codegen.kernel_cache_dir() == str(root / "mine" / "kernels")
 
 
 @pytest.mark.slow

@@ -8,15 +8,22 @@ a batch of joint vectors is one vectorised numpy call.
 
 from __future__ import annotations
 
+import os
+import stat
+import sys
+import types
+import warnings
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 import sympy as sp
 
+from .._files import atomic_write
 from .._validate import as_float_array
 
-__all__ = ["compile_exprs", "CompiledPolynomial"]
+__all__ = ["compile_exprs", "CompiledPolynomial", "CoefficientEnclosure", "KernelCacheWarning", "kernel_cache_dir",
+           "load_cached_module", "read_regular_file", "warn_once"]
 
 
 def compile_exprs(exprs, symbols):
@@ -293,3 +300,191 @@ class CoefficientEnclosure:
             qq.append(f if isinstance(f, flint.fmpq) else flint.fmpq(f.numerator, f.denominator))
         out = self._combine(self._Cq, qq, flint.fmpq(1), flint.fmpq(0))
         return [Fraction(int(v.p), int(v.q)) for v in out]
+
+
+# -- the on-disk cache of generated kernels ----------------------------------------------------------
+#
+# A generated module is never read back: the source just generated is compared with the file
+# and executed from memory (the file only anchors numba's cache, which keys on its path, mtime
+# and size). numba's cache files are pickles, so the directory must be private: created 0700,
+# refused when owned by another user, writable by group or others, or a symbolic link.
+
+_DIR_MODE = 0o700          # mode of the cache directories the kernel cache creates
+_FOREIGN_WRITE = 0o022     # group/other write bits: such a directory is refused
+_warned = set()            # (reason, path) already warned about in this process
+
+
+class KernelCacheWarning(UserWarning):
+    """The on-disk kernel cache was refused or repaired; the kernel itself still works.
+
+    Examples
+    --------
+    >>> from imagespace.solve.kernel import KernelCacheWarning
+    >>> issubclass(KernelCacheWarning, UserWarning)
+    True
+    """
+
+
+def warn_once(reason, path, message):
+    """Issue one :class:`KernelCacheWarning` per ``(reason, path)`` and process.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from imagespace.core.codegen import warn_once
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     warn_once("example", "/nowhere", "said once"); warn_once("example", "/nowhere", "said once")
+    >>> len(w)
+    1
+    """
+    if (reason, path) in _warned:
+        return
+    _warned.add((reason, path))
+    warnings.warn(message, KernelCacheWarning, stacklevel=4)
+
+
+def _cache_root():
+    """``$IMAGESPACE_CACHE/kernels`` or ``~/.cache/imagespace/kernels`` (honouring XDG_CACHE_HOME)."""
+    root = os.environ.get("IMAGESPACE_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "imagespace")
+    return os.path.join(os.path.abspath(root), "kernels")
+
+
+def _make_private_dirs(path):
+    """Create the missing components of ``path``, each 0700 whatever the umask (existing ones,
+    including a symbolic link at the end, are left alone: :func:`_refusal` judges the leaf)."""
+    missing = []
+    p = path
+    while not os.path.lexists(p):
+        missing.append(p)
+        parent = os.path.dirname(p)
+        if parent == p:
+            break
+        p = parent
+    for p in reversed(missing):
+        try:
+            os.mkdir(p, _DIR_MODE)
+        except FileExistsError:
+            continue          # created concurrently: judged like any existing directory
+        os.chmod(p, _DIR_MODE)   # the umask may have removed bits, never adds any
+
+
+def _refusal(path):
+    """Why the cache directory ``path`` must not be used (None when it is private to us)."""
+    st = os.lstat(path)
+    if stat.S_ISLNK(st.st_mode):
+        return "is a symbolic link"
+    if not stat.S_ISDIR(st.st_mode):
+        return "is not a directory"
+    euid = os.geteuid() if hasattr(os, "geteuid") else None
+    if euid is not None and st.st_uid != euid:
+        return f"is owned by uid {st.st_uid}, not by this user (uid {euid})"
+    if st.st_mode & _FOREIGN_WRITE:
+        return f"is writable by group or others (mode {stat.S_IMODE(st.st_mode):o})"
+    return None
+
+
+def _ancestor_refusal(path):
+    """Why a directory above ``path`` makes the cache unsafe (None when none does): every
+    ancestor (symbolic links resolved) must be owned by this user or root, and writable by group
+    or others only with the sticky bit (as ``/tmp``), else someone else could swap the cache for
+    a directory of their own."""
+    euid = os.geteuid() if hasattr(os, "geteuid") else None
+    p = os.path.dirname(os.path.realpath(path))
+    while True:
+        st = os.stat(p)
+        if euid is not None and st.st_uid not in (euid, 0):
+            return f"lies under {p}, owned by uid {st.st_uid} (neither this user nor root)"
+        if st.st_mode & _FOREIGN_WRITE and not st.st_mode & stat.S_ISVTX:
+            return f"lies under {p}, writable by group or others (mode {stat.S_IMODE(st.st_mode):o})"
+        parent = os.path.dirname(p)
+        if parent == p:
+            return None
+        p = parent
+
+
+def kernel_cache_dir():
+    """Where generated kernels live, so numba's on-disk cache can keep them between sessions;
+    None when it cannot be created (then kernels are compiled in memory) or is refused (with one
+    :class:`KernelCacheWarning` naming the reason and the path).
+
+    Examples
+    --------
+    >>> import os
+    >>> from imagespace.core.codegen import kernel_cache_dir
+    >>> d = kernel_cache_dir()
+    >>> d is None or (os.stat(d).st_mode & 0o022) == 0      # nobody else may write there
+    True
+    """
+    path = _cache_root()
+    try:
+        _make_private_dirs(path)
+        reason = _refusal(path) or _ancestor_refusal(path)
+    except OSError:
+        return None
+    if reason is None:
+        try:   # numba caches a file's machine code in __pycache__ next to it: private too
+            _make_private_dirs(os.path.join(path, "__pycache__"))
+        except OSError:
+            pass
+    else:
+        warn_once("refused", path, f"kernel cache directory {path} {reason}: not used, the kernel "
+                   "is compiled in memory (make it a directory of your own with mode 0700, or "
+                   "set IMAGESPACE_CACHE)")
+    return path if reason is None else None
+
+
+def read_regular_file(path):
+    """The bytes of the regular file ``path``, never following a symbolic link; None when it is
+    missing, a symbolic link or not a regular file.
+
+    Examples
+    --------
+    >>> from imagespace.core.codegen import read_regular_file
+    >>> read_regular_file("/nonexistent/file") is None
+    True
+    """
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        return None
+    if not stat.S_ISREG(st.st_mode):
+        return None
+    flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
+    try:
+        fd = os.open(path, flags)
+    except OSError:
+        return None
+    with os.fdopen(fd, "rb") as fh:
+        if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+            return None
+        return fh.read()
+
+
+def load_cached_module(folder, key, source):
+    """The generated module anchored at ``folder/k_<key>.py`` (numba caches its machine code next
+    to it). The file is compared with ``source`` and rewritten when it differs (one warning
+    unless it was missing); what is executed is always ``source`` itself.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from imagespace.core.codegen import load_cached_module
+    >>> load_cached_module(tempfile.mkdtemp(), "doc", "answer = 42").answer
+    42
+    """
+    path = os.path.join(folder, f"k_{key}.py")
+    data = source.encode()
+    current = read_regular_file(path)
+    if current != data:
+        if os.path.lexists(path):
+            warn_once("rewritten", path, f"kernel cache file {path} did not match the generated "
+                       "source (or was not a regular file): rewritten")
+        atomic_write(path, lambda f: f.write(data), mode=0o600)     # private, like the folder
+    name = f"imagespace_kernel_{key}"
+    mod = types.ModuleType(name)
+    mod.__file__ = path
+    sys.modules[name] = mod   # numba's cache finds the module again by its name
+    exec(compile(source, path, "exec"), mod.__dict__)
+    return mod
