@@ -27,7 +27,7 @@ Derivation (complex notation of :mod:`imagespace.core.kinematic_map`: ``z = x0 +
   ``phi = phi_c + pi``. Only the first is the dyad; callers that need the distinction check the
   leg's inverse kinematics (as :meth:`PlanarParallel.direct_kinematics` does).
 
-Checked against eqs. (5)-(7) of Stigger & Husty in ``tests/test_constraints.py``.
+Checked against eqs. (5)-(7) of Stigger & Husty in ``tests/core/test_constraints.py``.
 """
 
 from __future__ import annotations
