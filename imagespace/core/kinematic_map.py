@@ -24,7 +24,10 @@ M. Husty et al., *Kinematik und Robotik*, Springer 1997, doi:10.1007/978-3-642-5
 
 from __future__ import annotations
 
+from typing import Any, Sequence, Union, overload
+
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_float_array, as_sympy_entry, is_symbolic
@@ -39,6 +42,14 @@ __all__ = [
     "compose",
     "inverse",
 ]
+
+
+#: A numeric array of image points or poses (``(4,)``/``(n, 4)`` or ``(3,)``/``(n, 3)``).
+FloatArray = npt.NDArray[np.float64]
+#: The symbolic face: a sympy column or a sequence of sympy expressions.
+Symbolic = Union[sp.MatrixBase, Sequence[sp.Basic]]
+#: Numeric input: float arrays or (nested) sequences of numbers; the numeric face returns arrays.
+NumericInput = Union[npt.NDArray[np.floating], npt.NDArray[np.integer], Sequence[float], Sequence[Sequence[float]]]
 
 
 def _sym_vector(value, n, name):
@@ -70,7 +81,17 @@ def _sym_check_not_absolute(x0, x1, name):
                          f"absolute line and are not displacements; got x0 = {x0}, x1 = {x1}")
 
 
-def image_point(pose):
+@overload
+def image_point(pose: NumericInput) -> FloatArray:
+    ...
+
+
+@overload
+def image_point(pose: Any) -> Any:
+    ...
+
+
+def image_point(pose: Union[Symbolic, npt.ArrayLike]) -> Union[sp.Matrix, FloatArray]:
     """Image point of a pose, normalised (``x0**2 + x1**2 = 1``).
 
     Parameters
@@ -103,7 +124,7 @@ def image_point(pose):
     return np.stack([x0, x1, (x1 * x - x0 * y) / 2, (x0 * x + x1 * y) / 2], axis=-1)
 
 
-def representative_sign(x0, x1):
+def representative_sign(x0: npt.ArrayLike, x1: npt.ArrayLike) -> FloatArray:
     """``-1`` where ``(x0, x1)`` must be negated to reach the normalised representative, else ``+1``.
 
     The representative has ``x0 > 0``, or ``x1 > 0`` when ``x0 = 0``.
@@ -114,7 +135,8 @@ def representative_sign(x0, x1):
     >>> representative_sign(np.array([-1.0, 0.0, 0.0]), np.array([0.0, -1.0, 1.0]))
     array([-1., -1.,  1.])
     """
-    return np.where((x0 < 0) | ((x0 == 0) & (x1 < 0)), -1.0, 1.0)
+    a, b = np.asarray(x0), np.asarray(x1)
+    return np.where((a < 0) | ((a == 0) & (b < 0)), -1.0, 1.0)
 
 
 def _check_not_absolute(x0, x1, name):
@@ -146,7 +168,17 @@ def _rescaled(p):
     return p / np.where(m > 0, m, 1.0)
 
 
-def pose_of(image_point):
+@overload
+def pose_of(image_point: NumericInput) -> FloatArray:
+    ...
+
+
+@overload
+def pose_of(image_point: Any) -> Any:
+    ...
+
+
+def pose_of(image_point: Union[Symbolic, npt.ArrayLike]) -> Union[sp.Matrix, FloatArray]:
     """Pose ``(x, y, phi)`` of an image point (any non-zero multiple).
 
     Parameters
@@ -188,7 +220,17 @@ def pose_of(image_point):
     return _finite_result(out, "image_point")
 
 
-def normalize(image_point):
+@overload
+def normalize(image_point: NumericInput) -> FloatArray:
+    ...
+
+
+@overload
+def normalize(image_point: Any) -> Any:
+    ...
+
+
+def normalize(image_point: Union[Symbolic, npt.ArrayLike]) -> Union[sp.Matrix, FloatArray]:
     """The normalised representative: ``x0**2 + x1**2 = 1`` and ``x0 > 0`` (``x1 > 0`` if ``x0 = 0``).
 
     Parameters
@@ -223,7 +265,17 @@ def normalize(image_point):
     return _finite_result(out, "image_point")
 
 
-def transform_matrix(image_point):
+@overload
+def transform_matrix(image_point: NumericInput) -> FloatArray:
+    ...
+
+
+@overload
+def transform_matrix(image_point: Any) -> Any:
+    ...
+
+
+def transform_matrix(image_point: Union[Symbolic, npt.ArrayLike]) -> Union[sp.Matrix, FloatArray]:
     """The 3x3 homogeneous matrix of eq. (3): base coordinates of ``(1, x, y)`` of the platform.
 
     Parameters
@@ -266,7 +318,7 @@ def transform_matrix(image_point):
     return _finite_result(out, "image_point", trailing=2) + 0.0  # no negative zeros
 
 
-def transform_points(image_point, points):
+def transform_points(image_point: Union[Symbolic, npt.ArrayLike], points: npt.ArrayLike) -> Union[sp.Matrix, FloatArray]:
     """Base coordinates of platform points under the displacement ``image_point``.
 
     Parameters
@@ -302,7 +354,7 @@ def transform_points(image_point, points):
     return out[..., 1:] + 0.0
 
 
-def compose(a, b):
+def compose(a: Union[Symbolic, npt.ArrayLike], b: Union[Symbolic, npt.ArrayLike]) -> Union[sp.Matrix, FloatArray]:
     """Image point of the displacement ``b`` followed by ``a`` (planar quaternion product).
 
     ``transform_matrix(compose(a, b)) == transform_matrix(a) @ transform_matrix(b)``.
@@ -347,7 +399,17 @@ def compose(a, b):
     return np.stack(np.broadcast_arrays(x0, x1, x2, x3), axis=-1)
 
 
-def inverse(image_point):
+@overload
+def inverse(image_point: NumericInput) -> FloatArray:
+    ...
+
+
+@overload
+def inverse(image_point: Any) -> Any:
+    ...
+
+
+def inverse(image_point: Union[Symbolic, npt.ArrayLike]) -> Union[sp.Matrix, FloatArray]:
     """Image point of the inverse displacement: ``(x0, -x1, -x2, -x3)``.
 
     Parameters

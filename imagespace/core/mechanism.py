@@ -9,9 +9,10 @@ and every derived or compiled artefact, cached on the object (:meth:`Mechanism.c
 
 from __future__ import annotations
 
-from typing import Any, Callable, Hashable
+from typing import Any, Callable, Hashable, Optional, Sequence, Union
 
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_exact, as_float_array, is_symbolic
@@ -19,9 +20,14 @@ from ..exceptions import DegenerateDesignError, InputError
 from ..tolerances import TOLERANCES, Tolerances
 from .elimination import binary_form_poly, eliminate, orientation_form, plan_elimination
 from .legs import Leg
-from .quadrics import image_symbols
+from .quadrics import Quadric, image_symbols
 
 __all__ = ["Mechanism", "check_mechanism", "form_coefficients"]
+
+
+#: Joint values of one configuration: three numbers or sympy expressions (exact faces), or floats.
+JointValues = Union[Sequence[Union[sp.Basic, float, int]], npt.NDArray[Any]]
+FloatArray = npt.NDArray[np.float64]
 
 
 def check_mechanism(value, name="manipulator"):
@@ -98,7 +104,7 @@ class Mechanism:
     (6, ('RR', 'RR', 'RR'))
     """
 
-    def __init__(self, legs, name=None, tolerances: Tolerances = TOLERANCES):
+    def __init__(self, legs: Sequence[Leg], name: Optional[str] = None, tolerances: Tolerances = TOLERANCES) -> None:
         if isinstance(legs, (str, bytes)) or legs is None or not (isinstance(legs, Leg) or hasattr(legs, "__iter__")):
             raise TypeError(f"legs must be a sequence of three Leg objects (RPR, RRR, PRR, RRP, RPP, "
                             f"PRP, PPR), got {type(legs).__name__} {legs!r}")
@@ -120,7 +126,7 @@ class Mechanism:
         self.q_example = None
         self._kinds = tuple(leg.dyad(sp.Symbol("_q")).kind for leg in self.legs)
         self._plan = plan_elimination(list(self._kinds))
-        self._symbolic_cache = {}
+        self._symbolic_cache: dict[Hashable, Any] = {}
         self._check_design()
 
     def _check_design(self):
@@ -145,7 +151,7 @@ class Mechanism:
                 "rotate freely about it (architecture singularity)")
 
     @property
-    def joint_symbols(self):
+    def joint_symbols(self) -> tuple[sp.Symbol, ...]:
         """The sympy symbols ``(q1, q2, q3)`` of the actuated joints (real).
 
         Examples
@@ -156,7 +162,7 @@ class Mechanism:
         """
         return sp.symbols("q1:4", real=True)
 
-    def check_q(self, q, name="q"):
+    def check_q(self, q: npt.ArrayLike, name: str = "q") -> FloatArray:
         """Joint values ``q`` ``(3,)`` or ``(n, 3)`` as a checked float array: real, finite, inside
         every actuated joint's domain; the error names ``name``.
 
@@ -171,7 +177,7 @@ class Mechanism:
             leg.check_joint_value(arr[..., i], f"{name}[{i}]")
         return arr
 
-    def quadrics(self, q=None):
+    def quadrics(self, q: Optional[JointValues] = None) -> list[Quadric]:
         """The three dyad quadrics at the joint values ``q``.
 
         Parameters
@@ -201,7 +207,7 @@ class Mechanism:
         arr = self.check_q(q)
         return [leg.dyad(arr[..., i]) for i, leg in enumerate(self.legs)]
 
-    def constraint_equations(self, q=None):
+    def constraint_equations(self, q: Optional[JointValues] = None) -> list[sp.Expr]:
         """The three constraint quadrics as sympy expressions in ``x0..x3``.
 
         Parameters
@@ -227,7 +233,7 @@ class Mechanism:
             q = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
         return [qd.expr() for qd in self.quadrics(q)]
 
-    def kinematic_polynomial(self, q=None):
+    def kinematic_polynomial(self, q: Optional[JointValues] = None) -> sp.Poly:
         """The binary form in ``(x0, x1)`` whose real roots are the orientations of the assembly modes.
 
         Eliminates ``x2, x3`` as in :mod:`imagespace.core.elimination`: a form of degree <= 6 (degree
@@ -262,7 +268,7 @@ class Mechanism:
         """
         return self.exact_forms(q)[0]
 
-    def exact_forms(self, q):
+    def exact_forms(self, q: Optional[JointValues]) -> tuple[sp.Poly, Any, bool]:
         """``(P, elimination, case_a)`` for exact/symbolic ``q`` (None: general), cached by the
         exact value of ``q``: the kinematic polynomial, the sympy elimination it came from, and
         whether the Cramer denominator vanishes identically.
@@ -305,7 +311,7 @@ class Mechanism:
         self._symbolic_cache[key] = out
         return out
 
-    def compiled(self):
+    def compiled(self) -> Any:
         """The kinematic polynomial general in the joint values, derived once and compiled (cached).
 
         Returns
@@ -340,7 +346,7 @@ class Mechanism:
             self._symbolic_cache["compiled"] = CompiledPolynomial(P, d, self.joint_symbols, fn)
         return self._symbolic_cache["compiled"]
 
-    def singularity_polynomial(self, q=None):
+    def singularity_polynomial(self, q: Optional[JointValues] = None) -> sp.Poly:
         """``det`` of the Jacobian of ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` with respect to ``x0..x3``.
 
         A homogeneous quartic in the image coordinates; its zero set is the direct-kinematic
@@ -381,7 +387,7 @@ class Mechanism:
             self._symbolic_cache[key] = sp.Poly(det, *x)
         return self._symbolic_cache[key]
 
-    def inverse_kinematics(self, pose, working_modes=None):
+    def inverse_kinematics(self, pose: npt.ArrayLike, working_modes: Optional[Sequence[int]] = None) -> FloatArray:
         """Actuated joint values at a pose.
 
         Parameters
@@ -431,7 +437,7 @@ class Mechanism:
                              f"(working_modes={wm})")
         return q
 
-    def joint_residual(self, pose, q, length=1.0):
+    def joint_residual(self, pose: npt.ArrayLike, q: npt.ArrayLike, length: npt.ArrayLike = 1.0) -> Union[float, FloatArray]:
         """Largest deviation of the legs' inverse kinematics (best branch) from ``q``.
 
         Angles are compared modulo ``2 pi`` (radians); prismatic joints relatively,
@@ -480,11 +486,11 @@ class Mechanism:
         return np.max(np.stack(errs, axis=-1), axis=-1)
 
     @property
-    def q_example_float(self):
+    def q_example_float(self) -> Optional[FloatArray]:
         """``q_example`` as floats (``None`` if the mechanism has no example joint values)."""
         return None if self.q_example is None else np.array([float(v) for v in self.q_example])
 
-    def enclosure(self):
+    def enclosure(self) -> Any:
         """The kinematic polynomial general in q, expanded for rigorous batch evaluation (cached):
         a :class:`~imagespace.core.codegen.CoefficientEnclosure`.
 
@@ -505,7 +511,7 @@ class Mechanism:
                                                                      self.joint_symbols)
         return self._symbolic_cache["enclosure"]
 
-    def leg_points(self, pose, q=None):
+    def leg_points(self, pose: npt.ArrayLike, q: Optional[npt.ArrayLike] = None) -> list[FloatArray]:
         """Each leg as a polyline ``(k, 2)`` in the base frame at ``pose`` (for drawings).
 
         When ``q`` is given, the branch of each leg whose actuated value matches it is drawn.
@@ -532,25 +538,25 @@ class Mechanism:
         return out
 
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"{type(self).__name__}({self.name!r}, legs={list(self.legs)!r})"
 
     @property
-    def kinds(self):
+    def kinds(self) -> tuple[str, ...]:
         """The dyad kind of each leg with its actuated joint locked (``"RR"``, ``"PR"``, ``"RP"``, ``"PP"``)."""
         return self._kinds
 
     @property
-    def elimination_plan(self):
+    def elimination_plan(self) -> Any:
         """How ``x2, x3`` are eliminated for these dyad kinds (:func:`imagespace.core.elimination.plan_elimination`)."""
         return self._plan
 
     @property
-    def is_numeric(self):
+    def is_numeric(self) -> bool:
         """True when the design has no free symbols (only the joint values are variables)."""
         return not set().union(*(leg.free_symbols for leg in self.legs))
 
-    def cached(self, key: Hashable, factory: Callable[[], Any]):
+    def cached(self, key: Hashable, factory: Callable[[], Any]) -> Any:
         """The artefact stored under ``key``, built by ``factory()`` on first use.
 
         Every derived or compiled artefact of the design lives here (symbolic polynomials,
@@ -567,7 +573,7 @@ class Mechanism:
             self._symbolic_cache[key] = factory()
         return self._symbolic_cache[key]
 
-    def clear_cache(self):
+    def clear_cache(self) -> None:
         """Forget every derived and compiled artefact (they are rebuilt on demand).
 
         Examples
@@ -579,7 +585,7 @@ class Mechanism:
         """
         self._symbolic_cache.clear()
 
-    def cache_keys(self):
+    def cache_keys(self) -> list[Hashable]:
         """The keys of the artefacts built so far (for inspection).
 
         Examples

@@ -4,15 +4,18 @@ numpy path, optionally certified) and chunks of a large batch."""
 
 from __future__ import annotations
 
-import numpy as np
 import warnings
+from typing import Any, Iterator
+
+import numpy as np
+import numpy.typing as npt
 
 from .._memory import check_memory
 from .._validate import as_count, as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
 from .certified import _certified, _certify_batch
 from .numpy_path import _complex_modes, _row_check, _solve
-from .results import DKBatchResult, _MAX_MODES
+from .results import AssemblyMode, DKBatchResult, _MAX_MODES
 
 
 _KERNEL_MIN_ROWS = 2000
@@ -31,7 +34,7 @@ def _have_numba():
     return importlib.util.find_spec("numba") is not None
 
 
-def direct_kinematics(m, q, include_complex=False, certify=False):
+def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bool = False) -> list[AssemblyMode]:
     """All real assembly modes for the joint values ``q``.
 
     Parameters
@@ -96,7 +99,7 @@ def direct_kinematics(m, q, include_complex=False, certify=False):
     return modes
 
 
-def direct_kinematics_batch(m, Q, certify=False, method="auto"):
+def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, method: str = "auto") -> DKBatchResult:
     """Direct kinematics of many joint vectors at once.
 
     Parameters
@@ -159,7 +162,8 @@ def direct_kinematics_batch(m, Q, certify=False, method="auto"):
     return res
 
 
-def direct_kinematics_chunks(m, Q, chunk_size=65536, certify=False, method="auto"):
+def direct_kinematics_chunks(m: Any, Q: npt.ArrayLike, chunk_size: int = 65536, certify: bool = False,
+                             method: str = "auto") -> Iterator[tuple[int, DKBatchResult]]:
     """Direct kinematics of a large batch, chunk by chunk (memory bounded by the chunk).
 
     Parameters
@@ -202,7 +206,7 @@ def _chunks(m, Q, chunk_size, certify, method):
         yield start, direct_kinematics_batch(m, Q[start:start + chunk_size], certify, method)
 
 
-def batch_kernel(m):
+def batch_kernel(m: Any) -> Any:
     """The compiled batch kernel of the design ``m`` (built once, cached on it), or None where it
     does not apply (numba missing, free symbols in the design).
 
