@@ -560,7 +560,7 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
         G = np.stack(np.meshgrid(xs, ys), -1).reshape(-1, 2)
         vals = leg.actuated_values(np.column_stack([G - p, np.zeros(len(G))]))
         q0 = analysis.q[analysis.leg]
-        best = np.take_along_axis(vals, np.nanargmin(np.where(np.isnan(vals), np.inf, np.abs(vals - q0)), axis=1)[:, None], 1)[:, 0]
+        best = np.take_along_axis(vals, np.nanargmin(np.where(np.isnan(vals), np.inf, leg.joint_distance(vals, q0)), axis=1)[:, None], 1)[:, 0]
         ax.contour(xs, ys, best.reshape(n, n), levels=[q0 - analysis.delta, q0, q0 + analysis.delta],
                    colors=["tab:orange", "tab:orange", "tab:orange"], linestyles=["--", "-", "--"], linewidths=1)
     for k, mm in enumerate(analysis.modes):

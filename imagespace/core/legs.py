@@ -369,6 +369,52 @@ class Leg:
         """
         return self.inverse_kinematics(pose)[..., self.actuated]
 
+    def joint_difference(self, a, b):
+        """``a - b`` for the actuated joint: plain for a prismatic joint, wrapped to ``(-pi, pi]``
+        for an angle (radians). Broadcasts; NaN stays NaN.
+
+        Examples
+        --------
+        >>> import numpy as np, imagespace as isp
+        >>> leg = isp.RRR(base=(0, 0), lengths=(1, 1), platform=(0, 0), actuated=0)
+        >>> round(float(leg.joint_difference(3.1, -3.1)), 6)          # across the cut at pi
+        -0.083185
+        """
+        d = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
+        return _wrap(d) if self.actuated_is_angle else d
+
+    def joint_distance(self, a, b):
+        """``|a - b|`` for the actuated joint (angles compared modulo ``2 pi``); see
+        :meth:`joint_difference`.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> float(isp.RPR(base=(0, 0), platform=(3, 4)).joint_distance(5.0, 4.5))
+        0.5
+        """
+        return np.abs(self.joint_difference(a, b))
+
+    def nearest_branch(self, pose, q):
+        """The IK branch whose actuated value is nearest to ``q`` at ``pose``: an int for one pose,
+        ``(n,)`` ints for ``(n, 3)`` poses (with ``q`` a number or ``(n,)``); ``-1`` where no branch
+        reaches the pose.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> leg = isp.RPR(base=(0, 0), platform=(3, 4))         # branches rho = +5 and -5
+        >>> leg.nearest_branch([0.0, 0.0, 0.0], -4.0)
+        1
+        """
+        vals = self.actuated_values(pose)                       # (nb,) or (n, nb)
+        q = np.asarray(q, dtype=float)
+        d = self.joint_distance(vals, q[..., None] if q.ndim else q)
+        d = np.where(np.isnan(d), np.inf, d)
+        best = np.argmin(d, axis=-1)
+        best = np.where(np.isfinite(np.min(d, axis=-1)), best, -1)
+        return int(best) if np.ndim(best) == 0 else best
+
     def _ik(self, x, y, phi, g):
         raise NotImplementedError
 

@@ -478,10 +478,9 @@ class Mechanism:
         for i, leg in enumerate(self.legs):
             vals = leg.actuated_values(p)                  # (..., nb)
             qi = qa[..., i][..., None]
-            if leg.actuated_is_angle:
-                d = np.abs(np.remainder(vals - qi + np.pi, 2 * np.pi) - np.pi)
-            else:
-                d = np.abs(vals - qi) / np.maximum(length, np.abs(qi))
+            d = leg.joint_distance(vals, qi)
+            if not leg.actuated_is_angle:
+                d = d / np.maximum(length, np.abs(qi))
             errs.append(np.nanmin(np.where(np.isnan(d), np.inf, d), axis=-1))
         return np.max(np.stack(errs, axis=-1), axis=-1)
 
@@ -531,9 +530,7 @@ class Mechanism:
         for i, leg in enumerate(self.legs):
             branch = 0
             if qv is not None:
-                vals = leg.actuated_values(p)
-                d = np.abs(vals - qv[i])
-                branch = int(np.nanargmin(np.where(np.isnan(d), np.inf, d)))
+                branch = max(leg.nearest_branch(p, qv[i]), 0)
             out.append(leg.joint_points(p, branch))
         return out
 

@@ -308,7 +308,7 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000, max_memory=MAX_MEMOR
     poses[ok] = pose_of(flat[ok])
     with np.errstate(invalid="ignore"):
         qi = L.actuated_values(np.where(np.isfinite(poses), poses, 0.0))[:, branch]
-    d = np.abs(qi - qf[leg]) if not L.actuated_is_angle else np.abs(np.remainder(qi - qf[leg] + np.pi, 2 * np.pi) - np.pi)
+    d = L.joint_distance(qi, qf[leg])
     dev[ok] = np.where(np.isfinite(d[ok]), d[ok], np.inf)
     edges = _edges(X)
     nbr = [[] for _ in range(len(flat))]

@@ -127,13 +127,11 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
         prev = q0[i]
         for k in range(len(P)):
             v = vals[k]
-            d = np.abs(v - prev)
-            if leg.actuated_is_angle:
-                d = np.abs(np.remainder(v - prev + np.pi, 2 * np.pi) - np.pi)
+            d = leg.joint_distance(v, prev)
             if np.all(np.isnan(d)):
                 continue
             j = int(np.nanargmin(d))
-            Q[k, i] = v[j] if not leg.actuated_is_angle else prev + np.remainder(v[j] - prev + np.pi, 2 * np.pi) - np.pi
+            Q[k, i] = v[j] if not leg.actuated_is_angle else prev + leg.joint_difference(v[j], prev)
             prev = Q[k, i]
     return P, Q
 

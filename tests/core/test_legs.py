@@ -135,3 +135,21 @@ def test_bad_input():
         isp.RPR(base=(0, 0), platform=None)
     with pytest.raises(isp.InputError, match="pose"):
         isp.RPR(base=(0, 0), platform=(0, 0)).inverse_kinematics([1.0, 2.0])
+
+
+def test_joint_distance_and_nearest_branch_against_a_direct_computation():
+    """Angles compare modulo 2 pi, lengths plainly; the nearest branch is the one whose IK value a
+    brute-force search over the branches picks (written here independently)."""
+    rrr = isp.RRR(base=(0, 0), lengths=(1.0, 1.0), platform=(0, 0), actuated=0)
+    assert abs(float(rrr.joint_distance(np.pi - 0.01, -np.pi + 0.01)) - 0.02) < 1e-12
+    rpr = isp.RPR(base=(0, 0), platform=(3, 4))
+    assert float(rpr.joint_distance(-5.0, 5.0)) == 10.0
+    rng = np.random.default_rng(11)
+    poses = np.column_stack([rng.uniform(-1, 1, 40), rng.uniform(-1, 1, 40), rng.uniform(-3, 3, 40)])
+    q = rng.uniform(-np.pi, np.pi, 40)
+    got = rrr.nearest_branch(poses, q)
+    for k in range(40):
+        vals = rrr.actuated_values(poses[k])
+        dist = [abs((v - q[k] + np.pi) % (2 * np.pi) - np.pi) if np.isfinite(v) else np.inf for v in vals]
+        expect = int(np.argmin(dist)) if np.isfinite(min(dist)) else -1
+        assert got[k] == expect
