@@ -80,6 +80,7 @@ class RootPlan:
 
 
 def _is_rational(values):
+    """True when every value is an exact rational (the fmpq route applies)."""
     return all(sp.sympify(v).is_Rational for v in values)
 
 

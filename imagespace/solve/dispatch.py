@@ -202,6 +202,7 @@ def direct_kinematics_chunks(m: Any, Q: npt.ArrayLike, chunk_size: int = 65536, 
 
 
 def _chunks(m, Q, chunk_size, certify, method):
+    """The generator behind :func:`direct_kinematics_chunks` (its arguments already checked)."""
     for start in range(0, Q.shape[0], chunk_size):
         yield start, direct_kinematics_batch(m, Q[start:start + chunk_size], certify, method)
 
@@ -222,6 +223,8 @@ def batch_kernel(m: Any) -> Any:
 
 
 def _build_batch_kernel(m):
+    """Build the compiled kernel of ``m`` (None where it does not apply): the factory behind
+    :func:`batch_kernel`."""
     if not m.is_numeric or not _have_numba():
         return None
     from .kernel import build_kernel          # numba is imported on the first kernel only
@@ -230,6 +233,8 @@ def _build_batch_kernel(m):
 
 
 def _solve_kernel(m, Q, kernel):
+    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags go to
+    the numpy path (``special``) or to the certified per-row path (a root touching the axis)."""
     n = Q.shape[0]
     tol = m.tolerances
     row_ok, errors = _row_check(m, Q)

@@ -98,6 +98,7 @@ def kernel_tolerances(tol):
 
 @njit(cache=True)
 def _horner(c, deg, t):
+    """``c[0] + c[1] t + ... + c[deg] t**deg`` by Horner's rule."""
     v = c[deg]
     for k in range(deg - 1, -1, -1):
         v = v * t + c[k]
@@ -106,6 +107,7 @@ def _horner(c, deg, t):
 
 @njit(cache=True)
 def _abs_horner(c, deg, t):
+    """``|c[0]| + |c[1]| |t| + ...``: the scale of a Horner evaluation, for its rounding bound."""
     v = abs(c[deg])
     at = abs(t)
     for k in range(deg - 1, -1, -1):
@@ -244,6 +246,8 @@ def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
 
 @njit(cache=True)
 def _cascade_batch(C, roots, counts, suspect):
+    """Real roots in [-1, 1] of each row of ``C`` by the derivative cascade, in parallel over
+    rows (``suspect`` marks rows a float cascade cannot decide)."""
     n, d1 = C.shape
     d = d1 - 1
     W = np.empty((d1, d1))
@@ -609,6 +613,7 @@ def _numba_files(dispatchers):
 
 
 def _discard(files):
+    """Delete the given cache files, ignoring those already gone."""
     for f in files:
         try:
             os.unlink(f)          # removes a symbolic link itself, never its target

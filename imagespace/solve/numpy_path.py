@@ -82,6 +82,8 @@ def _balance(C):
 
 
 def _normalize_rows(X):
+    """Image points scaled to ``x0**2 + x1**2 = 1`` with the normalised sign (see
+    :func:`~imagespace.core.kinematic_map.representative_sign`)."""
     n = np.sqrt(X[..., 0]**2 + X[..., 1]**2)
     s = representative_sign(X[..., 0], X[..., 1])
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -203,6 +205,10 @@ def _store_modes(res, i, modes):
 
 
 def _solve(m, Q, raise_degenerate):
+    """The numpy path for a batch ``Q`` (n, 3): balanced quadrics, the kinematic polynomial's
+    coefficients, companion eigenvalues in the well-conditioned chart, back-substitution,
+    Newton, the legs' check; Cramer cases go row by row to :func:`_special_candidates`; returns
+    a :class:`~imagespace.solve.results.DKBatchResult`."""
     n = Q.shape[0]
     tol = m.tolerances
     row_ok, errors = _row_check(m, Q)
@@ -409,10 +415,13 @@ def _special_candidates(m, q, C, L):
 
 
 def _exact_polynomial(m, q):
+    """The exact kinematic polynomial at ``q`` (floats as binary rationals)."""
     return m.kinematic_polynomial([sp.Rational(float(v)) for v in q])
 
 
 def _confirm_degenerate(m, q):
+    """Raise :class:`~imagespace.DegenerateDesignError` if the exact polynomial at ``q``
+    vanishes identically (a continuum of modes)."""
     _exact_polynomial(m, q)  # raises DegenerateDesignError when identically zero
     raise DegenerateDesignError(
         f"{m.name} at q = {np.asarray(q).tolist()}: the constraints leave a continuum of "
@@ -485,6 +494,8 @@ def _line_circle(L2, rhs, circle, x0, x1, tol, flags=None, strict=True):
 
 
 def _continuum(m, q, X, L):
+    """True when the positions at a fixed orientation form a continuum (the linear part's rank
+    drops, see ``Tolerances.rank``)."""
     Xw = np.array([X[0], X[1], X[2] * L, X[3] * L])
     pose = _pose_of(Xw)
     if m.joint_residual(pose, q, length=L) <= m.tolerances.joint_residual:
@@ -495,6 +506,8 @@ def _continuum(m, q, X, L):
 
 
 def _complex_modes(m, q):
+    """The complex solutions at ``q`` (for ``include_complex``): non-real roots of the kinematic
+    polynomial with their back-substituted positions."""
     poly = m.kinematic_polynomial([sp.Rational(float(v)) for v in q])
     coeffs = np.array([complex(c) for c in form_coefficients(poly)])
     d = len(coeffs) - 1
