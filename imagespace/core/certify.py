@@ -34,6 +34,7 @@ import sympy as sp
 
 from .._validate import as_float_array
 from ..exceptions import InputError
+from .elimination import form_coefficients
 
 __all__ = ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
            "flint_precision", "arb_bounds", "outward_float_interval", "to_arb", "exact_is_zero",
@@ -417,7 +418,8 @@ def certify_real_roots(form):
     if isinstance(form, sp.Poly):
         gens = form.gens
         d = form.total_degree()
-        coeffs = [form.coeff_monomial(gens[0] ** (d - k) * gens[1] ** k) for k in range(d + 1)]
+        coeffs = form_coefficients(form) if len(gens) == 2 else \
+            [form.coeff_monomial(gens[0] ** (d - k) * gens[1] ** k) for k in range(d + 1)]
     else:
         if isinstance(form, (str, bytes)):
             raise TypeError(f"form must be a sympy Poly or a sequence of numbers, got {form!r}")

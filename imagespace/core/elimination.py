@@ -44,6 +44,7 @@ from .quadrics import image_symbols
 from ..exceptions import DegenerateDesignError
 
 __all__ = [
+    "form_coefficients",
     "bf_mul",
     "bf_add",
     "bf_scale",
@@ -308,3 +309,18 @@ def orientation_form(rows):
             "the constraint equations leave a continuum of assembly modes (the x2, x3-free "
             "combination of the linear constraints vanishes identically): architecture singularity")
     return G
+
+
+def form_coefficients(poly):
+    """Coefficients ``[f_0 .. f_d]`` (of ``x0^(d-k) x1^k``) of a homogeneous Poly in ``(x0, x1)``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace.core.elimination import form_coefficients
+    >>> x0, x1 = sp.symbols("x0 x1")
+    >>> form_coefficients(sp.Poly(x0**2 - 3 * x1**2, x0, x1))
+    [1, 0, -3]
+    """
+    d = poly.total_degree()
+    return [poly.coeff_monomial((d - k, k)) for k in range(d + 1)]

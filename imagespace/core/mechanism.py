@@ -18,7 +18,7 @@ import sympy as sp
 from .._validate import as_exact, as_float_array, is_symbolic
 from ..exceptions import DegenerateDesignError, InputError
 from ..tolerances import TOLERANCES, Tolerances
-from .elimination import binary_form_poly, eliminate, orientation_form, plan_elimination
+from .elimination import binary_form_poly, eliminate, form_coefficients, orientation_form, plan_elimination
 from .legs import Leg
 from .quadrics import Quadric, image_symbols
 
@@ -46,20 +46,6 @@ def check_mechanism(value, name="manipulator"):
     return value
 
 
-def form_coefficients(poly):
-    """Coefficients ``[f_0 .. f_d]`` (of ``x0^(d-k) x1^k``) of a homogeneous Poly in ``(x0, x1)``.
-
-    Examples
-    --------
-    >>> import sympy as sp
-    >>> from imagespace.core.mechanism import form_coefficients
-    >>> x0, x1 = sp.symbols("x0 x1")
-    >>> form_coefficients(sp.Poly(x0**2 - 3 * x1**2, x0, x1))
-    [1, 0, -3]
-    """
-    d = poly.total_degree()
-    return [poly.coeff_monomial((d - k, k)) for k in range(d + 1)]
-
 def _three_joint_values(q, name="q"):
     """The three entries of one joint vector ``q`` (numbers or sympy expressions), refusing
     other shapes, strings and None by name."""
@@ -72,6 +58,8 @@ def _three_joint_values(q, name="q"):
     if len(items) != 3 or any(np.ndim(v) != 0 or isinstance(v, (list, tuple)) for v in items):
         raise InputError(f"{name} must have shape (3,), got {np.shape(np.asarray(q, dtype=object))}")
     return items
+
+
 def _cache_key(q):
     """Key of the symbolic caches for joint values ``q`` (None: general in the joint symbols).
 
@@ -341,7 +329,7 @@ class Mechanism:
 
             P = self.kinematic_polynomial()
             d = P.total_degree()
-            coeffs = [P.coeff_monomial((d - k, k)) for k in range(d + 1)]
+            coeffs = form_coefficients(P)
             fn = compile_exprs(coeffs, self.joint_symbols)
             self._symbolic_cache["compiled"] = CompiledPolynomial(P, d, self.joint_symbols, fn)
         return self._symbolic_cache["compiled"]

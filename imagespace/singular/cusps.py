@@ -34,6 +34,7 @@ import numbers
 
 from .._validate import _short, as_count, as_float_array, as_scalar
 from ..core.codegen import compile_exprs
+from ..core.elimination import form_coefficients
 from ..exceptions import InputError
 
 __all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "free_joints", "half_angle_gap",
@@ -179,7 +180,7 @@ def _coefficient_functions(m):
 def _build_coefficient_functions(m):
     comp = m.compiled()
     P, d = comp.polynomial, comp.degree
-    coeffs = [P.coeff_monomial((d - k, k)) for k in range(d + 1)]
+    coeffs = form_coefficients(P)
     exprs = list(coeffs)
     for s in m.joint_symbols:
         exprs += [sp.diff(c, s) for c in coeffs]

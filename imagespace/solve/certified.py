@@ -38,7 +38,7 @@ from ..core.certify import to_arb, flint_precision
 from .._validate import as_exact, is_symbolic
 from ..core.certify import certify_real_roots, certify_real_roots_batch, exact_is_zero
 from ..core.kinematic_map import pose_of as _pose_of
-from ..core.mechanism import form_coefficients
+from ..core.elimination import form_coefficients
 from ..core.quadrics import dk_system as _system
 from ..exceptions import DegenerateDesignError, NearSingularWarning
 from .numpy_path import _finish, _row_quadrics, _scaled_quadrics, _solve, _solve_orientation, _store_modes

@@ -55,6 +55,7 @@ import sympy as sp
 
 from ..core._numba import HAVE_NUMBA, njit
 from ..core.codegen import KernelCacheWarning, kernel_cache_dir, load_cached_module, warn_once  # noqa: F401
+from ..core.elimination import form_coefficients
 from ..core.quadrics import dk_system_row
 from ..tolerances import TOLERANCES
 
@@ -748,7 +749,7 @@ def build_kernel(manipulator):
         return None
     P = manipulator.kinematic_polynomial()
     d = P.total_degree()
-    F = [P.coeff_monomial((d - k, k)) for k in range(d + 1)]
+    F = form_coefficients(P)
     C = [v for qd in quads for v in qd.coefficients()]
     dC = [sp.diff(v, q[i]) for i, qd in enumerate(quads) for v in qd.coefficients()]
     exprs = C + dC + D + list(el.X2) + list(el.X3) + F

@@ -12,7 +12,7 @@ import sympy as sp
 from ..core.certify import inclusion_discs
 from ..core.elimination import bf_eval, eliminate
 from ..core.kinematic_map import pose_of as _pose_of, representative_sign
-from ..core.mechanism import form_coefficients
+from ..core.elimination import form_coefficients
 from ..core.quadrics import Quadric, dk_system as _system
 from ..core.roots import real_half_angles
 from ..exceptions import DegenerateDesignError
