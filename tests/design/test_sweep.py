@@ -8,15 +8,6 @@ from imagespace.design.sweep import _demo_index, fuzzy_minmax, sweep
 from imagespace.design.workspace import dexterous_workspace, halfplane_polygon, reachable_workspace
 
 STROKE = [[-np.sqrt(3), np.sqrt(3)]] * 3
-LEG_CASES = [
-    (isp.RPR, dict(base=(0.5, -0.3), platform=(0.2, 0.1)), (1,)),
-    (isp.RRR, dict(base=(0.5, -0.3), platform=(0.2, 0.1), lengths=(2, 1.5)), (0, 1, 2)),
-    (isp.PRR, dict(base=(0.5, -0.3), axis=(1, 0.3), platform=(0.2, 0.1), length=1.5), (0, 1, 2)),
-    (isp.RRP, dict(base=(0.5, -0.3), length=1.5, platform=(0.2, 0.1), direction=(0.3, 1)), (0, 1, 2)),
-    (isp.RPP, dict(base=(0.5, -0.3), platform=(0.2, 0.1), direction=(0.3, 1), angle=1.1), (0, 1, 2)),
-    (isp.PRP, dict(base=(0.5, -0.3), axis=(1, 0.3), platform=(0.2, 0.1), direction=(0.3, 1)), (0, 1, 2)),
-    (isp.PPR, dict(base=(0.5, -0.3), axis=(1, 0.3), platform=(0.2, 0.1), angle=1.2), (0, 1, 2)),
-]
 
 
 @pytest.mark.slow

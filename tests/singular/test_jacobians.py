@@ -5,7 +5,6 @@ import pytest
 
 import imagespace as isp
 
-STROKE = [[-np.sqrt(3), np.sqrt(3)]] * 3
 LEG_CASES = [
     (isp.RPR, dict(base=(0.5, -0.3), platform=(0.2, 0.1)), (1,)),
     (isp.RRR, dict(base=(0.5, -0.3), platform=(0.2, 0.1), lengths=(2, 1.5)), (0, 1, 2)),
