@@ -403,27 +403,38 @@ class Mechanism:
         array([10.  , 15.23, 13.25])
         """
         p = as_float_array(pose, "pose", last=3)
-        if working_modes is not None and (isinstance(working_modes, (str, bytes))
-                                          or not hasattr(working_modes, "__iter__")):
-            raise TypeError(f"working_modes must be a sequence of three whole numbers, got {working_modes!r}")
-        wm = (0, 0, 0) if working_modes is None else tuple(working_modes)
-        if len(wm) != 3:
-            raise InputError(f"working_modes must have three entries, got {working_modes!r}")
-        cols = []
-        for i, (leg, b) in enumerate(zip(self.legs, wm)):
-            if isinstance(b, (bool, np.bool_)) or not isinstance(b, (int, np.integer)):
-                raise TypeError(f"working_modes[{i}] must be a whole number (a branch index), got "
-                                f"{type(b).__name__} {b!r}")
-            if not 0 <= b < leg.n_branches:
-                raise InputError(f"working_modes[{i}] must be in 0..{leg.n_branches - 1} for "
-                                 f"{leg.joints}, got {b}")
-            cols.append(leg.actuated_values(p)[..., b])
+        wm = (0, 0, 0) if working_modes is None else self.check_working_modes(working_modes)
+        cols = [leg.actuated_values(p)[..., b] for leg, b in zip(self.legs, wm)]
         q = np.stack(cols, axis=-1)
         if p.ndim == 1 and np.any(np.isnan(q)):
             bad = [i for i in range(3) if np.isnan(q[i])]
             raise InputError(f"pose {p.tolist()} is out of reach of leg(s) {bad} "
                              f"(working_modes={wm})")
         return q
+
+    def check_working_modes(self, working_modes: Sequence[int], name: str = "working_modes") -> tuple[int, int, int]:
+        """Three branch indices, one per leg's inverse kinematics, checked by kind and range; the
+        error names ``name``.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.examples.general_3rpr().check_working_modes([1, 0, 1])
+        (1, 0, 1)
+        """
+        if isinstance(working_modes, (str, bytes)) or not hasattr(working_modes, "__iter__"):
+            raise TypeError(f"{name} must be a sequence of three whole numbers (branch indices), got "
+                            f"{type(working_modes).__name__} {working_modes!r:.80}")
+        wm = tuple(working_modes)
+        if len(wm) != 3:
+            raise InputError(f"{name} must have three entries, got {working_modes!r:.80}")
+        for i, (leg, b) in enumerate(zip(self.legs, wm)):
+            if isinstance(b, (bool, np.bool_)) or not isinstance(b, (int, np.integer)):
+                raise TypeError(f"{name}[{i}] must be a whole number (a branch index), got "
+                                f"{type(b).__name__} {b!r:.80}")
+            if not 0 <= b < leg.n_branches:
+                raise InputError(f"{name}[{i}] must be in 0..{leg.n_branches - 1} for {leg.joints}, got {b}")
+        return (int(wm[0]), int(wm[1]), int(wm[2]))
 
     def joint_residual(self, pose: npt.ArrayLike, q: npt.ArrayLike, length: npt.ArrayLike = 1.0) -> Union[float, FloatArray]:
         """Largest deviation of the legs' inverse kinematics (best branch) from ``q``.

@@ -121,23 +121,9 @@ def _check_manipulator(manipulator, name="manipulator"):
     return check_mechanism(manipulator, name)
 
 
-
-
 def _check_working_modes(manipulator, working_modes, name="working_modes"):
-    """Three branch indices, one per leg (as :meth:`PlanarParallel.inverse_kinematics` wants)."""
-    if isinstance(working_modes, (str, bytes)) or not hasattr(working_modes, "__iter__"):
-        raise TypeError(f"{name} must be a sequence of three whole numbers (branch indices), got "
-                        f"{type(working_modes).__name__} {_short(working_modes)}")
-    wm = tuple(working_modes)
-    if len(wm) != 3:
-        raise InputError(f"{name} must have three entries, got {_short(working_modes)}")
-    for i, (leg, b) in enumerate(zip(manipulator.legs, wm)):
-        if isinstance(b, (bool, np.bool_)) or not isinstance(b, (int, np.integer)):
-            raise TypeError(f"{name}[{i}] must be a whole number (a branch index), got "
-                            f"{type(b).__name__} {_short(b)}")
-        if not 0 <= b < leg.n_branches:
-            raise InputError(f"{name}[{i}] must be in 0..{leg.n_branches - 1} for {leg.joints}, got {b}")
-    return tuple(int(b) for b in wm)
+    """Three branch indices, one per leg (:meth:`~imagespace.core.mechanism.Mechanism.check_working_modes`)."""
+    return manipulator.check_working_modes(working_modes, name)
 
 
 def _check_joint_values(manipulator, q, name="q"):
