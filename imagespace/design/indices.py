@@ -20,6 +20,7 @@ import warnings
 
 from .._validate import _short, as_count, as_float_array, as_scalar
 from ..exceptions import InputError
+from ..core.mechanism import check_mechanism
 
 __all__ = ["manipulability", "resistivity", "isotropy", "local_indices", "global_indices"]
 
@@ -107,9 +108,7 @@ def local_indices(manipulator, poses, length, working_modes=None):
     >>> sorted(ind)
     ['isotropy', 'isotropy_frobenius', 'manipulability', 'resistivity']
     """
-    from ..core.mechanism import check_mechanism as _check_manipulator
-
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     poses = as_float_array(poses, "poses", last=3)
     L = as_scalar(length, "length")
     if not L > 0:
@@ -150,10 +149,9 @@ def global_indices(manipulator, position, phi_range, length, n=73, working_modes
     >>> 0 < g["isotropy"] <= 1
     True
     """
-    from ..core.mechanism import check_mechanism as _check_manipulator
     from .workspace import MAX_ORIENTATIONS, _phi_range
 
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     lo, hi = _phi_range(phi_range)
     n = as_count(n, "n", 2)
     if n > MAX_ORIENTATIONS:

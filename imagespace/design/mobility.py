@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 from .._validate import _short, as_count, as_flag
 from ..exceptions import InputError
+from ..core.mechanism import check_mechanism
 
 __all__ = ["Mobility", "gruebler", "mechanism_mobility", "manipulator_mobility", "JOINT_FREEDOMS"]
 
@@ -199,9 +200,7 @@ def manipulator_mobility(manipulator, locked=False):
     >>> manipulator_mobility(m).M, manipulator_mobility(m, locked=True).M
     (3, 0)
     """
-    from ..core.mechanism import check_mechanism as _check_manipulator
-
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     locked = as_flag(locked, "locked")
     n = 2 + sum(len(leg.joints) - 1 for leg in manipulator.legs)
     fs = []

@@ -23,6 +23,7 @@ import numpy as np
 
 from .._validate import _short, as_count, as_float_array, as_scalar
 from ..exceptions import InputError
+from ..core.mechanism import check_mechanism
 
 __all__ = ["Workspace", "halfplane_polygon", "polygon_area", "constant_orientation_workspace",
            "reachable_workspace", "dexterous_workspace", "sampled_workspace", "MAX_MEMORY"]
@@ -160,14 +161,6 @@ def _limits(limits):
     return L
 
 
-
-
-def _check_manipulator(manipulator):
-    from ..core.mechanism import check_mechanism as check
-
-    return check(manipulator)
-
-
 def _phi_range(phi_range, allow_equal=False):
     r = as_float_array(phi_range, "phi_range")
     if r.shape != (2,):
@@ -275,7 +268,7 @@ def constant_orientation_workspace(manipulator, phi, limits, box=None, resolutio
     >>> ws.method, ws.area > 0
     ('exact: half-planes', True)
     """
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     L = _limits(limits)
     phi = as_scalar(phi, "phi")
     _check_box(box)
@@ -290,7 +283,7 @@ def constant_orientation_workspace(manipulator, phi, limits, box=None, resolutio
 def _orientation_range_inputs(manipulator, phi_range, limits, box, resolution, n_phi):
     """The checked inputs of the workspaces over an orientation range: limits, range, the sampled
     orientations and the design's affine form (None where it has none)."""
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     L = _limits(limits)
     lo, hi = _phi_range(phi_range)
     _check_box(box)
@@ -397,7 +390,7 @@ def sampled_workspace(manipulator, limits, phi_range, box, resolution=400, n_phi
     """
     from skimage.measure import find_contours
 
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     L = _limits(limits)
     bx = _check_box(box, required=True)
     if not isinstance(kind, str) or kind not in ("reachable", "dexterous", "constant-orientation"):

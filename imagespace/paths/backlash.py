@@ -27,6 +27,7 @@ import numbers
 
 from .._validate import _short, as_count, as_float_array
 from ..exceptions import InputError
+from ..core.mechanism import check_mechanism
 
 __all__ = ["BacklashAnalysis", "backlash", "released_curve", "MAX_MEMORY"]
 
@@ -134,9 +135,7 @@ def released_curve(manipulator, q, leg, samples=20000, max_memory=MAX_MEMORY):
     >>> X.shape
     (1000, 2, 4)
     """
-    from ..core.mechanism import check_mechanism as _check_manipulator
-
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     samples = _check_samples(samples, max_memory, "released_curve")
     qf = manipulator.check_q(q)
     if qf.shape != (3,):
@@ -278,9 +277,7 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000, max_memory=MAX_MEMOR
     >>> res.thresholds.shape, bool(np.all(np.diag(res.thresholds) == 0))
     ((6, 6), True)
     """
-    from ..core.mechanism import check_mechanism as _check_manipulator
-
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     samples = _check_samples(samples, max_memory, "backlash")
     d = as_float_array(delta, "delta", finite=False)
     if d.ndim != 0:

@@ -34,6 +34,7 @@ import numbers
 from .._validate import _short, as_count, as_float_array
 from ..exceptions import InputError
 from ..core.kinematic_map import image_point, normalize
+from ..core.mechanism import check_mechanism
 from .check import ImagePath, PathCheck, check_path, polyline, segments_free
 
 __all__ = ["ModeChangePlan", "plan_mode_change", "joint_trajectory"]
@@ -74,12 +75,6 @@ MAX_SAMPLES = 1_000_000
 """The largest ``samples`` :func:`plan_mode_change` accepts (a round draws ``4 * samples`` poses)."""
 
 
-def _check_manipulator(manipulator):
-    from ..core.mechanism import check_mechanism as check
-
-    return check(manipulator)
-
-
 def joint_trajectory(manipulator, path, q_start, per_piece=64):
     """Joint values along a path, each leg's IK branch followed continuously from ``q_start``.
 
@@ -111,7 +106,7 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     per_piece = as_count(per_piece, "per_piece")
     if per_piece > MAX_SAMPLES:
         raise InputError(f"per_piece must be at most MAX_SAMPLES = {MAX_SAMPLES}, got {_short(per_piece)}")
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     if not isinstance(path, ImagePath):
         raise TypeError(f"path must be an ImagePath (isp.segment, isp.polyline ...), got "
                         f"{type(path).__name__} {_short(path)}")
@@ -184,7 +179,7 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     >>> plan_mode_change(m, m.q_example_float, modes[0], modes[1]).found
     False
     """
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     samples = as_count(samples, "samples")
     if samples > MAX_SAMPLES:
         raise InputError(f"samples must be at most MAX_SAMPLES = {MAX_SAMPLES} (each round draws and tests "

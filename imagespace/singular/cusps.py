@@ -36,6 +36,7 @@ from .._validate import _short, as_count, as_float_array, as_scalar
 from ..core.codegen import compile_exprs
 from ..core.elimination import form_coefficients
 from ..exceptions import InputError
+from ..core.mechanism import check_mechanism
 
 __all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "free_joints", "half_angle_gap",
            "linking_number"]
@@ -108,8 +109,6 @@ def _window(window):
     return w
 
 
-
-
 def _resolution(resolution, name="resolution"):
     resolution = as_count(resolution, name, 8)
     if not 8 <= resolution <= 2000:
@@ -157,9 +156,7 @@ def mode_count_map(manipulator, fixed, value, window, resolution=120):
     >>> int(cm.counts.max()) <= 6
     True
     """
-    from ..core.mechanism import check_mechanism as _check_manipulator
-
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     a, b, Q = _grid(fixed, value, window, resolution)
     for i, leg in enumerate(manipulator.legs):
         ok = leg.joint_values_ok(Q[:, i])
@@ -413,9 +410,7 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     vals = as_float_array(values, "values")
     if vals.ndim != 1 or len(vals) < 2 or np.any(np.diff(vals) <= 0):
         raise InputError(f"values must be at least two increasing numbers, got {np.asarray(values).tolist()}")
-    from ..core.mechanism import check_mechanism as _check_manipulator
-
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     fa, fb = free_joints(fixed)
     w = _window(window)
     _resolution(resolution)

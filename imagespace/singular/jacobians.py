@@ -11,7 +11,8 @@ import sympy as sp
 from .._validate import as_float_array, as_scalar
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
-from .surface import _check_manipulator, _check_working_modes, _constraint_values, pose_chart_point
+from ..core.mechanism import check_mechanism
+from .surface import _constraint_values, pose_chart_point
 
 __all__ = ["PoseJacobians", "jacobians", "symbolic_jacobians"]
 
@@ -143,10 +144,10 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
     >>> jac.kind.tolist()
     ['regular']
     """
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     P = np.atleast_2d(as_float_array(pose, "pose", last=3))
     if working_modes is not None:
-        working_modes = _check_working_modes(manipulator, working_modes)
+        working_modes = manipulator.check_working_modes(working_modes)
     if q is None:
         Q = np.atleast_2d(manipulator.inverse_kinematics(P, working_modes))
     else:
@@ -207,7 +208,7 @@ def symbolic_jacobians(manipulator):
     >>> sp.simplify(Jx.det() - 16 * 2 * sp.sin(phi) * (2 * y + x * sp.sin(phi) - y * sp.cos(phi)))
     0
     """
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     x, y, phi = sp.symbols("x y phi", real=True)
     x0, x1, x2, x3 = image_symbols()
     c, s = sp.cos(phi / 2), sp.sin(phi / 2)

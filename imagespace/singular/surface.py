@@ -116,14 +116,6 @@ def image_chart_point(U):
 
 
 # -- input checks shared by the analysis modules ------------------------------------------------
-def _check_manipulator(manipulator, name="manipulator"):
-    """Refuse anything but a :class:`PlanarParallel` with a clear ``TypeError``."""
-    return check_mechanism(manipulator, name)
-
-
-def _check_working_modes(manipulator, working_modes, name="working_modes"):
-    """Three branch indices, one per leg (:meth:`~imagespace.core.mechanism.Mechanism.check_working_modes`)."""
-    return manipulator.check_working_modes(working_modes, name)
 
 
 def _check_joint_values(manipulator, q, name="q"):
@@ -551,12 +543,12 @@ def singularity_surface(manipulator, q=None, working_modes=None):
     >>> isp.singularity_surface(m, working_modes=(1, 0, 0))
     SingularitySurface('RRR-RPR-RPR', kind='working-mode', working_modes=(1, None, None))
     """
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     if q is not None and working_modes is not None:
         raise InputError("give either q (the surface at given joint values) or working_modes (the "
                          "joint values eliminated through the leg inverse kinematics), not both")
     qs = None if q is None else _check_joint_values(manipulator, q)
-    wm = None if working_modes is None else _check_working_modes(manipulator, working_modes)
+    wm = None if working_modes is None else manipulator.check_working_modes(working_modes)
     P = manipulator.singularity_polynomial()
     joint_syms = manipulator.joint_symbols
     depends = _dependent_legs(manipulator)
@@ -595,7 +587,7 @@ def singularity_surfaces(manipulator):
     >>> len(isp.singularity_surfaces(isp.examples.stigger_husty()))
     1
     """
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     depends = _dependent_legs(manipulator)
     if not depends:
         return [singularity_surface(manipulator)]

@@ -32,12 +32,11 @@ import numbers
 
 from .._validate import _short, as_count, as_exact, as_float_array, is_symbolic, as_scalar
 from ..exceptions import InputError
+from ..core.mechanism import check_mechanism
 
 __all__ = ["revolute", "prismatic", "helical", "transfer", "reciprocal_product", "reciprocal_system",
            "ConstraintAnalysis", "constraint_analysis", "TranslationalFiveR", "planar_leg_wrenches",
            "singularity_fractions"]
-
-
 
 
 def _tol(tol):
@@ -647,9 +646,7 @@ def planar_leg_wrenches(manipulator, pose):
     >>> W.shape
     (3, 3)
     """
-    from ..core.mechanism import check_mechanism as _check_manipulator
-
-    _check_manipulator(manipulator)
+    check_mechanism(manipulator)
     p = as_float_array(pose, "pose", last=3, allow_batch=False)
     rows, lengths = [], []
     for i, leg in enumerate(manipulator.legs):
