@@ -321,7 +321,7 @@ class Mechanism:
         6
         """
         if "compiled" not in self._symbolic_cache:
-            free = set().union(*(leg.free_symbols for leg in self.legs))
+            free = self.design_symbols
             if free:
                 raise InputError(f"compiled() needs a numeric design; the design has the symbols "
                                  f"{sorted(map(str, free))}")
@@ -501,7 +501,7 @@ class Mechanism:
         if "enclosure" not in self._symbolic_cache:
             from .codegen import CoefficientEnclosure
 
-            free = set().union(*(leg.free_symbols for leg in self.legs))
+            free = self.design_symbols
             if free:
                 raise InputError(f"certified batches need a numeric design; the design has the "
                                  f"symbols {sorted(map(str, free))}")
@@ -548,9 +548,21 @@ class Mechanism:
         return self._plan
 
     @property
+    def design_symbols(self) -> set:
+        """The free sympy symbols of the design (its geometry), not the joint symbols.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.examples.general_3rpr().design_symbols
+        set()
+        """
+        return set().union(*(leg.free_symbols for leg in self.legs))
+
+    @property
     def is_numeric(self) -> bool:
         """True when the design has no free symbols (only the joint values are variables)."""
-        return not set().union(*(leg.free_symbols for leg in self.legs))
+        return not self.design_symbols
 
     def cached(self, key: Hashable, factory: Callable[[], Any]) -> Any:
         """The artefact stored under ``key``, built by ``factory()`` on first use.

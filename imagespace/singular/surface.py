@@ -154,7 +154,7 @@ def _build_constraint_functions(m):
 
 
 def _require_numeric(m):
-    free = set().union(*(leg.free_symbols for leg in m.legs))
+    free = m.design_symbols
     if free:
         raise InputError(f"numeric evaluation needs a numeric design; the design has the symbols "
                          f"{sorted(map(str, free))} (substitute numbers first)")
