@@ -19,6 +19,9 @@ __all__ = [
     "as_count",
     "as_scalar",
     "as_sympy_entry",
+    "as_joint_vector",
+    "as_box",
+    "as_index",
 ]
 
 
@@ -236,3 +239,114 @@ def as_scalar(value, name: str, finite: bool = True) -> float:
     if v.ndim != 0:
         raise InputError(f"{name} must be a single number, got shape {v.shape}")
     return float(v)
+
+
+def as_joint_vector(value, name: str = "q", count: int = 3, allow_batch: bool = False) -> np.ndarray:
+    """Joint values as a finite float array of shape ``(count,)`` (or ``(n, count)`` for a batch).
+
+    Parameters
+    ----------
+    value : array_like
+        The user's joint values (radians for revolute joints, lengths for prismatic ones).
+    name : str
+        The parameter name used in error messages.
+    count : int
+        Number of joints (3 for the planar 3-legged manipulators).
+    allow_batch : bool
+        Also accept a batch of shape ``(n, count)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        float64, shape ``(count,)`` or ``(n, count)``.
+
+    Raises
+    ------
+    TypeError
+        For strings, booleans, complex or non-numeric input.
+    InputError
+        For a wrong shape or a non-finite entry.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_joint_vector
+    >>> as_joint_vector([1, 2, 3.5])
+    array([1. , 2. , 3.5])
+    """
+    return as_float_array(value, name, last=count, allow_batch=allow_batch)
+
+
+def as_box(value, name: str = "box", dim: int = 3, required: bool = True):
+    """An axis-aligned box ``((min_0, max_0), ..., (min_{dim-1}, max_{dim-1}))`` as a ``(dim, 2)`` array.
+
+    Every side must have ``min < max`` and a length within the float range.
+
+    Parameters
+    ----------
+    value : array_like or None
+        The user's box.
+    name : str
+        The parameter name used in error messages.
+    dim : int
+        Number of axes (3 for image-space boxes, 2 for planar workspace boxes).
+    required : bool
+        If False, ``None`` is passed through (returned as ``None``).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        float64, shape ``(dim, 2)``.
+
+    Raises
+    ------
+    TypeError
+        For non-numeric input.
+    InputError
+        For a missing box, a wrong shape, an empty side, a non-finite entry or a side whose length
+        overflows.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_box
+    >>> as_box([[-1, 1], [0, 2]], dim=2)
+    array([[-1.,  1.],
+           [ 0.,  2.]])
+    """
+    axes = ", ".join(f"(min_{i}, max_{i})" for i in range(dim))
+    if value is None:
+        if required:
+            raise InputError(f"{name} ({axes}) is needed here, got None")
+        return None
+    b = as_float_array(value, name, allow_batch=True)
+    if b.shape != (dim, 2):
+        raise InputError(f"{name} must be ({axes}), shape ({dim}, 2); got shape {b.shape}")
+    if np.any(b[:, 1] <= b[:, 0]):
+        bad = [i for i in range(dim) if b[i, 1] <= b[i, 0]]
+        raise InputError(f"{name} is empty along axis {bad}: need min < max, got {b.tolist()}")
+    with np.errstate(over="ignore"):
+        sides = b[:, 1] - b[:, 0]
+    if not np.all(np.isfinite(sides)):
+        raise InputError(f"{name} sides must be within the float range (max - min overflows), got {b.tolist()}")
+    return b
+
+
+def as_index(value, name: str, size: int) -> int:
+    """A whole number in ``range(size)`` (negative indices are refused, not wrapped).
+
+    Raises
+    ------
+    TypeError
+        For a non-integer (floats, bools, strings).
+    InputError
+        For an index outside ``0 .. size - 1``.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_index
+    >>> as_index(2, "mode", 3)
+    2
+    """
+    i = as_count(value, name, minimum=0)
+    if i >= size:
+        raise InputError(f"{name} must be in 0..{size - 1}, got {i}")
+    return i
