@@ -16,7 +16,7 @@ def test_joint_vector_shapes():
         as_joint_vector([1, 2])
     with pytest.raises(InputError, match="finite"):
         as_joint_vector([1, np.nan, 2])
-    with pytest.raises(TypeError, match="strings are never parsed"):
+    with pytest.raises(TypeError, match="q must be numeric"):
         as_joint_vector("1 2 3")
 
 
