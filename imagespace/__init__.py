@@ -14,7 +14,7 @@ import lazy_loader as _lazy
 # numba, matplotlib, trimesh, scikit-image, scipy and dask only where a feature needs them.
 _SUBMODULES = [
     "core", "solve", "singular", "paths", "design", "spatial", "dynamics",
-    "examples", "manipulator", "plotting", "cli", "tolerances", "exceptions",
+    "examples", "manipulator", "plotting", "widgets", "drawing", "cli", "tolerances", "exceptions",
 ]
 # short names of modules that live in the layered packages (ARCHITECTURE.md), e.g. isp.screws
 _MODULE_ALIASES = {

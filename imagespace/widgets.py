@@ -1,0 +1,774 @@
+"""An interactive explorer for Jupyter: drag the joint values, watch the assembly modes move.
+
+``isp.widgets.explore(m)`` returns an :class:`Explorer`, an ipywidgets layout with
+
+- one slider per actuated joint (ranges from the design, :func:`joint_ranges`) and a text box that
+  takes an exact value (``27/2``, ``-3/4*pi``; parsed by :func:`parse_joint_value`, never evaluated);
+- a **pose view**: the mechanism in every real assembly mode, coloured by aspect (red: det J > 0,
+  blue: det J < 0), each mode numbered, prismatic guides drawn;
+- an **image-space view**: the singularity surface meshed once (re-meshed when it depends on the
+  joint values, coarsely while dragging and finer once the slider rests) as a rotatable 3D mesh in
+  the chart ``(x2/x0, x3/x0, x1/x0)``, with the current modes as points;
+- a **section view**: the fixed-orientation conic at the orientation of a chosen mode, with the two
+  aspect regions;
+- a status line: the certified number of real modes (certified on the float joint values shown, or
+  on the exact value typed), a "near singular" badge where :class:`~imagespace.NearSingularWarning`
+  applies, and the time the update took;
+- "change mode": two modes of equal aspect are joined by a certified singularity-free path
+  (:func:`imagespace.paths.modechange.plan_mode_change`), animated in both views with its joint
+  loop; for opposite aspects the reason no such path exists is shown.
+
+The 3D widget library is plotly (``FigureWidget``): it is on PyPI with no compiled parts, renders in
+JupyterLab, Notebook 7 and Voilà, and writes a standalone HTML page of the same figures
+(:meth:`Explorer.save_html`) that opens without a kernel. Needs the ``imagespace[jupyter]`` extra.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+import threading
+import time
+import warnings
+from fractions import Fraction
+
+import numpy as np
+
+import ipywidgets as W
+import plotly.graph_objects as go
+
+from ._files import atomic_write
+from ._validate import as_box, as_count, as_joint_vector
+from .core.mechanism import check_mechanism
+from .drawing import ASPECT_COLOURS, CHART_LABELS, chart_coordinates, mechanism_lines
+from .exceptions import ImageSpaceError, InputError, NearSingularWarning
+
+__all__ = ["explore", "Explorer", "joint_ranges", "parse_joint_value", "REST_DELAY", "DRAG_RESOLUTION",
+           "REST_RESOLUTION", "SECTION_GRID"]
+
+REST_DELAY = 0.4
+"""Seconds without slider motion after which a joint-dependent surface is meshed finely."""
+DRAG_RESOLUTION = 20
+"""Grid points per axis of a joint-dependent surface re-meshed while a slider moves."""
+REST_RESOLUTION = 48
+"""Grid points per axis of the surface mesh at rest (and of a joint-free surface, meshed once)."""
+SECTION_GRID = 160
+"""Grid points per axis of the section view's aspect regions."""
+_PHI_CHART = 3.0                 # default |x1/x0| = |tan(phi/2)| range of the image-space view
+
+
+# -- inputs ----------------------------------------------------------------------------------------
+_PI_FORM = re.compile(r"^\s*([-+]?)\s*([0-9]*\.?[0-9]*(?:[eE][-+]?[0-9]+)?)\s*\*?\s*pi\s*(?:/\s*([0-9]+))?\s*$")
+
+
+def parse_joint_value(text, name="q"):
+    """An exact joint value from text: a decimal or fraction (``13.25``, ``27/2``) or a rational
+    multiple of pi (``pi/2``, ``-3/4*pi`` is not accepted; write ``-0.75*pi`` or ``-3*pi/4``).
+
+    The text is parsed with :class:`fractions.Fraction` (never evaluated as Python).
+
+    Parameters
+    ----------
+    text : str
+    name : str
+        The parameter name used in error messages.
+
+    Returns
+    -------
+    sympy.Rational or sympy expression
+        The exact value (``sympy.pi`` times a rational for the pi forms).
+
+    Raises
+    ------
+    TypeError
+        ``text`` is not a string.
+    InputError
+        The text is not a number, a fraction or a rational multiple of pi.
+
+    Examples
+    --------
+    >>> from imagespace.widgets import parse_joint_value
+    >>> parse_joint_value("27/2"), parse_joint_value("-3*pi/4")
+    (27/2, -3*pi/4)
+    """
+    import sympy as sp
+
+    if not isinstance(text, str):
+        raise TypeError(f"{name} must be text such as '27/2' or 'pi/3', got {type(text).__name__}")
+    m = _PI_FORM.match(text)
+    try:
+        if m:
+            sign, coef, den = m.groups()
+            c = Fraction(coef) if coef else Fraction(1)
+            c = c / int(den) if den else c
+            c = -c if sign == "-" else c
+            return sp.Rational(c.numerator, c.denominator) * sp.pi
+        f = Fraction(text.strip())
+    except (ValueError, ZeroDivisionError):
+        raise InputError(f"{name} must be a number, a fraction such as 27/2 or a rational multiple of pi "
+                         f"such as 3*pi/4; got {text!r}") from None
+    return sp.Rational(f.numerator, f.denominator)
+
+
+def joint_ranges(manipulator, q):
+    """Slider ranges ``(3, 2)`` for the actuated joints, from the design and the joint values ``q``.
+
+    Angles get ``[-pi, pi]``. An RPR leg length gets ``[0, L]`` and a slider travel
+    ``[q - L/2, q + L/2]``, where ``L`` is twice the larger of ``|q_i|`` and the design's size (the
+    spread of its base anchors plus that of its platform anchors).
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    q : (3,) float
+
+    Returns
+    -------
+    (3, 2) float
+
+    Raises
+    ------
+    InputError
+        ``q`` is not three finite numbers.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.widgets import joint_ranges
+    >>> m = isp.examples.stigger_husty()
+    >>> joint_ranges(m, m.q_example_float).round(3).tolist()
+    [[0.0, 34.356], [0.0, 34.356], [-3.928, 30.428]]
+    """
+    check_mechanism(manipulator)
+    qv = as_joint_vector(q)
+    geo = [leg.geometry(exact=False) for leg in manipulator.legs]
+    base = np.array([g["base"] for g in geo], dtype=float)
+    plat = np.array([g["platform"] for g in geo], dtype=float)
+    size = float(np.max(np.ptp(base, axis=0)) + np.max(np.ptp(plat, axis=0)))
+    out = np.empty((3, 2))
+    for i, leg in enumerate(manipulator.legs):
+        L = 2 * max(abs(qv[i]), size, 1.0)
+        if leg.actuated_is_angle:
+            out[i] = (-np.pi, np.pi)
+        elif leg.joints == "RPR":
+            out[i] = (0.0, L)
+        else:
+            out[i] = (qv[i] - L / 2, qv[i] + L / 2)
+    return out
+
+
+def _joined(polys):
+    """Polylines as one ``(n, 2)`` array with NaN rows between them (gaps in a plotly line)."""
+    if not polys:
+        return np.zeros((0, 2))
+    gap = np.full((1, 2), np.nan)
+    return np.concatenate([part for P in polys for part in (np.asarray(P, dtype=float), gap)])
+
+
+# -- the explorer ----------------------------------------------------------------------------------
+def explore(manipulator, q=None, box=None, resolution=REST_RESOLUTION):
+    """Open the interactive explorer on a manipulator (see the module docstring).
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    q : (3,) float, optional
+        Starting joint values; default the design's ``q_example``.
+    box : (3, 2) float, optional
+        The image-space view's box in the chart ``(x2/x0, x3/x0, x1/x0)``; default: around the
+        starting modes, with ``|x1/x0| <= 3`` (``|phi| <= 143 deg``).
+    resolution : int
+        Grid points per axis of the surface mesh at rest.
+
+    Returns
+    -------
+    Explorer
+        An ``ipywidgets.VBox``; display it (last expression of a cell).
+
+    Raises
+    ------
+    InputError
+        No ``q`` given for a design without ``q_example``; a bad ``q``, ``box`` or ``resolution``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> ex = isp.widgets.explore(isp.examples.stigger_husty())
+    >>> ex.status["count"], ex.status["certified"]
+    (6, True)
+    """
+    return Explorer(manipulator, q=q, box=box, resolution=resolution)
+
+
+class Explorer(W.VBox):
+    """The explorer's layout and state; made by :func:`explore`.
+
+    Attributes
+    ----------
+    manipulator : PlanarParallel
+    q : (3,) float
+        The joint values shown.
+    modes : list of AssemblyMode
+        The real assembly modes at ``q``, numbered from 1 in the views.
+    status : dict
+        ``count`` (real modes), ``certified`` (bool), ``near_singular`` (bool), ``exact`` (the
+        count was certified on exact joint values typed in), ``seconds`` (the last update),
+        ``error`` (a message, or None).
+    plan : ModeChangePlan or None
+        The last mode change planned.
+    pose_view, space_view, section_view, loop_view : plotly.graph_objects.FigureWidget
+    sliders : list of ipywidgets.FloatSlider
+    exact_boxes : list of ipywidgets.Text
+    """
+
+    def __init__(self, manipulator, q=None, box=None, resolution=REST_RESOLUTION):
+        check_mechanism(manipulator)
+        if q is None:
+            if manipulator.q_example_float is None:
+                raise InputError("q is needed: this design has no q_example; pass the starting joint "
+                                 "values, e.g. explore(m, q=m.inverse_kinematics(pose))")
+            q = manipulator.q_example_float
+        self.manipulator = manipulator
+        self.q = as_joint_vector(q).copy()
+        self.resolution = as_count(resolution, "resolution", minimum=8)
+        self.modes = []
+        self.plan = None
+        self.status = {"count": 0, "certified": False, "near_singular": False, "exact": False,
+                       "seconds": 0.0, "error": None}
+        self._surface = None
+        self._surface_q = None
+        self._timer = None
+        self._lock = threading.Lock()
+        self._muted = False
+        ranges = joint_ranges(manipulator, self.q)
+        self.sliders = []
+        self.exact_boxes = []
+        rows = []
+        for i, leg in enumerate(manipulator.legs):
+            lo, hi = ranges[i]
+            unit = "rad" if leg.actuated_is_angle else "length"
+            s = W.FloatSlider(value=float(np.clip(self.q[i], lo, hi)), min=float(lo), max=float(hi),
+                              step=float(hi - lo) / 2000, description=f"q{i + 1} {leg.actuated_name} [{unit}]",
+                              continuous_update=True, readout_format=".4f",
+                              style={"description_width": "140px"}, layout=W.Layout(width="480px"))
+            t = W.Text(placeholder="exact value, e.g. 27/2", continuous_update=False,
+                       layout=W.Layout(width="180px"))
+            s.observe(self._on_slider, "value")
+            t.observe(self._on_text, "value")
+            self.sliders.append(s)
+            self.exact_boxes.append(t)
+            rows.append(W.HBox([s, t]))
+        self.status_line = W.HTML()
+        self.mode_a = W.Dropdown(description="mode A", layout=W.Layout(width="160px"))
+        self.mode_b = W.Dropdown(description="mode B", layout=W.Layout(width="160px"))
+        self.section_mode = W.Dropdown(description="section at", layout=W.Layout(width="170px"))
+        self.section_mode.observe(lambda ch: self._draw_section(), "value")
+        self.change_button = W.Button(description="change mode", button_style="primary",
+                                      tooltip="plan a certified singularity-free path between mode A and mode B")
+        self.change_button.on_click(lambda b: self.change_mode())
+        self.plan_message = W.HTML()
+        self.play = W.Play(interval=60, min=0, max=0, disabled=True, description="animate")
+        self.frame = W.IntSlider(min=0, max=0, description="frame", disabled=True)
+        W.jslink((self.play, "value"), (self.frame, "value"))
+        self.frame.observe(lambda ch: self._draw_frame(ch["new"]), "value")
+
+        self.pose_view = self._pose_figure()
+        self.space_view = self._space_figure()
+        self.section_view = self._section_figure()
+        self.loop_view = self._loop_figure()
+        self._solve(self.q)
+        self._box = self._initial_box(box)
+        self.space_view.layout.scene = self._scene()
+        self._remesh(self.resolution)
+        self._draw_all()
+        # a FigureWidget's front end starts from the figure it was constructed with (later edits
+        # travel as messages to a live view), so the first state is drawn into plain figures
+        self.pose_view, self.space_view, self.section_view, self.loop_view = (
+            go.FigureWidget(f) for f in (self.pose_view, self.space_view, self.section_view, self.loop_view))
+        controls = W.VBox([W.HBox([self.mode_a, self.mode_b, self.change_button]), self.plan_message,
+                           W.HBox([self.play, self.frame]), self.loop_view])
+        super().__init__([W.VBox(rows), self.status_line, W.HBox([self.pose_view, self.space_view]),
+                          W.HBox([W.VBox([self.section_mode, self.section_view]), controls])])
+
+    # -- figures --------------------------------------------------------------------------------
+    @staticmethod
+    def _pose_figure():
+        fig = go.Figure()
+        for name, colour, dash in (("guides", "#999999", "dash"), ("legs, aspect +1", ASPECT_COLOURS[1], None),
+                                   ("legs, aspect -1", ASPECT_COLOURS[-1], None)):
+            fig.add_scatter(x=[], y=[], mode="lines", name=name, line=dict(color=colour, dash=dash, width=2),
+                            hoverinfo="skip")
+        for a in (1, -1):
+            fig.add_scatter(x=[], y=[], mode="lines", fill="toself", name=f"platform, aspect {a:+d}",
+                            line=dict(color=ASPECT_COLOURS[a], width=1), opacity=0.35, hoverinfo="skip")
+        fig.add_scatter(x=[], y=[], mode="markers", name="base joints", marker=dict(symbol="square", color="black",
+                                                                                     size=8))
+        fig.add_scatter(x=[], y=[], mode="text", name="mode numbers", textfont=dict(size=14), showlegend=False)
+        fig.add_scatter(x=[], y=[], mode="lines+markers", name="moving along the path",
+                        line=dict(color="#2ca02c", width=4))
+        fig.update_layout(width=520, height=480, margin=dict(l=50, r=10, t=40, b=40),
+                          title="pose view: every real assembly mode", legend=dict(font=dict(size=10)),
+                          xaxis_title="x [length units]", yaxis_title="y [length units]",
+                          yaxis=dict(scaleanchor="x", scaleratio=1))
+        return fig
+
+    @staticmethod
+    def _space_figure():
+        fig = go.Figure()
+        fig.add_mesh3d(x=[], y=[], z=[], i=[], j=[], k=[], color="#bbbbbb", opacity=0.5, name="singularity surface",
+                       flatshading=True, showlegend=True, hoverinfo="skip")
+        for a in (1, -1):
+            fig.add_scatter3d(x=[], y=[], z=[], mode="markers+text", name=f"modes, aspect {a:+d}",
+                              marker=dict(color=ASPECT_COLOURS[a], size=6), textposition="top center")
+        fig.add_scatter3d(x=[], y=[], z=[], mode="lines", name="certified path", line=dict(color="#2ca02c", width=6))
+        fig.add_scatter3d(x=[], y=[], z=[], mode="markers", name="path position",
+                          marker=dict(color="#2ca02c", size=8, symbol="diamond"))
+        fig.update_layout(width=560, height=480, margin=dict(l=0, r=0, t=40, b=0), title="image space",
+                          legend=dict(font=dict(size=10)))
+        return fig
+
+    @staticmethod
+    def _section_figure():
+        fig = go.Figure()
+        fig.add_heatmap(x=[], y=[], z=[], showscale=False, zmin=-1, zmax=1, opacity=0.35, hoverinfo="skip",
+                        colorscale=[[0, ASPECT_COLOURS[-1]], [0.5, "#ffffff"], [1, ASPECT_COLOURS[1]]],
+                        name="aspect regions")
+        fig.add_contour(x=[], y=[], z=[], showscale=False, contours=dict(start=0, end=0, size=1, coloring="lines"),
+                        line=dict(color="black", width=2), name="singular conic", hoverinfo="skip", showlegend=True)
+        for a in (1, -1):
+            fig.add_scatter(x=[], y=[], mode="markers+text", name=f"modes, aspect {a:+d}", textposition="top center",
+                            marker=dict(color=ASPECT_COLOURS[a], size=10, line=dict(color="black", width=1)))
+        fig.update_layout(width=520, height=460, margin=dict(l=50, r=10, t=40, b=40),
+                          xaxis_title="x [length units]", yaxis_title="y [length units]",
+                          yaxis=dict(scaleanchor="x", scaleratio=1), legend=dict(font=dict(size=10)))
+        return fig
+
+    @staticmethod
+    def _loop_figure():
+        fig = go.Figure()
+        for i in range(3):
+            fig.add_scatter(x=[], y=[], mode="lines", name=f"q{i + 1}")
+        fig.add_scatter(x=[], y=[], mode="markers", name="now", marker=dict(color="black", size=8))
+        fig.update_layout(width=520, height=300, margin=dict(l=50, r=10, t=40, b=40), title="joint loop",
+                          xaxis_title="path sample", yaxis_title="q - q_start [rad or length units]",
+                          legend=dict(font=dict(size=10)))
+        return fig
+
+    def _initial_box(self, box):
+        if box is not None:
+            return as_box(box, dim=3)
+        C = chart_coordinates(np.array([mm.image_point for mm in self.modes])) if self.modes else np.zeros((1, 3))
+        C = C[np.all(np.isfinite(C), axis=1)]
+        half = max(2.0 * float(np.max(np.abs(C[:, :2]))) if len(C) else 1.0, 1.0)
+        return np.array([[-half, half], [-half, half], [-_PHI_CHART, _PHI_CHART]])
+
+    def _scene(self):
+        b = self._box
+        return dict(xaxis=dict(title=CHART_LABELS[0], range=list(b[0])),
+                    yaxis=dict(title=CHART_LABELS[1], range=list(b[1])),
+                    zaxis=dict(title=CHART_LABELS[2], range=list(b[2])), aspectmode="cube")
+
+    # -- computation ----------------------------------------------------------------------------
+    def _solve(self, q, exact=None):
+        """Certified real modes at ``q`` (float batch path), or at the exact values ``exact``."""
+        t0 = time.perf_counter()
+        m = self.manipulator
+        err = None
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                if exact is not None:
+                    cm = m.direct_kinematics(exact, certify=True)
+                    modes, certified, near = list(cm), True, False
+                else:
+                    res = m.direct_kinematics_batch(np.asarray(q, dtype=float)[None], certify=True)
+                    if not res.row_ok[0]:
+                        err = "; ".join(str(e) for e in res.errors.values()) or "no solution for this row"
+                        modes, certified, near = [], False, False
+                    else:
+                        modes = res.modes(0)
+                        certified = bool(res.consistent[0]) if res.consistent is not None else False
+                        near = bool(res.near_singular[0]) if res.near_singular is not None else False
+            except ImageSpaceError as e:
+                err, modes, certified, near = str(e), [], False, False
+        near = near or any(issubclass(w.category, NearSingularWarning) for w in caught)
+        self.modes = modes
+        self.status = {"count": len(modes), "certified": certified and err is None, "near_singular": near,
+                       "exact": exact is not None, "seconds": time.perf_counter() - t0, "error": err}
+
+    def _surface_for(self, q):
+        m = self.manipulator
+        if self._surface is not None and self._surface.kind == "joint-free":
+            return self._surface
+        return m.singularity_surface(q=q)
+
+    def _remesh(self, resolution):
+        from .singular.meshing import mesh_surface
+
+        try:
+            S = self._surface_for(self.q)
+        except ImageSpaceError as e:
+            self._surface = None
+            self.status["error"] = self.status["error"] or f"singularity surface: {e}"
+            return
+        if S is self._surface and self._surface_q is not None and resolution <= self._mesh_resolution:
+            return
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                mesh = mesh_surface(S, [tuple(r) for r in self._box], chart="image", resolution=resolution)
+            except ImageSpaceError as e:
+                self.status["error"] = self.status["error"] or f"mesh: {e}"
+                return
+        self._surface, self._surface_q, self._mesh_resolution = S, self.q.copy(), resolution
+        V, F = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+        with self.space_view.batch_update():
+            tr = self.space_view.data[0]
+            tr.x, tr.y, tr.z = V[:, 0], V[:, 1], V[:, 2]
+            tr.i, tr.j, tr.k = (F[:, 0], F[:, 1], F[:, 2]) if len(F) else ([], [], [])
+            tr.name = f"singularity surface ({S.kind}, {resolution}^3 grid)"
+
+    # -- drawing --------------------------------------------------------------------------------
+    def _draw_all(self):
+        labels = [f"{k + 1} ({mm.aspect:+d})" for k, mm in enumerate(self.modes)]
+        for dd in (self.mode_a, self.mode_b):
+            dd.options = list(zip(labels, range(len(labels))))
+        if len(labels) > 1:
+            self.mode_b.value = 1
+        self.section_mode.options = list(zip(labels, range(len(labels))))
+        if labels:
+            self.mode_a.value = 0
+            self.section_mode.value = 0
+        self._draw_pose()
+        self._draw_space()
+        self._draw_section()
+        self._draw_status()
+
+    def _draw_pose(self):
+        m = self.manipulator
+        guides, legs, plats, base, text = [], {1: [], -1: []}, {1: [], -1: []}, [], ([], [], [])
+        for k, mm in enumerate(self.modes):
+            lines = mechanism_lines(m, mm.pose, self.q)
+            a = 1 if mm.aspect >= 0 else -1
+            for seg in lines.guides:
+                guides.append(seg)
+            for L in lines.legs:
+                legs[a].append(L)
+                base.append(L[0])
+            plats[a].append(lines.platform)
+            c = lines.platform[:3].mean(axis=0)
+            text[0].append(c[0])
+            text[1].append(c[1])
+            text[2].append(str(k + 1))
+
+        d = self.pose_view.data
+        B = np.array(base) if base else np.zeros((0, 2))
+        with self.pose_view.batch_update():
+            for idx, polys in ((0, guides), (1, legs[1]), (2, legs[-1]), (3, plats[1]), (4, plats[-1])):
+                xy = _joined(polys)
+                d[idx].update(x=xy[:, 0], y=xy[:, 1])
+            d[5].update(x=B[:, 0], y=B[:, 1])
+            d[6].update(x=np.array(text[0]), y=np.array(text[1]), text=text[2])
+            d[7].update(x=[], y=[])
+            self.pose_view.layout.title = (f"pose view: {len(self.modes)} real assembly mode"
+                                           f"{'' if len(self.modes) == 1 else 's'} at q = "
+                                           f"({', '.join(f'{v:.4g}' for v in self.q)})")
+
+    def _draw_space(self):
+        d = self.space_view.data
+        with self.space_view.batch_update():
+            for idx, a in ((1, 1), (2, -1)):
+                ks = [k for k, mm in enumerate(self.modes) if (1 if mm.aspect >= 0 else -1) == a]
+                C = chart_coordinates(np.array([self.modes[k].image_point for k in ks])) if ks else np.zeros((0, 3))
+                d[idx].x, d[idx].y, d[idx].z = C[:, 0], C[:, 1], C[:, 2]
+                d[idx].text = [str(k + 1) for k in ks]
+            if self.plan is None:
+                for idx in (3, 4):
+                    d[idx].x, d[idx].y, d[idx].z = [], [], []
+
+    def _draw_section(self):
+        fig = self.section_view
+        if not self.modes or self._surface is None or self.section_mode.value is None:
+            with fig.batch_update():
+                for tr in fig.data:
+                    tr.x, tr.y = [], []
+                fig.data[0].z = fig.data[1].z = []
+                fig.layout.title = "section view (no mode)"
+            return
+        k = int(self.section_mode.value)
+        mode = self.modes[k]
+        phi = float(mode.pose[2])
+        c = np.asarray(self._surface.section_coefficients(phi), dtype=float).reshape(-1)
+        P = np.array([mm.pose for mm in self.modes])
+        lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)
+        half = 0.75 * max(float(np.max(hi - lo)), 1.0)
+        mid = (lo + hi) / 2
+        xs = np.linspace(mid[0] - half, mid[0] + half, SECTION_GRID)
+        ys = np.linspace(mid[1] - half, mid[1] + half, SECTION_GRID)
+        X, Y = np.meshgrid(xs, ys)
+        Z = c[0] * X * X + c[1] * X * Y + c[2] * Y * Y + c[3] * X + c[4] * Y + c[5]
+        s0 = c[0] * mode.pose[0] ** 2 + c[1] * mode.pose[0] * mode.pose[1] + c[2] * mode.pose[1] ** 2 \
+            + c[3] * mode.pose[0] + c[4] * mode.pose[1] + c[5]
+        # the sign of the conic times the chosen mode's (aspect * sign) is the aspect of a region
+        flip = float(np.sign(s0)) * (1 if mode.aspect >= 0 else -1) if s0 != 0 and mode.aspect != 0 else 1.0
+        same = [j for j, mm in enumerate(self.modes) if abs(np.remainder(mm.pose[2] - phi + np.pi, 2 * np.pi) - np.pi)
+                <= self.manipulator.tolerances.duplicate * (1 + abs(phi))]
+        with fig.batch_update():
+            fig.data[0].x, fig.data[0].y, fig.data[0].z = xs, ys, flip * np.sign(Z)
+            fig.data[1].x, fig.data[1].y, fig.data[1].z = xs, ys, Z
+            for idx, a in ((2, 1), (3, -1)):
+                js = [j for j in same if (1 if self.modes[j].aspect >= 0 else -1) == a]
+                fig.data[idx].x = [self.modes[j].pose[0] for j in js]
+                fig.data[idx].y = [self.modes[j].pose[1] for j in js]
+                fig.data[idx].text = [str(j + 1) for j in js]
+            fig.layout.title = (f"section at phi = {np.degrees(phi):.3f} deg (mode {k + 1}): red det J > 0, "
+                                f"blue det J < 0")
+
+    def _draw_status(self):
+        st = self.status
+        badge = ('<span style="background:#f0ad4e;color:white;padding:1px 6px;border-radius:8px" '
+                 'class="isp-near-singular">near singular</span> ') if st["near_singular"] else ""
+        if st["error"]:
+            body = f'<b class="isp-error" style="color:#b00">{html.escape(st["error"])}</b>'
+        else:
+            how = "certified on the exact joint values" if st["exact"] else (
+                "certified on the float joint values" if st["certified"] else "NOT certified")
+            body = (f'<b><span class="isp-count">{st["count"]}</span> real assembly mode'
+                    f'{"" if st["count"] == 1 else "s"}</b> ({how})')
+        q = ",".join(repr(float(v)) for v in self.q)
+        self.status_line.value = (f'<div class="isp-status" data-q="{q}">{badge}{body} &middot; updated in '
+                                  f'<span class="isp-seconds">{1000 * st["seconds"]:.0f}</span> ms</div>')
+
+    # -- events ---------------------------------------------------------------------------------
+    def _on_slider(self, change):
+        if self._muted:
+            return
+        q = np.array([s.value for s in self.sliders])
+        self.set_q(q, _dragging=True)
+
+    def _on_text(self, change):
+        text = change["new"]
+        if not text.strip():
+            return
+        i = self.exact_boxes.index(change["owner"])
+        try:
+            v = parse_joint_value(text, f"q{i + 1}")
+        except InputError as e:
+            self.status["error"] = str(e)
+            self._draw_status()
+            return
+        exact = [None, None, None]
+        for j, box in enumerate(self.exact_boxes):
+            if j == i:
+                exact[j] = v
+            elif box.value.strip():
+                try:
+                    exact[j] = parse_joint_value(box.value, f"q{j + 1}")
+                except InputError:
+                    exact[j] = None
+        self.set_q([float(exact[j]) if exact[j] is not None else self.q[j] for j in range(3)],
+                   exact=[exact[j] if exact[j] is not None else self.q[j] for j in range(3)])
+
+    def set_q(self, q, exact=None, _dragging=False):
+        """Show the joint values ``q`` (float), or the exact values ``exact`` (numbers or sympy).
+
+        Parameters
+        ----------
+        q : (3,) float
+        exact : sequence of three exact numbers, optional
+            The status count is then certified on these exact values (slower: the exact path).
+
+        Raises
+        ------
+        InputError
+            ``q`` is not three finite numbers.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> ex = isp.widgets.explore(isp.examples.stigger_husty())
+        >>> ex.set_q([10.0, 15.0, 13.25]); ex.status["count"] >= 0
+        True
+        """
+        qv = as_joint_vector(q)
+        self.q = qv.copy()
+        self.plan = None
+        self._muted = True
+        try:
+            for s, v in zip(self.sliders, qv):
+                if not s.min <= v <= s.max:
+                    s.min, s.max = min(s.min, v), max(s.max, v)
+                s.value = float(v)
+        finally:
+            self._muted = False
+        self._solve(qv, exact=exact)
+        t0 = time.perf_counter()
+        if self._surface is None or self._surface.kind != "joint-free":
+            if _dragging:
+                self._schedule_refine()
+            else:
+                self._remesh(self.resolution)
+        self._hide_plan()
+        self._draw_all()
+        self.status["seconds"] += time.perf_counter() - t0
+        self._draw_status()
+
+    def _schedule_refine(self):
+        """Joint-dependent surface: coarse mesh now, fine mesh once the sliders rest."""
+        if self._timer is not None:
+            self._timer.cancel()
+        self._remesh(DRAG_RESOLUTION)
+        self._timer = threading.Timer(REST_DELAY, self.refine)
+        self._timer.daemon = True
+        self._timer.start()
+
+    def refine(self):
+        """Mesh the surface at the rest resolution for the current joint values (after dragging).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> ex = isp.widgets.explore(isp.examples.stigger_husty()); ex.refine()
+        """
+        with self._lock:
+            self._remesh(self.resolution)
+
+    def _hide_plan(self):
+        self.play.disabled = self.frame.disabled = True
+        self.play.max = self.frame.max = 0
+        self.plan_message.value = ""
+        with self.loop_view.batch_update():
+            for tr in self.loop_view.data:
+                tr.x, tr.y = [], []
+
+    # -- mode change ----------------------------------------------------------------------------
+    def change_mode(self, a=None, b=None):
+        """Plan a certified singularity-free path from mode ``a`` to mode ``b`` (0-based; default the
+        two dropdowns) and show it; returns the :class:`ModeChangePlan` (or None with a message if no
+        plan can be made for this design).
+
+        Raises
+        ------
+        InputError
+            ``a`` or ``b`` is not the index of a current mode.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> ex = isp.widgets.explore(isp.examples.stigger_husty())
+        >>> ex.change_mode(0, 1).found        # modes 1 and 2 have opposite aspects
+        False
+        """
+        from ._validate import as_index
+        from .paths.modechange import plan_mode_change
+
+        a = self.mode_a.value if a is None else a
+        b = self.mode_b.value if b is None else b
+        if a is None or b is None:
+            self.plan_message.value = "<i>pick two modes first</i>"
+            return None
+        a, b = as_index(a, "a", len(self.modes)), as_index(b, "b", len(self.modes))
+        if a == b:
+            self.plan_message.value = "<i>pick two different modes</i>"
+            return None
+        try:
+            plan = plan_mode_change(self.manipulator, self.q, self.modes[a], self.modes[b])
+        except ImageSpaceError as e:
+            self.plan = None
+            self.plan_message.value = f'<span class="isp-plan">no plan: {html.escape(str(e))}</span>'
+            return None
+        self.plan = plan
+        if not plan.found:
+            self.plan_message.value = (f'<span class="isp-plan">mode {a + 1} &rarr; mode {b + 1}: '
+                                       f'{html.escape(plan.reason)}</span>')
+            self._hide_plan_traces()
+            return plan
+        n = len(plan.poses)
+        self.plan_message.value = (f'<span class="isp-plan">mode {a + 1} &rarr; mode {b + 1}: certified '
+                                   f'singularity-free path found ({n} samples); press play</span>')
+        from .core.kinematic_map import image_point
+
+        C = chart_coordinates(image_point(plan.poses))
+        with self.space_view.batch_update():
+            d = self.space_view.data
+            d[3].x, d[3].y, d[3].z = C[:, 0], C[:, 1], C[:, 2]
+        J = plan.joint_loop - plan.joint_loop[0]
+        with self.loop_view.batch_update():
+            for i in range(3):
+                self.loop_view.data[i].x, self.loop_view.data[i].y = np.arange(n), J[:, i]
+            self.loop_view.layout.title = (f"joint loop of the mode change {a + 1} -> {b + 1} "
+                                           f"(starts and ends at q)")
+        self.play.max = self.frame.max = n - 1
+        self.play.disabled = self.frame.disabled = False
+        self._draw_frame(0)
+        return plan
+
+    def _hide_plan_traces(self):
+        with self.space_view.batch_update():
+            for idx in (3, 4):
+                self.space_view.data[idx].x = self.space_view.data[idx].y = self.space_view.data[idx].z = []
+
+    def _draw_frame(self, k):
+        plan = self.plan
+        if plan is None or not plan.found:
+            return
+        k = int(min(max(k, 0), len(plan.poses) - 1))
+        from .core.kinematic_map import image_point
+
+        lines = mechanism_lines(self.manipulator, plan.poses[k], plan.joint_loop[k])
+        xy = _joined(lines.legs + [lines.platform])
+        C = chart_coordinates(image_point(plan.poses[k]))
+        with self.pose_view.batch_update():
+            self.pose_view.data[7].update(x=xy[:, 0], y=xy[:, 1])
+        with self.space_view.batch_update():
+            d = self.space_view.data[4]
+            d.x, d.y, d.z = C[:, 0], C[:, 1], C[:, 2]
+        J = plan.joint_loop - plan.joint_loop[0]
+        with self.loop_view.batch_update():
+            self.loop_view.data[3].x = [k, k, k]
+            self.loop_view.data[3].y = J[k].tolist()
+
+    # -- export ---------------------------------------------------------------------------------
+    def save_html(self, path):
+        """Write a standalone HTML page of the current state (status, pose, image-space, section and
+        joint-loop views; plotly.js inlined) that opens in a browser without a kernel.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+
+        Returns
+        -------
+        pathlib.Path
+
+        Raises
+        ------
+        OSError
+            The file cannot be written (the folder is missing or not writable).
+
+        Examples
+        --------
+        >>> import tempfile, pathlib, imagespace as isp
+        >>> ex = isp.widgets.explore(isp.examples.stigger_husty())
+        >>> p = ex.save_html(pathlib.Path(tempfile.mkdtemp()) / "explorer.html")
+        >>> "plotly" in p.read_text()
+        True
+        """
+        import pathlib
+
+        import plotly.io as pio
+
+        figs = [self.pose_view, self.space_view, self.section_view]
+        if self.plan is not None and self.plan.found:
+            figs.append(self.loop_view)
+        parts = [pio.to_html(go.Figure(f), include_plotlyjs=(i == 0), full_html=False)
+                 for i, f in enumerate(figs)]
+        q = ", ".join(f"{v:.10g}" for v in self.q)
+        page = ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>imagespace explorer: "
+                f"{html.escape(self.manipulator.name)}</title></head><body style='font-family:sans-serif'>"
+                f"<h2>{html.escape(self.manipulator.name)} at q = ({q})</h2>{self.status_line.value}"
+                f"{self.plan_message.value}<div style='display:flex;flex-wrap:wrap'>"
+                + "".join(f"<div>{p}</div>" for p in parts) + "</div></body></html>")
+        path = pathlib.Path(path)
+        atomic_write(path, lambda f: f.write(page.encode("utf-8")))
+        return path

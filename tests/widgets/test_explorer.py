@@ -1,0 +1,164 @@
+"""The Jupyter explorer without a browser: its state against independent references.
+
+Counts are refereed by msolve on the Euclidean formulation (tests/msolve_ref.py), drawings by
+the leg lengths they must show, the section by the conic's definition (det J at poses).
+"""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+pytest.importorskip("ipywidgets")
+pytest.importorskip("plotly")
+
+import imagespace as isp  # noqa: E402
+from imagespace.drawing import chart_coordinates, mechanism_lines  # noqa: E402
+from imagespace.exceptions import InputError  # noqa: E402
+from imagespace.widgets import explore, joint_ranges, parse_joint_value  # noqa: E402
+from msolve_ref import msolve_available, planar_dk_reference  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def seed002_explorer():
+    return explore(isp.examples.stigger_husty())
+
+
+def test_parse_joint_value_is_exact_and_never_evaluates():
+    assert parse_joint_value("27/2") == sp.Rational(27, 2)
+    assert parse_joint_value("13.25") == sp.Rational(53, 4)
+    assert parse_joint_value("pi/3") == sp.pi / 3
+    assert parse_joint_value("-3*pi/4") == -3 * sp.pi / 4
+    assert parse_joint_value("0.5pi") == sp.pi / 2
+    for bad in ("__import__('os')", "1/0", "two", "pi*pi", ""):
+        with pytest.raises(InputError, match="q must be a number"):
+            parse_joint_value(bad)
+    with pytest.raises(TypeError):
+        parse_joint_value(3.0)
+
+
+def test_joint_ranges_contain_q_and_respect_leg_domains():
+    m = isp.examples.stigger_husty()
+    q = m.q_example_float
+    r = joint_ranges(m, q)
+    assert np.all(r[:, 0] <= q) and np.all(q <= r[:, 1])
+    assert r[0, 0] == 0 and r[1, 0] == 0          # RPR leg lengths are not negative
+    rrr = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3, 2), actuated=0),
+                              isp.RPR(base=(6, 0), platform=(1, 0)), isp.RPR(base=(2, 5), platform=(0, 1))])
+    assert np.allclose(joint_ranges(rrr, [0.3, 4.0, 4.0])[0], [-np.pi, np.pi])
+
+
+@pytest.mark.skipif(not msolve_available(), reason="msolve binary not installed")
+def test_status_count_equals_msolve_while_dragging(seed002_explorer):
+    ex = seed002_explorer
+    m = ex.manipulator
+    for q3 in (13.25, 16.0, 19.5):
+        q = np.array([10.0, 15.23154621, q3])
+        ex.set_q(q)
+        ref = planar_dk_reference(m, q)
+        assert ex.status["count"] == len(ref.poses)
+        assert ex.status["certified"] and not ex.status["exact"]
+        assert f'<span class="isp-count">{len(ref.poses)}</span>' in ex.status_line.value
+        # the 3D points are the modes in the chart (x2/x0, x3/x0, x1/x0), one per mode
+        pts = sum(len(ex.space_view.data[i].x) for i in (1, 2))
+        assert pts == len(ref.poses)
+        got = np.sort(np.concatenate([ex.space_view.data[i].z for i in (1, 2)]))
+        assert np.allclose(got, np.sort(np.tan(ref.poses[:, 2] / 2)), atol=1e-8)
+
+
+def test_exact_text_box_certifies_the_exact_value(seed002_explorer):
+    ex = seed002_explorer
+    ex.exact_boxes[2].value = "53/4"
+    assert ex.status["exact"] and ex.status["certified"]
+    assert ex.status["count"] == 6                  # seed 002: six real modes at q3 = 13.25 (Table 1)
+    ex.exact_boxes[2].value = "not a number"
+    assert "must be a number" in ex.status_line.value
+    ex.exact_boxes[2].value = ""
+
+
+def test_pose_view_draws_every_mode_with_the_given_leg_lengths(seed002_explorer):
+    ex = seed002_explorer
+    ex.set_q(isp.examples.stigger_husty().q_example_float)
+    m = ex.manipulator
+    n = len(ex.modes)
+    assert ex.pose_view.data[6].text == tuple(str(k + 1) for k in range(n))
+    for mm in ex.modes:
+        lines = mechanism_lines(m, mm.pose, ex.q)
+        # RPR legs: the drawn leg is as long as the joint value (the drawing is the geometry)
+        for i in (0, 1):
+            assert np.isclose(np.linalg.norm(lines.legs[i][-1] - lines.legs[i][0]), ex.q[i], rtol=1e-9)
+        assert len(lines.guides) == 4                 # two RPR cylinders + the PPR leg's two guides
+        assert np.allclose(lines.platform[0], lines.platform[-1])
+    # colours by aspect: every leg polyline sits in the trace of its mode's aspect
+    pos = sum(mm.aspect > 0 for mm in ex.modes)
+    drawn_pos = np.isnan(np.asarray(ex.pose_view.data[1].x, dtype=float)).sum()
+    assert drawn_pos == 3 * pos
+
+
+def test_section_regions_follow_det_j(seed002_explorer):
+    ex = seed002_explorer
+    m = ex.manipulator
+    ex.section_mode.value = 0
+    phi = ex.modes[0].pose[2]
+    xs, ys = np.asarray(ex.section_view.data[0].x), np.asarray(ex.section_view.data[0].y)
+    Z = np.asarray(ex.section_view.data[0].z, dtype=float)
+    # aspect = c * sign(det Jx) with one constant c for the design's Jacobian convention
+    c = ex.modes[0].aspect * np.sign(m.jacobians(ex.modes[0].pose).det_Jx[0])
+    rng = np.random.default_rng(3)
+    checked = 0
+    for _ in range(60):
+        i, j = rng.integers(0, len(ys)), rng.integers(0, len(xs))
+        det = m.jacobians([xs[j], ys[i], phi]).det_Jx[0]
+        if abs(det) > 1e-6 and Z[i][j] != 0:
+            assert Z[i][j] == c * np.sign(det), (xs[j], ys[i])
+            checked += 1
+    assert checked > 40
+
+
+def test_change_mode_equal_and_opposite_aspects(seed002_explorer):
+    ex = seed002_explorer
+    ex.set_q(isp.examples.stigger_husty().q_example_float)
+    neg = [k for k, mm in enumerate(ex.modes) if mm.aspect < 0]
+    pos = [k for k, mm in enumerate(ex.modes) if mm.aspect > 0]
+    plan = ex.change_mode(neg[0], pos[0])
+    assert not plan.found and "opposite aspects" in ex.plan_message.value
+    plan = ex.change_mode(neg[0], neg[1])
+    assert plan.found and not ex.play.disabled and ex.play.max == len(plan.poses) - 1
+    # the drawn path starts and ends at the two modes (same point of image space)
+    C = np.column_stack([ex.space_view.data[3].x, ex.space_view.data[3].y, ex.space_view.data[3].z])
+    for end, k in ((C[0], neg[0]), (C[-1], neg[1])):
+        assert np.allclose(end, chart_coordinates(ex.modes[k].image_point)[0], atol=1e-7)
+    # the joint loop is closed and the animation frame draws the pose at that sample
+    assert np.allclose(ex.loop_view.data[0].y[0], 0) and np.allclose(ex.loop_view.data[0].y[-1], 0, atol=1e-7)
+    ex.frame.value = 5
+    lines = mechanism_lines(ex.manipulator, plan.poses[5], plan.joint_loop[5])
+    assert np.allclose(np.asarray(ex.pose_view.data[7].x[:2], dtype=float), lines.legs[0][:, 0])
+    with pytest.raises(InputError, match="b must be in"):
+        ex.change_mode(0, 17)
+
+
+def test_save_html_is_standalone(seed002_explorer, tmp_path):
+    p = seed002_explorer.save_html(tmp_path / "ex.html")
+    text = p.read_text()
+    assert text.startswith("<!DOCTYPE html>") and text.count('class="plotly-graph-div"') >= 3
+    assert "require(" not in text[:2000] and "isp-count" in text
+
+
+def test_design_without_example_needs_q():
+    m = isp.PlanarParallel([isp.RPR(base=(0, 0), platform=(0, 0)), isp.RPR(base=(4, 0), platform=(1, 0)),
+                            isp.RPR(base=(0, 4), platform=(0, 1))])
+    with pytest.raises(InputError, match="q is needed"):
+        explore(m)
+    ex = explore(m, q=m.inverse_kinematics([1.0, 1.0, 0.2]))
+    assert ex.status["count"] >= 1 and ex.status["certified"]
+
+
+@pytest.mark.slow
+def test_joint_dependent_surface_is_remeshed():
+    m = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3, 2), actuated=0),
+                            isp.RPR(base=(6, 0), platform=(1, 0)), isp.RPR(base=(2, 5), platform=(0, 1))])
+    q = m.inverse_kinematics([2.0, 1.5, 0.3], working_modes=(1, 0, 0))
+    ex = explore(m, q=q, resolution=16)
+    first = np.asarray(ex.space_view.data[0].x).copy()
+    ex.set_q(q + np.array([0.2, 0.0, 0.0]))
+    assert "given-joints" in ex.space_view.data[0].name
+    assert not np.array_equal(first, np.asarray(ex.space_view.data[0].x))
