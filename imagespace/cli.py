@@ -186,7 +186,7 @@ def demo(out_dir="imagespace-demo", stream=None):
     p(f"\nCertified: {cert.count} distinct real roots on the projective line ({cert.method}).")
     rows = []
     for k, mm in enumerate(modes, 1):
-        X = mm.image_point / mm.image_point[0] if abs(mm.image_point[0]) > 1e-12 else mm.image_point
+        X = mm.image_point / mm.image_point[0] if abs(mm.image_point[0]) > m.tolerances.chart_x0 else mm.image_point
         rows.append([str(k), f"{X[1]:.8f}", f"{X[2]:.8f}", f"{X[3]:.8f}", f"{mm.pose[0]:.6f}",
                      f"{mm.pose[1]:.6f}", f"{mm.pose[2]:.6f}", f"{mm.aspect:+d}", f"{mm.residual:.1e}"])
     p(f"\n{len(modes)} real assembly modes (image point with x0 = 1; pose; sign of det J; joint residual):")

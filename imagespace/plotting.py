@@ -273,7 +273,8 @@ def plot_constraint_quadrics(manipulator, q, box, resolution=40, modes=None, ax=
     kinds = [qd.kind for qd in manipulator.quadrics(q)]
     for i, e in enumerate(manipulator.constraint_equations(q)):
         expr = sp.expand(e.xreplace({x0: 1, x1: w, x2: u, x3: v}))
-        mesh = mesh_implicit(PolynomialImplicit(expr, (u, v, w)), box, resolution=resolution)
+        mesh = mesh_implicit(PolynomialImplicit(expr, (u, v, w), tolerances=manipulator.tolerances), box,
+                             resolution=resolution, tolerances=manipulator.tolerances)
         if len(mesh.faces):
             _draw_mesh(ax, mesh, _LEG_COLOURS[i % 3], alpha)
         ax.plot([], [], color=_LEG_COLOURS[i % 3], lw=6, alpha=0.5,
@@ -300,7 +301,8 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
     xlim, ylim : (2,) float
         The workspace window.
     q : (3,) float, optional
-        Joint values: the assembly modes with orientation ``phi`` (to 1e-6 rad) are marked.
+        Joint values: the assembly modes with orientation ``phi`` (to
+        ``Tolerances.plot_orientation``, default 1e-6 rad) are marked.
     modes : list of AssemblyMode, optional
         Instead of ``q``.
     ax : matplotlib Axes, optional
@@ -337,8 +339,9 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
                 cmap=ListedColormap(["#c6dbef", "#fcbba1"]), alpha=0.8)
     if np.nanmin(Z) < 0 < np.nanmax(Z):
         ax.contour(Xg, Yg, Z, levels=[0.0], colors="k", linewidths=1.5)
+    near = surface.manipulator.tolerances.plot_orientation
     ms = [mm for mm in _modes_for(surface.manipulator, q, modes)
-          if abs(np.remainder(mm.pose[2] - float(phi) + np.pi, 2 * np.pi) - np.pi) < 1e-6]
+          if abs(np.remainder(mm.pose[2] - float(phi) + np.pi, 2 * np.pi) - np.pi) < near]
     for mm in ms:
         ax.plot(mm.pose[0], mm.pose[1], "o", color=_ASPECT_COLOURS[mm.aspect], mec="k", ms=8)
     ax.plot([], [], "s", color="#fcbba1", label="det J > 0 (aspect +1)")

@@ -113,7 +113,7 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     q0 = as_float_array(q_start, "q_start", last=3, allow_batch=False)
     P = path.poses(per_piece)
     r = manipulator.joint_residual(P[0], q0)
-    if not r < 1e-6:
+    if not r < manipulator.tolerances.mode_membership:
         raise InputError(f"path does not start at a pose of q_start = {q0.tolist()}: the legs' inverse "
                          f"kinematics at the start pose {np.round(P[0], 6).tolist()} differ by {r:.2e}")
     Q = np.full((len(P), 3), np.nan)
@@ -165,7 +165,8 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     Raises
     ------
     InputError
-        If a mode does not belong to ``q`` (leg residual above 1e-6) or the two are the same.
+        If a mode does not belong to ``q`` (leg residual not below ``Tolerances.mode_membership``,
+        default 1e-6) or the two are the same (``Tolerances.same_mode``).
 
     Examples
     --------
@@ -194,13 +195,14 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     if qf.shape != (3,):
         raise InputError(f"q must have shape (3,), got shape {qf.shape}")
     Xa, Xb = _as_image(mode_a, "mode_a"), _as_image(mode_b, "mode_b")
-    if np.allclose(Xa, Xb, atol=1e-12):
+    tols = manipulator.tolerances
+    if np.allclose(Xa, Xb, atol=tols.same_mode):
         raise InputError("mode_a and mode_b are the same assembly mode")
     from ..core.kinematic_map import pose_of
 
     for name, X in (("mode_a", Xa), ("mode_b", Xb)):
         r = manipulator.joint_residual(pose_of(X), qf)
-        if not r < 1e-6:
+        if not r < tols.mode_membership:
             raise InputError(f"{name} is not an assembly mode of q = {qf.tolist()} (leg residual {r:.2e})")
     S = manipulator.singularity_surface()
     sa, sb = np.sign(S(Xa)), np.sign(S(Xb))
