@@ -31,7 +31,7 @@ import numpy as np
 
 import numbers
 
-from .._validate import _short, as_count, as_float_array
+from .._validate import _short, as_box, as_count, as_float_array, as_joint_vector
 from ..exceptions import InputError
 from ..core.kinematic_map import image_point, normalize
 from ..core.mechanism import check_mechanism
@@ -110,7 +110,7 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     if not isinstance(path, ImagePath):
         raise TypeError(f"path must be an ImagePath (isp.segment, isp.polyline ...), got "
                         f"{type(path).__name__} {_short(path)}")
-    q0 = as_float_array(q_start, "q_start", last=3, allow_batch=False)
+    q0 = as_joint_vector(q_start, "q_start")
     P = path.poses(per_piece)
     r = manipulator.joint_residual(P[0], q0)
     if not r < manipulator.tolerances.mode_membership:
@@ -191,9 +191,7 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
         raise InputError(f"seed must be a non-negative whole number, got {seed}")
     if box is not None:
         _check_box(box)
-    qf = manipulator.check_q(q)
-    if qf.shape != (3,):
-        raise InputError(f"q must have shape (3,), got shape {qf.shape}")
+    qf = manipulator.check_q(as_joint_vector(q, "q"))
     Xa, Xb = _as_image(mode_a, "mode_a"), _as_image(mode_b, "mode_b")
     tols = manipulator.tolerances
     if np.allclose(Xa, Xb, atol=tols.same_mode):
@@ -236,10 +234,10 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
 
 
 def _check_box(box):
-    b = as_float_array(box, "box")
-    if b.shape != (3, 2) or np.any(b[:, 1] <= b[:, 0]):
-        raise InputError(f"box must be (3, 2) with min < max, got {b.tolist()}")
-    return b
+    try:
+        return as_box(box, "box")
+    except InputError as exc:
+        raise InputError(f"box must be (3, 2) with min < max per axis; {exc}") from None
 
 
 def _sample(rng, b, n, S, sign):

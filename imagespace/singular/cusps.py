@@ -32,7 +32,7 @@ import sympy as sp
 
 import numbers
 
-from .._validate import _short, as_count, as_float_array, as_scalar
+from .._validate import _short, as_box, as_count, as_float_array, as_scalar
 from ..core.codegen import compile_exprs
 from ..core.elimination import form_coefficients
 from ..exceptions import InputError
@@ -104,10 +104,8 @@ def free_joints(fixed):
 
 
 def _window(window):
-    w = as_float_array(window, "window")
-    if w.shape != (2, 2) or np.any(w[:, 1] <= w[:, 0]):
-        raise InputError(f"window must be ((min, max), (min, max)) of the two free joints, got {w.tolist()}")
-    return w
+    # None is refused as non-numeric (TypeError), like any other non-array window
+    return as_box(as_float_array(window, "window"), "window", dim=2)
 
 
 def _resolution(resolution, name="resolution"):

@@ -67,7 +67,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validate import _short, as_count, as_flag, as_float_array
+from .._validate import _short, as_box, as_count, as_flag, as_float_array
 from .._files import atomic_write
 from ..exceptions import InputError
 from .implicit import (TRIG_ULPS, FunctionImplicit, Implicit, PolynomialImplicit, ArbBudget, UNIT_ROUNDOFF,  # noqa: F401
@@ -95,21 +95,6 @@ _ORIENT_SAMPLE = 4096             # faces sampled to decide the orientation
 
 
 # -- meshing ------------------------------------------------------------------------------------
-def _check_box(box):
-    b = as_float_array(box, "box", allow_batch=True)
-    if b.shape != (3, 2):
-        raise InputError(f"box must be ((u_min, u_max), (v_min, v_max), (w_min, w_max)), shape (3, 2); "
-                         f"got shape {b.shape}")
-    if np.any(b[:, 1] <= b[:, 0]):
-        bad = [i for i in range(3) if b[i, 1] <= b[i, 0]]
-        raise InputError(f"box is empty along axis {bad}: need min < max, got {b.tolist()}")
-    with np.errstate(over="ignore"):
-        sides = b[:, 1] - b[:, 0]
-    if not np.all(np.isfinite(sides)):
-        raise InputError(f"box sides must be within the float range (max - min overflows), got {b.tolist()}")
-    return b
-
-
 def _check_max_memory(max_memory):
     if isinstance(max_memory, (bool, np.bool_)) or not isinstance(max_memory, (numbers.Real, np.floating, np.integer)):
         raise TypeError(f"max_memory must be a positive number of bytes, got {type(max_memory).__name__} "
@@ -275,7 +260,7 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     if on_uncertified not in ("remove", "keep"):
         raise InputError(f"on_uncertified must be 'remove' or 'keep', got {on_uncertified!r}")
     tols = as_tolerances(tolerances)
-    b = _check_box(box)
+    b = as_box(box, "box")
     res = _check_resolution(resolution, max_memory)
     if isinstance(tol, (bool, np.bool_)) or not isinstance(tol, (numbers.Real, np.floating, np.integer)):
         raise TypeError(f"tol must be a number in (0, 0.01), got {type(tol).__name__} {_short(tol)}")

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .._validate import _short, as_exact, as_flag, as_float_array, is_symbolic, as_scalar
+from .._validate import _short, as_exact, as_flag, as_float_array, as_joint_vector, is_symbolic, as_scalar
 from ..core.codegen import compile_exprs
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
@@ -127,9 +127,7 @@ def _check_joint_values(manipulator, q, name="q"):
         if len(items) != 3:
             raise InputError(f"{name} must have shape (3,), got {len(items)} entries: {_short(q)}")
         return tuple(as_exact(v, f"{name}[{i}]") for i, v in enumerate(items))
-    qa = manipulator.check_q(q, name)
-    if qa.shape != (3,):
-        raise InputError(f"{name} must have shape (3,), got {qa.shape}")
+    qa = manipulator.check_q(as_joint_vector(q, name), name)
     return tuple(as_exact(float(v), f"{name}[{i}]") for i, v in enumerate(qa))
 
 
