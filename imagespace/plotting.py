@@ -693,9 +693,11 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
 
     Examples
     --------
-    >>> from imagespace.design.sweep import sweep, _demo_index
+    >>> from imagespace.design.sweep import sweep
     >>> from imagespace.plotting import plot_design_map
-    >>> t = sweep(_demo_index, {"a": [1.0, 2.0, 3.0], "b": [0.0, 1.0]}, processes=0)
+    >>> def index(a, b):
+    ...     return {"sum": float(a + b)}
+    >>> t = sweep(index, {"a": [1.0, 2.0, 3.0], "b": [0.0, 1.0]}, processes=0)
     >>> len(plot_design_map(t, "sum", "a", "b").axes)
     2
     """

@@ -12,7 +12,7 @@ from .._validate import as_float_array, as_scalar
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
-from .surface import _constraint_values, pose_chart_point
+from .surface import constraint_values, pose_chart_point
 
 __all__ = ["PoseJacobians", "jacobians", "symbolic_jacobians"]
 
@@ -160,7 +160,7 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
         Q = np.broadcast_to(Q, (n, 3)).copy()
     valid = np.all(np.isfinite(Q), axis=-1)
     X, dX = pose_chart_point(P)
-    _, dQdx, dQdq = _constraint_values(manipulator, X, Q)
+    _, dQdx, dQdq = constraint_values(manipulator, X, Q)
     Jx = np.einsum("nij,njk->nik", dQdx, dX)
     Jq = np.zeros_like(Jx)
     idx = np.arange(3)

@@ -158,8 +158,46 @@ def _require_numeric(m):
                          f"{sorted(map(str, free))} (substitute numbers first)")
 
 
-def _constraint_values(m, X, Q):
-    """``(vals (n,3), grad (n,3,4), dq (n,3))`` of the three quadrics at image points and joints."""
+def constraint_values(m, X, Q):
+    """The three constraint quadrics, their gradients and joint derivatives at image points and joints.
+
+    Shared with :mod:`imagespace.singular.jacobians` (not public API: not in ``__all__``); the
+    compiled functions are cached on the design (``m.cached("constraint_functions", ...)``).
+
+    Parameters
+    ----------
+    m : PlanarParallel
+        A numeric design.
+    X : (n, 4) float
+        Image points.
+    Q : (n, 3) float
+        Joint values, one row per image point.
+
+    Returns
+    -------
+    vals : (n, 3) float
+        ``Q_i(X; q_i)``.
+    grad : (n, 3, 4) float
+        ``dQ_i/dX``.
+    dq : (n, 3) float
+        ``dQ_i/dq_i``.
+
+    Raises
+    ------
+    InputError
+        If the design has free symbols (numeric evaluation needs numbers).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import imagespace as isp
+    >>> from imagespace.singular.surface import constraint_values
+    >>> m = isp.examples.stigger_husty()
+    >>> X = m.direct_kinematics(m.q_example)[0].image_point[None]
+    >>> vals, grad, dq = constraint_values(m, X, m.q_example_float[None])
+    >>> vals.shape, grad.shape, dq.shape, bool(np.all(np.abs(vals) < 1e-6 * np.abs(grad).max()))
+    ((1, 3), (1, 3, 4), (1, 3), True)
+    """
     out = _constraint_functions(m)(*X.T, *Q.T)
     out = out.reshape(len(X), 3, 6)
     return out[:, :, 0], out[:, :, 1:5], out[:, :, 5]
@@ -353,7 +391,7 @@ class SingularitySurface:
             Q = np.zeros((len(X2), 3))
             for k, i in enumerate(self.eliminated):
                 Q[:, i] = qe[:, k]
-            _, dQdx, dQdq = _constraint_values(self.manipulator, X2, np.nan_to_num(Q))
+            _, dQdx, dQdq = constraint_values(self.manipulator, X2, np.nan_to_num(Q))
             with np.errstate(divide="ignore", invalid="ignore"):
                 for k, i in enumerate(self.eliminated):
                     G -= (g[:, 4 + k] / dQdq[:, i])[:, None] * dQdx[:, i, :]
