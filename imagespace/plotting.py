@@ -42,6 +42,13 @@ def plot_mechanism(manipulator, pose, q=None, ax=None, title=None, platform_colo
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    TypeError
+        ``pose`` not numeric.
+    InputError
+        ``pose`` not ``(3,)`` or not finite.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -91,6 +98,12 @@ def plot_assembly_modes(manipulator, q, modes=None, ax=None, ncols=3):
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        ``q`` without a real assembly mode (and no ``modes`` given), or invalid joint
+        values.
 
     Examples
     --------
@@ -203,6 +216,12 @@ def plot_singularity_surface(surface, box, chart="image", resolution=48, q=None,
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    InputError
+        ``ax`` not a 3D Axes; an invalid box (see
+        :func:`imagespace.singular.meshing.mesh_surface`).
+
     Examples
     --------
     >>> import imagespace as isp
@@ -251,6 +270,12 @@ def plot_constraint_quadrics(manipulator, q, box, resolution=40, modes=None, ax=
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        ``ax`` not a 3D Axes; an invalid box (see
+        :func:`imagespace.singular.meshing.mesh_implicit`).
 
     Examples
     --------
@@ -420,6 +445,13 @@ def plot_joint_loop(plan, ax=None, q=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    TypeError
+        A trajectory ``plan`` that is not numeric.
+    InputError
+        A ``plan`` without a joint loop, or a trajectory not ``(n, 3)``; ``ax`` not a 3D Axes.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -466,6 +498,13 @@ def animate_path(manipulator, poses, q_path=None, interval=60, xlim=None, ylim=N
     -------
     matplotlib.animation.FuncAnimation
         ``anim.to_jshtml()`` shows it in Jupyter without ffmpeg.
+
+    Raises
+    ------
+    TypeError
+        Non-numeric poses.
+    InputError
+        Poses not ``(n, 3)`` or not finite.
 
     Examples
     --------
@@ -690,6 +729,11 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        ``x, y`` not the table's two grid parameters in order.
 
     Examples
     --------

@@ -126,6 +126,15 @@ def released_curve(manipulator, q, leg, samples=20000, max_memory=MAX_MEMORY):
     X : (samples, 2, 4) float
         Up to two image points per orientation (``x0**2 + x1**2 = 1``); NaN where absent.
 
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; ``leg`` or ``samples`` not a whole number; non-numeric
+        ``q`` or ``max_memory``.
+    InputError
+        ``leg`` not 0, 1 or 2; ``q`` not ``(3,)`` or outside a joint's domain; ``samples``
+        below 100 or above the memory limit; locked legs that are not RR, PR or RP dyads.
+
     Examples
     --------
     >>> import imagespace as isp

@@ -65,6 +65,13 @@ class CuspLoop:
         -------
         (ImagePath, PathCheck)
 
+        Raises
+        ------
+        TypeError
+            ``manipulator`` not a design; ``every`` not a whole number.
+        InputError
+            ``every`` below 1.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -115,6 +122,15 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     Returns
     -------
     CuspLoop
+
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; ``cusp`` not a :class:`Cusp`; ``fixed`` or ``steps``
+        not a whole number; non-numeric ``radius``.
+    InputError
+        ``fixed`` not 0, 1 or 2; ``radius`` not positive; ``steps`` outside 8..MAX_STEPS; a
+        loop that loses every real mode.
 
     Examples
     --------

@@ -92,6 +92,16 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     q : (n, 3) float
         NaN where a leg cannot reach the pose.
 
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; ``path`` not an :class:`ImagePath`; ``per_piece`` not
+        a whole number; non-numeric ``q_start``.
+    InputError
+        ``per_piece`` outside 1..MAX_SAMPLES; ``q_start`` not ``(3,)``; a path that does not
+        start at a pose of ``q_start`` (leg residual not below
+        ``Tolerances.mode_membership``).
+
     Examples
     --------
     >>> import imagespace as isp

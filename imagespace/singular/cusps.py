@@ -89,6 +89,13 @@ class ModeCountMap:
 def free_joints(fixed):
     """The indices of the two joints that vary when joint ``fixed`` (0, 1 or 2) is held.
 
+    Raises
+    ------
+    TypeError
+        ``fixed`` not a whole number.
+    InputError
+        ``fixed`` not 0, 1 or 2.
+
     Examples
     --------
     >>> from imagespace.singular.cusps import free_joints
@@ -145,6 +152,15 @@ def mode_count_map(manipulator, fixed, value, window, resolution=120):
     Returns
     -------
     ModeCountMap
+
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design, ``fixed`` not a whole number, non-numeric ``value``,
+        ``window`` or ``resolution``.
+    InputError
+        ``fixed`` not 0, 1 or 2; ``window`` not ``(2, 2)`` with min < max; ``resolution``
+        outside 8..2000; a window leaving a joint's domain.
 
     Examples
     --------
@@ -299,6 +315,13 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
     list of Cusp
         Distinct cusps inside the window, sorted by the free joints.
 
+    Raises
+    ------
+    TypeError
+        As :func:`mode_count_map`; non-numeric ``tol``, ``max_seeds`` not a whole number.
+    InputError
+        As :func:`mode_count_map`; ``tol`` not positive, ``max_seeds`` below 1.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -398,6 +421,13 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     -------
     list of (n_i, 3) float
         Polylines in joint space.
+
+    Raises
+    ------
+    TypeError
+        As :func:`mode_count_map`; non-numeric ``values``.
+    InputError
+        As :func:`mode_count_map`; ``values`` not at least two increasing numbers.
 
     Examples
     --------

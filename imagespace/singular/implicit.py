@@ -420,7 +420,13 @@ class Implicit:
     sign_test = "float signs (not proven against rounding)"
 
     def value_and_gradient(self, P):
-        """``(F (n,), grad F (n, 3))`` at points ``P`` ``(n, 3)``."""
+        """``(F (n,), grad F (n, 3))`` at points ``P`` ``(n, 3)``.
+
+        Raises
+        ------
+        NotImplementedError
+            Always, on the base class (subclasses implement it).
+        """
         raise NotImplementedError
 
     def value(self, P):
@@ -441,6 +447,13 @@ class Implicit:
         == "float signs ..."``); :class:`PolynomialImplicit` proves it (see the module docstring).
         ``_budget`` (internal) caps the number of arb evaluations of one mesh.
 
+        Raises
+        ------
+        TypeError
+            ``P`` not numeric.
+        InputError
+            ``P`` not of shape ``(3,)`` or ``(n, 3)`` (NaN passes through).
+
         Examples
         --------
         >>> import numpy as np
@@ -458,6 +471,13 @@ class Implicit:
         """``F`` on the tensor grid of three 1-d ``axes``: ``(len(u), len(v), len(w))`` float.
 
         ``block(k, n)`` is called after each of ``n`` slabs (progress reporting).
+
+        Raises
+        ------
+        TypeError
+            ``axes`` not three arrays.
+        InputError
+            An axis not a 1-d array of finite values.
         """
         u, v, w = _axes3(axes)
         out = np.empty((len(u), len(v), len(w)))
@@ -621,6 +641,11 @@ class FunctionImplicit(Implicit):
     Its signs are float signs (``sign_test`` starts with ``"float signs"``): a mesh of it is
     certified only up to the rounding of ``f``.
 
+    Raises
+    ------
+    TypeError
+        ``value_and_gradient`` not callable, or ``value`` neither callable nor ``None``.
+
     Examples
     --------
     >>> import numpy as np
@@ -681,6 +706,13 @@ def surface_implicit(surface, chart="image"):
     Implicit
         A :class:`PolynomialImplicit` for polynomial surfaces (fast grid), else a
         :class:`FunctionImplicit` through the leg inverse kinematics.
+
+    Raises
+    ------
+    TypeError
+        ``surface`` not a :class:`SingularitySurface`, or ``chart`` not a string.
+    InputError
+        ``chart`` not ``'image'`` or ``'pose'``.
 
     Examples
     --------

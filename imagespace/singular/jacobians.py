@@ -82,6 +82,13 @@ class PoseJacobians:
         -------
         (n, 3, 3) float
 
+        Raises
+        ------
+        TypeError
+            ``length`` not a number.
+        InputError
+            ``length`` not positive and finite.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -109,6 +116,13 @@ class PoseJacobians:
         -------
         (n, 3) float
 
+        Raises
+        ------
+        TypeError
+            ``tau`` not numeric.
+        InputError
+            ``tau`` of the wrong shape or not finite.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -135,6 +149,14 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
     -------
     PoseJacobians
         Arrays with a leading batch axis (length 1 for a single pose).
+
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; non-numeric ``P`` or ``q``; bad ``working_modes``.
+    InputError
+        ``P`` not ``(3,)`` or ``(n, 3)``; ``q`` not one row or one row per pose, or outside
+        a joint's domain; a design with free symbols.
 
     Examples
     --------
@@ -199,6 +221,11 @@ def symbolic_jacobians(manipulator):
     Jx, Jq : sympy.Matrix (3, 3)
     symbols : tuple
         ``(x, y, phi)``.
+
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design.
 
     Examples
     --------

@@ -70,6 +70,13 @@ def pose_chart_point(P):
     dX : (n, 4, 3) float
         ``dX[:, :, k]`` is the derivative along ``x``, ``y``, ``phi``.
 
+    Raises
+    ------
+    TypeError
+        ``P`` not numeric.
+    InputError
+        ``P`` not ``(3,)`` or ``(n, 3)`` (NaN and infinity pass through).
+
     Examples
     --------
     >>> from imagespace.singular.surface import pose_chart_point
@@ -101,6 +108,13 @@ def image_chart_point(U):
     X : (n, 4) float
         ``(1, w, u, v)``.
     dX : (n, 4, 3) float
+
+    Raises
+    ------
+    TypeError
+        ``U`` not numeric.
+    InputError
+        ``U`` not ``(3,)`` or ``(n, 3)`` (NaN and infinity pass through).
 
     Examples
     --------
@@ -337,6 +351,14 @@ class SingularitySurface:
         float or (n,) float
             NaN where a working-mode surface is undefined (a leg cannot reach the pose).
 
+        Raises
+        ------
+        TypeError
+            ``X`` not numeric.
+        InputError
+            ``X`` not ``(4,)`` or ``(n, 4)`` (NaN passes through); a design with free
+            symbols.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -369,6 +391,14 @@ class SingularitySurface:
         -------
         value : float or (n,) float
         gradient : (4,) or (n, 4) float
+
+        Raises
+        ------
+        TypeError
+            ``X`` not numeric.
+        InputError
+            ``X`` not ``(4,)`` or ``(n, 4)`` (NaN passes through); a design with free
+            symbols.
 
         Examples
         --------
@@ -410,6 +440,13 @@ class SingularitySurface:
         -------
         value : float or (n,) float
         gradient : (3,) or (n, 3) float, only with ``gradient=True``
+
+        Raises
+        ------
+        TypeError
+            ``P`` not numeric, ``gradient`` not a bool.
+        InputError
+            ``P`` not ``(3,)`` or ``(n, 3)`` (NaN and infinity pass through).
 
         Examples
         --------
@@ -474,6 +511,14 @@ class SingularitySurface:
         -------
         (n, 6) float
 
+        Raises
+        ------
+        TypeError
+            ``phi`` not numeric.
+        InputError
+            A surface that is not polynomial; ``phi`` not a number or a 1-d array; a
+            section that is not a conic.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -511,6 +556,13 @@ class SingularitySurface:
 
         ``chart="image"``: ``(u, v, w) = (x2/x0, x3/x0, x1/x0)``; ``chart="pose"``:
         ``(u, v, w) = (x, y, phi)`` (polynomial in ``x, y``, trigonometric in ``phi/2``).
+
+        Raises
+        ------
+        TypeError
+            ``chart`` not a string.
+        InputError
+            A surface that is not polynomial; ``chart`` not ``'image'`` or ``'pose'``.
 
         Examples
         --------
@@ -617,6 +669,11 @@ def singularity_surfaces(manipulator):
     -------
     list of SingularitySurface
 
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -672,6 +729,14 @@ class ConicSection:
     def of(cls, surface, phi):
         """The section of ``surface`` (a polynomial :class:`SingularitySurface`) at ``phi``.
 
+        Raises
+        ------
+        TypeError
+            ``surface`` not a :class:`SingularitySurface`; ``phi`` not a number.
+        InputError
+            A surface that is not polynomial; a section of degree above 2; a non-finite
+            ``phi``.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -721,6 +786,13 @@ class ConicSection:
 
     def __call__(self, x, y):
         """The conic's value at workspace points (broadcasting); its sign is the aspect.
+
+        Raises
+        ------
+        TypeError
+            ``x`` or ``y`` not numeric.
+        InputError
+            ``x`` and ``y`` do not broadcast, or are not finite.
 
         Examples
         --------
