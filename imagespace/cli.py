@@ -186,7 +186,7 @@ def demo(out_dir="imagespace-demo", stream=None):
     p(f"\nCertified: {cert.count} distinct real roots on the projective line ({cert.method}).")
     rows = []
     for k, mm in enumerate(modes, 1):
-        X = mm.image_point / mm.image_point[0] if abs(mm.image_point[0]) > 1e-12 else mm.image_point
+        X = mm.image_point / mm.image_point[0] if abs(mm.image_point[0]) > m.tolerances.chart_x0 else mm.image_point
         rows.append([str(k), f"{X[1]:.8f}", f"{X[2]:.8f}", f"{X[3]:.8f}", f"{mm.pose[0]:.6f}",
                      f"{mm.pose[1]:.6f}", f"{mm.pose[2]:.6f}", f"{mm.aspect:+d}", f"{mm.residual:.1e}"])
     p(f"\n{len(modes)} real assembly modes (image point with x0 = 1; pose; sign of det J; joint residual):")
@@ -292,6 +292,13 @@ def mesh_command(args, stream=None):
     depend on the joint values is refused rather than ignored; both raise :class:`InputError`
     (``main`` turns it into a one-line message and exit status 2).
 
+    Raises
+    ------
+    InputError
+        An output path that cannot be written or has an unknown suffix; ``--q`` or
+        ``--working-modes`` for a surface that does not use them (``main`` reports these
+        with exit status 2).
+
     Examples
     --------
     >>> import io, tempfile, pathlib
@@ -364,6 +371,12 @@ def plot_command(args, stream=None):
     figures and is refused where it would be ignored (the other figures, or a surface that does
     not depend on the joint values).
 
+    Raises
+    ------
+    InputError
+        An output path that cannot be written; ``--working-modes`` where the figure would
+        ignore it (``main`` reports these with exit status 2).
+
     Examples
     --------
     >>> import io, tempfile, pathlib
@@ -411,6 +424,12 @@ def plot_command(args, stream=None):
 
 def main(argv=None, stream=None):
     """Entry point of the ``imagespace`` command.
+
+    Raises
+    ------
+    SystemExit
+        From argparse: ``--help``, ``--version`` or unknown options (library errors are
+        reported and return 2 instead).
 
     Examples
     --------

@@ -42,6 +42,13 @@ def plot_mechanism(manipulator, pose, q=None, ax=None, title=None, platform_colo
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    TypeError
+        ``pose`` not numeric.
+    InputError
+        ``pose`` not ``(3,)`` or not finite.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -91,6 +98,12 @@ def plot_assembly_modes(manipulator, q, modes=None, ax=None, ncols=3):
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        ``q`` without a real assembly mode (and no ``modes`` given), or invalid joint
+        values.
 
     Examples
     --------
@@ -203,6 +216,12 @@ def plot_singularity_surface(surface, box, chart="image", resolution=48, q=None,
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    InputError
+        ``ax`` not a 3D Axes; an invalid box (see
+        :func:`imagespace.singular.meshing.mesh_surface`).
+
     Examples
     --------
     >>> import imagespace as isp
@@ -252,6 +271,12 @@ def plot_constraint_quadrics(manipulator, q, box, resolution=40, modes=None, ax=
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    InputError
+        ``ax`` not a 3D Axes; an invalid box (see
+        :func:`imagespace.singular.meshing.mesh_implicit`).
+
     Examples
     --------
     >>> import imagespace as isp
@@ -273,7 +298,8 @@ def plot_constraint_quadrics(manipulator, q, box, resolution=40, modes=None, ax=
     kinds = [qd.kind for qd in manipulator.quadrics(q)]
     for i, e in enumerate(manipulator.constraint_equations(q)):
         expr = sp.expand(e.xreplace({x0: 1, x1: w, x2: u, x3: v}))
-        mesh = mesh_implicit(PolynomialImplicit(expr, (u, v, w)), box, resolution=resolution)
+        mesh = mesh_implicit(PolynomialImplicit(expr, (u, v, w), tolerances=manipulator.tolerances), box,
+                             resolution=resolution, tolerances=manipulator.tolerances)
         if len(mesh.faces):
             _draw_mesh(ax, mesh, _LEG_COLOURS[i % 3], alpha)
         ax.plot([], [], color=_LEG_COLOURS[i % 3], lw=6, alpha=0.5,
@@ -300,7 +326,8 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
     xlim, ylim : (2,) float
         The workspace window.
     q : (3,) float, optional
-        Joint values: the assembly modes with orientation ``phi`` (to 1e-6 rad) are marked.
+        Joint values: the assembly modes with orientation ``phi`` (to
+        ``Tolerances.plot_orientation``, default 1e-6 rad) are marked.
     modes : list of AssemblyMode, optional
         Instead of ``q``.
     ax : matplotlib Axes, optional
@@ -337,8 +364,9 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
                 cmap=ListedColormap(["#c6dbef", "#fcbba1"]), alpha=0.8)
     if np.nanmin(Z) < 0 < np.nanmax(Z):
         ax.contour(Xg, Yg, Z, levels=[0.0], colors="k", linewidths=1.5)
+    near = surface.manipulator.tolerances.plot_orientation
     ms = [mm for mm in _modes_for(surface.manipulator, q, modes)
-          if abs(np.remainder(mm.pose[2] - float(phi) + np.pi, 2 * np.pi) - np.pi) < 1e-6]
+          if abs(np.remainder(mm.pose[2] - float(phi) + np.pi, 2 * np.pi) - np.pi) < near]
     for mm in ms:
         ax.plot(mm.pose[0], mm.pose[1], "o", color=_ASPECT_COLOURS[mm.aspect], mec="k", ms=8)
     ax.plot([], [], "s", color="#fcbba1", label="det J > 0 (aspect +1)")
@@ -417,6 +445,13 @@ def plot_joint_loop(plan, ax=None, q=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    TypeError
+        A trajectory ``plan`` that is not numeric.
+    InputError
+        A ``plan`` without a joint loop, or a trajectory not ``(n, 3)``; ``ax`` not a 3D Axes.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -463,6 +498,13 @@ def animate_path(manipulator, poses, q_path=None, interval=60, xlim=None, ylim=N
     -------
     matplotlib.animation.FuncAnimation
         ``anim.to_jshtml()`` shows it in Jupyter without ffmpeg.
+
+    Raises
+    ------
+    TypeError
+        Non-numeric poses.
+    InputError
+        Poses not ``(n, 3)`` or not finite.
 
     Examples
     --------
@@ -688,11 +730,18 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    InputError
+        ``x, y`` not the table's two grid parameters in order.
+
     Examples
     --------
-    >>> from imagespace.design.sweep import sweep, _demo_index
+    >>> from imagespace.design.sweep import sweep
     >>> from imagespace.plotting import plot_design_map
-    >>> t = sweep(_demo_index, {"a": [1.0, 2.0, 3.0], "b": [0.0, 1.0]}, processes=0)
+    >>> def index(a, b):
+    ...     return {"sum": float(a + b)}
+    >>> t = sweep(index, {"a": [1.0, 2.0, 3.0], "b": [0.0, 1.0]}, processes=0)
     >>> len(plot_design_map(t, "sum", "a", "b").axes)
     2
     """

@@ -76,6 +76,51 @@ class Tolerances:
     kernel_duplicate : float
         The compiled kernel: two modes closer than this (relative to the position's size) send
         the row to the numpy path (two roots polished onto one mode).
+    mode_membership : float
+        :func:`imagespace.paths.modechange.plan_mode_change` and ``joint_trajectory``: a mode (or
+        a path's start pose) belongs to the joint values ``q`` when the legs' joint residual
+        (:meth:`PlanarParallel.joint_residual`, relative to the joint's scale) is below this.
+    same_mode : float
+        ``plan_mode_change``: two normalised image points that agree to within this (absolute,
+        entrywise, on points with ``x0**2 + x1**2 = 1``) are the same assembly mode.
+    cusp_leading_coefficient : float
+        :func:`imagespace.singular.cusps.cusps`: a seed cell whose kinematic form has a leading
+        coefficient below this times the sum of its coefficients' absolute values is skipped
+        (a root at infinity of the chart).
+    cusp_merge : float
+        ``cusps``: converged points closer than this times the window's largest side (in the free
+        joints) and than this in the half-angle (radians) are one cusp.
+    cusp_chain_reach : float
+        :func:`imagespace.singular.cusps.cusp_edges`: cusps of consecutive sections are joined
+        only when closer than this times the window's largest side.
+    linking_parallel : float
+        :func:`imagespace.singular.cusps.linking_number`: a curve segment whose triple product with
+        a cone triangle is below this (absolute, in joint units cubed) is parallel to it and
+        does not cross.
+    loop_jump_ratio : float
+        :func:`imagespace.paths.cusp_loops.cusp_loop`: a walk is continuous when no step exceeds
+        this times the median step (or ``loop_jump_floor``, whichever is larger).
+    loop_jump_floor : float
+        ``cusp_loop``: steps up to this (in the normalised image point) never count as a jump.
+    implicit_coefficient : float
+        :class:`imagespace.singular.implicit.PolynomialImplicit`: signs are proven with the float
+        rounding-error bound only if every coefficient rounds to float with a relative error
+        below this (otherwise the signs are float signs, not proven).
+    mesh_on_grid : float
+        :func:`imagespace.singular.meshing.mesh_implicit`: a marching-cubes coordinate within this
+        (in grid cells) of an integer lies on a grid plane.
+    mesh_node_merge : float
+        ``mesh_implicit``: vertices within this (in grid cells, on every axis) of the same grid
+        node are merged.
+    mesh_min_altitude : float
+        ``mesh_implicit``: faces whose altitude is below this times ``tol * size`` are dropped as
+        degenerate.
+    plot_orientation : float
+        :func:`imagespace.plotting.plot_conic_section`: an assembly mode is marked when its
+        orientation is within this (radians, modulo ``2 pi``) of the section's ``phi``.
+    chart_x0 : float
+        The command line's ``demo``: an image point is printed in the chart ``x0 = 1`` when
+        ``|x0|`` exceeds this (the point is normalised, ``x0**2 + x1**2 = 1``), otherwise as is.
 
     The compiled kernel also reads ``cramer_small`` (a root with ``|D| <= cramer_small max|D|``
     sends the row to the numpy path) and ``newton_stop`` (its 4x4 solve's pivot threshold); it
@@ -98,6 +143,21 @@ class Tolerances:
     kernel_newton_stop: float = 1e-9
     kernel_residual: float = 1e-9
     kernel_duplicate: float = 1e-9
+    # singular/, paths/, plotting
+    mode_membership: float = 1e-6
+    same_mode: float = 1e-12
+    cusp_leading_coefficient: float = 1e-14
+    cusp_merge: float = 1e-3
+    cusp_chain_reach: float = 0.1
+    linking_parallel: float = 1e-15
+    loop_jump_ratio: float = 20.0
+    loop_jump_floor: float = 1e-9
+    implicit_coefficient: float = 1e-6
+    mesh_on_grid: float = 1e-12
+    mesh_node_merge: float = 1e-9
+    mesh_min_altitude: float = 1e-3
+    plot_orientation: float = 1e-6
+    chart_x0: float = 1e-12
 
     def __post_init__(self):
         for name, value in self.__dict__.items():

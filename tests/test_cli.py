@@ -276,3 +276,42 @@ def test_cli_plot_without_suffix_writes_png_as_savefig_did(tmp_path, capsys):
     assert rc == 0, err
     assert (tmp_path / "figure.png").read_bytes().startswith(PNG_MAGIC)
     assert str(tmp_path / "figure.png") in out
+
+
+# -- 5. thresholds from Tolerances ------------------------------------------------------------
+
+def _demo_x1_column(out):
+    lines = out.splitlines()
+    head = next(i for i, line in enumerate(lines) if line.split()[:2] == ["mode", "x1"])
+    rows = []
+    for line in lines[head + 2:]:
+        if not line.strip():
+            break
+        rows.append(float(line.split()[1]))
+    return rows
+
+
+def test_cli_demo_reads_chart_x0_from_the_tolerances(tmp_path, capsys, monkeypatch):
+    """The demo prints image points in the chart x0 = 1 where |x0| exceeds ``chart_x0``; with a
+    threshold above every |x0| (at most 1) the normalised points are printed as they are."""
+    import imagespace as isp
+    from imagespace import examples
+
+    rc, out, err = _run(["demo", "-o", str(tmp_path / "a")], capsys)
+    assert rc == 0, err
+    charted = _demo_x1_column(out)
+    assert len(charted) == 6 and max(abs(v) for v in charted) > 1
+
+    original = examples.stigger_husty
+
+    def loose():
+        base = original()
+        m = isp.PlanarParallel(base.legs, name=base.name, tolerances=isp.Tolerances(chart_x0=10.0))
+        m.q_example = base.q_example
+        return m
+
+    monkeypatch.setattr(examples, "stigger_husty", loose)
+    rc, out, err = _run(["demo", "-o", str(tmp_path / "b")], capsys)
+    assert rc == 0, err
+    raw = _demo_x1_column(out)
+    assert len(raw) == 6 and max(abs(v) for v in raw) <= 1 and raw != charted

@@ -41,3 +41,22 @@ def test_a_3d_figure_needs_3d_axes():
     with pytest.raises(isp.InputError, match="3D Axes"):
         plot_singularity_surface(m.singularity_surface(), BOX, resolution=8, ax=ax)
     plt.close(fig)
+
+
+def test_conic_figure_reads_plot_orientation():
+    """A mode 1e-3 rad off the section's orientation is not marked with the default
+    ``plot_orientation`` (1e-6 rad), and is with a loosened one."""
+    base = isp.examples.stigger_husty()
+    mode = base.direct_kinematics(base.q_example)[2]
+    phi = mode.pose[2] + 1e-3
+
+    def marked(m):
+        fig, ax = plt.subplots()
+        plot_conic_section(m.singularity_surface(), phi, (-15, 15), (-15, 15), q=base.q_example, ax=ax)
+        n = sum(1 for line in ax.lines if line.get_marker() == "o" and len(line.get_xdata()))
+        plt.close(fig)
+        return n
+
+    assert marked(base) == 0
+    loose = isp.PlanarParallel(base.legs, tolerances=isp.Tolerances(plot_orientation=1e-2))
+    assert marked(loose) >= 1

@@ -25,7 +25,7 @@ import numpy as np
 
 import numbers
 
-from .._validate import _short, as_count, as_float_array
+from .._validate import _short, as_count, as_float_array, as_joint_vector
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
 
@@ -126,6 +126,15 @@ def released_curve(manipulator, q, leg, samples=20000, max_memory=MAX_MEMORY):
     X : (samples, 2, 4) float
         Up to two image points per orientation (``x0**2 + x1**2 = 1``); NaN where absent.
 
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; ``leg`` or ``samples`` not a whole number; non-numeric
+        ``q`` or ``max_memory``.
+    InputError
+        ``leg`` not 0, 1 or 2; ``q`` not ``(3,)`` or outside a joint's domain; ``samples``
+        below 100 or above the memory limit; locked legs that are not RR, PR or RP dyads.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -137,9 +146,7 @@ def released_curve(manipulator, q, leg, samples=20000, max_memory=MAX_MEMORY):
     """
     check_mechanism(manipulator)
     samples = _check_samples(samples, max_memory, "released_curve")
-    qf = manipulator.check_q(q)
-    if qf.shape != (3,):
-        raise InputError(f"q must have shape (3,), got {qf.shape}")
+    qf = manipulator.check_q(as_joint_vector(q, "q"))
     leg = _check_leg(leg)
     others = [j for j in range(3) if j != leg]
     quads = [manipulator.legs[j].dyad(float(qf[j])) for j in others]
@@ -286,7 +293,7 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000, max_memory=MAX_MEMOR
         raise InputError(f"delta must be a finite play >= 0, got {delta!r}")
     delta = float(d)
     leg = _check_leg(leg)
-    qf = manipulator.check_q(q)
+    qf = manipulator.check_q(as_joint_vector(q, "q"))
     theta, X = released_curve(manipulator, qf, leg, samples, max_memory=max_memory)
     L = manipulator.legs[leg]
     modes = manipulator.direct_kinematics(qf)

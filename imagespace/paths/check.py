@@ -332,6 +332,14 @@ def check_path(target, path, joint_limits=None, manipulator=None):
         ``singularity_free`` only if no root at all; ``crosses`` for a root of odd
         multiplicity, ``touches`` for a tangential contact (even multiplicity) only.
 
+    Raises
+    ------
+    TypeError
+        ``target`` not a design or a singularity surface; ``path`` not an
+        :class:`ImagePath`.
+    InputError
+        A surface that is not polynomial or vanishes identically; bad ``joint_limits``.
+
     Notes
     -----
     Polynomial pieces are decided in exact rational arithmetic and pose pieces by arb intervals
@@ -598,6 +606,14 @@ def segments_free(target, A, B, exact=True):
     decided_by : (n,) str
         ``"bernstein"`` (all Bernstein coefficients of one certain sign, or certain opposite end
         signs), ``"exact"`` or ``"undecided"``.
+
+    Raises
+    ------
+    TypeError
+        ``A`` or ``B`` not numeric.
+    InputError
+        ``A`` and ``B`` not of one shape ``(4,)`` or ``(n, 4)``, or not finite; a surface
+        that is not polynomial.
 
     Notes
     -----

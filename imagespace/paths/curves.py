@@ -226,6 +226,13 @@ def polynomial_curve(coefficients):
     -------
     ImagePath
 
+    Raises
+    ------
+    TypeError
+        Non-numeric coefficients.
+    InputError
+        Coefficients not ``(deg + 1, 4)``, or a constant curve.
+
     Examples
     --------
     >>> from imagespace.paths.check import polynomial_curve
@@ -258,6 +265,13 @@ def rational_curve(numerators, denominator):
     -------
     ImagePath
 
+    Raises
+    ------
+    TypeError
+        Non-numeric coefficients or denominator.
+    InputError
+        As :func:`polynomial_curve`; a denominator vanishing on ``[0, 1]``.
+
     Examples
     --------
     >>> from imagespace.paths.check import rational_curve
@@ -284,6 +298,13 @@ def pose_segment(p0, p1):
     -------
     ImagePath
         ``kind == "pose"``; checked by interval arithmetic.
+
+    Raises
+    ------
+    TypeError
+        ``p0`` or ``p1`` not numeric.
+    InputError
+        ``p0`` or ``p1`` not ``(3,)`` or not finite; ``p0 == p1``.
 
     Examples
     --------

@@ -39,8 +39,9 @@ class CuspLoop:
     winding : float
         Winding number of the loop around the cusp in the section (1 for the circle).
     continuous : bool
-        No step of the walk jumped (a step more than 20 times the median would mean the followed
-        mode was lost - it met a singularity - and another one was picked up).
+        No step of the walk jumped (a step more than ``Tolerances.loop_jump_ratio`` = 20 times the
+        median would mean the followed mode was lost - it met a singularity - and another one was
+        picked up).
     """
 
     q: np.ndarray
@@ -63,6 +64,13 @@ class CuspLoop:
         Returns
         -------
         (ImagePath, PathCheck)
+
+        Raises
+        ------
+        TypeError
+            ``manipulator`` not a design; ``every`` not a whole number.
+        InputError
+            ``every`` below 1.
 
         Examples
         --------
@@ -115,6 +123,15 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     -------
     CuspLoop
 
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; ``cusp`` not a :class:`Cusp`; ``fixed`` or ``steps``
+        not a whole number; non-numeric ``radius``.
+    InputError
+        ``fixed`` not 0, 1 or 2; ``radius`` not positive; ``steps`` outside 8..MAX_STEPS; a
+        loop that loses every real mode.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -159,6 +176,7 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     modes0 = [(j, X, P, asp) for j, (X, P, asp) in modes0]
     near = sorted(modes0, key=lambda mm: half_angle_gap(mm[2][2], cusp.theta))[:3]
     walks = []
+    tols = manipulator.tolerances
     for j0, X0, P0, a0 in near:
         X, poses, aspects, jumps = X0, [P0], [int(a0)], []
         for k in order[1:]:
@@ -177,7 +195,7 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
         end = int(np.argmin(d0))
         start_j = j0
         jumps = np.array(jumps)
-        continuous = bool(jumps.max() <= max(20 * np.median(jumps), 1e-9))
+        continuous = bool(jumps.max() <= max(tols.loop_jump_ratio * np.median(jumps), tols.loop_jump_floor))
         loop = CuspLoop(Qo, np.array(poses), start_j, end, end != start_j, np.array(aspects),
                         continuous=continuous)
         if loop.changed and loop.continuous and np.all(loop.aspects == loop.aspects[0]):

@@ -31,7 +31,7 @@ import numpy as np
 
 import numbers
 
-from .._validate import _short, as_count, as_float_array
+from .._validate import _short, as_box, as_count, as_float_array, as_joint_vector
 from ..exceptions import InputError
 from ..core.kinematic_map import image_point, normalize
 from ..core.mechanism import check_mechanism
@@ -92,6 +92,16 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     q : (n, 3) float
         NaN where a leg cannot reach the pose.
 
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; ``path`` not an :class:`ImagePath`; ``per_piece`` not
+        a whole number; non-numeric ``q_start``.
+    InputError
+        ``per_piece`` outside 1..MAX_SAMPLES; ``q_start`` not ``(3,)``; a path that does not
+        start at a pose of ``q_start`` (leg residual not below
+        ``Tolerances.mode_membership``).
+
     Examples
     --------
     >>> import imagespace as isp
@@ -110,10 +120,10 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     if not isinstance(path, ImagePath):
         raise TypeError(f"path must be an ImagePath (isp.segment, isp.polyline ...), got "
                         f"{type(path).__name__} {_short(path)}")
-    q0 = as_float_array(q_start, "q_start", last=3, allow_batch=False)
+    q0 = as_joint_vector(q_start, "q_start")
     P = path.poses(per_piece)
     r = manipulator.joint_residual(P[0], q0)
-    if not r < 1e-6:
+    if not r < manipulator.tolerances.mode_membership:
         raise InputError(f"path does not start at a pose of q_start = {q0.tolist()}: the legs' inverse "
                          f"kinematics at the start pose {np.round(P[0], 6).tolist()} differ by {r:.2e}")
     Q = np.full((len(P), 3), np.nan)
@@ -165,7 +175,8 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     Raises
     ------
     InputError
-        If a mode does not belong to ``q`` (leg residual above 1e-6) or the two are the same.
+        If a mode does not belong to ``q`` (leg residual not below ``Tolerances.mode_membership``,
+        default 1e-6) or the two are the same (``Tolerances.same_mode``).
 
     Examples
     --------
@@ -190,17 +201,16 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
         raise InputError(f"seed must be a non-negative whole number, got {seed}")
     if box is not None:
         _check_box(box)
-    qf = manipulator.check_q(q)
-    if qf.shape != (3,):
-        raise InputError(f"q must have shape (3,), got shape {qf.shape}")
+    qf = manipulator.check_q(as_joint_vector(q, "q"))
     Xa, Xb = _as_image(mode_a, "mode_a"), _as_image(mode_b, "mode_b")
-    if np.allclose(Xa, Xb, atol=1e-12):
+    tols = manipulator.tolerances
+    if np.allclose(Xa, Xb, atol=tols.same_mode):
         raise InputError("mode_a and mode_b are the same assembly mode")
     from ..core.kinematic_map import pose_of
 
     for name, X in (("mode_a", Xa), ("mode_b", Xb)):
         r = manipulator.joint_residual(pose_of(X), qf)
-        if not r < 1e-6:
+        if not r < tols.mode_membership:
             raise InputError(f"{name} is not an assembly mode of q = {qf.tolist()} (leg residual {r:.2e})")
     S = manipulator.singularity_surface()
     sa, sb = np.sign(S(Xa)), np.sign(S(Xb))
@@ -234,10 +244,10 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
 
 
 def _check_box(box):
-    b = as_float_array(box, "box")
-    if b.shape != (3, 2) or np.any(b[:, 1] <= b[:, 0]):
-        raise InputError(f"box must be (3, 2) with min < max, got {b.tolist()}")
-    return b
+    try:
+        return as_box(box, "box")
+    except InputError as exc:
+        raise InputError(f"box must be (3, 2) with min < max per axis; {exc}") from None
 
 
 def _sample(rng, b, n, S, sign):

@@ -32,11 +32,12 @@ import sympy as sp
 
 import numbers
 
-from .._validate import _short, as_count, as_float_array, as_scalar
+from .._validate import _short, as_box, as_count, as_float_array, as_scalar
 from ..core.codegen import compile_exprs
 from ..core.elimination import form_coefficients
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
+from .implicit import as_tolerances
 
 __all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "free_joints", "half_angle_gap",
            "linking_number"]
@@ -88,6 +89,13 @@ class ModeCountMap:
 def free_joints(fixed):
     """The indices of the two joints that vary when joint ``fixed`` (0, 1 or 2) is held.
 
+    Raises
+    ------
+    TypeError
+        ``fixed`` not a whole number.
+    InputError
+        ``fixed`` not 0, 1 or 2.
+
     Examples
     --------
     >>> from imagespace.singular.cusps import free_joints
@@ -103,10 +111,8 @@ def free_joints(fixed):
 
 
 def _window(window):
-    w = as_float_array(window, "window")
-    if w.shape != (2, 2) or np.any(w[:, 1] <= w[:, 0]):
-        raise InputError(f"window must be ((min, max), (min, max)) of the two free joints, got {w.tolist()}")
-    return w
+    # None is refused as non-numeric (TypeError), like any other non-array window
+    return as_box(as_float_array(window, "window"), "window", dim=2)
 
 
 def _resolution(resolution, name="resolution"):
@@ -146,6 +152,15 @@ def mode_count_map(manipulator, fixed, value, window, resolution=120):
     Returns
     -------
     ModeCountMap
+
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design, ``fixed`` not a whole number, non-numeric ``value``,
+        ``window`` or ``resolution``.
+    InputError
+        ``fixed`` not 0, 1 or 2; ``window`` not ``(2, 2)`` with min < max; ``resolution``
+        outside 8..2000; a window leaving a joint's domain.
 
     Examples
     --------
@@ -300,6 +315,13 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
     list of Cusp
         Distinct cusps inside the window, sorted by the free joints.
 
+    Raises
+    ------
+    TypeError
+        As :func:`mode_count_map`; non-numeric ``tol``, ``max_seeds`` not a whole number.
+    InputError
+        As :func:`mode_count_map`; ``tol`` not positive, ``max_seeds`` below 1.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -318,6 +340,7 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
     w = _window(window)
     fa, fb = cm.free
     comp = manipulator.compiled()
+    tols = manipulator.tolerances
     found = []
     cells = cm.boundary()
     if len(cells) > max_seeds:
@@ -328,7 +351,7 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
         q[fa], q[fb], q[fixed] = cm.axes[0][i], cm.axes[1][j], value
         coef = comp.coefficients(q)
         # the closest pair of roots of the form in (x0 : x1): theta from the pair's mean
-        if abs(coef[-1]) <= 1e-14 * np.abs(coef).sum():
+        if abs(coef[-1]) <= tols.cusp_leading_coefficient * np.abs(coef).sum():
             continue
         roots = np.roots(coef[::-1])
         if len(roots) < 2:
@@ -366,12 +389,13 @@ def cusps(manipulator, fixed, value, window, resolution=120, tol=1e-9, max_seeds
             th = float(np.remainder(xb[0] + np.pi / 2, np.pi) - np.pi / 2)
             found.append((float(res), qc, th))
     # one cusp per cluster (ill-conditioned cusps, e.g. near a swallowtail, converge to a cloud
-    # of points ~1e-4 apart): keep the smallest residual within 1e-3 of the window size
+    # of points ~1e-4 apart): keep the smallest residual within Tolerances.cusp_merge (1e-3) of the
+    # window size
     found.sort(key=lambda item: item[0])
-    near = 1e-3 * float(np.max(w[:, 1] - w[:, 0]))
+    near = tols.cusp_merge * float(np.max(w[:, 1] - w[:, 0]))
     out = []
     for res, qc, th in found:
-        if not any(np.max(np.abs(c.q - qc)) < near and abs(c.theta - th) < 1e-3 for c in out):
+        if not any(np.max(np.abs(c.q - qc)) < near and abs(c.theta - th) < tols.cusp_merge for c in out):
             out.append(Cusp(qc, th, _pose_at(manipulator, qc, th), res))
     return sorted(out, key=lambda c: (c.q[fa], c.q[fb]))
 
@@ -381,7 +405,7 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     edges of the discriminant surface).
 
     Cusps of consecutive sections are joined when they are mutual nearest neighbours (in the free
-    joints and the half-angle) closer than a tenth of the window; a chain ends where a cusp has no
+    joints and the half-angle) closer than ``Tolerances.cusp_chain_reach`` (a tenth) of the window; a chain ends where a cusp has no
     partner (a swallowtail point, or the window's edge).
 
     Parameters
@@ -397,6 +421,13 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     -------
     list of (n_i, 3) float
         Polylines in joint space.
+
+    Raises
+    ------
+    TypeError
+        As :func:`mode_count_map`; non-numeric ``values``.
+    InputError
+        As :func:`mode_count_map`; ``values`` not at least two increasing numbers.
 
     Examples
     --------
@@ -414,7 +445,7 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     fa, fb = free_joints(fixed)
     w = _window(window)
     _resolution(resolution)
-    reach = 0.1 * float(np.max(w[:, 1] - w[:, 0]))
+    reach = manipulator.tolerances.cusp_chain_reach * float(np.max(w[:, 1] - w[:, 0]))
     sections = [cusps(manipulator, fixed, v, window, resolution) for v in vals]
 
     def key(c):
@@ -441,7 +472,7 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     return [np.array(c) for c in chains if len(c) >= 2]
 
 
-def linking_number(loop, curves):
+def linking_number(loop, curves, tolerances=None):
     """Signed crossings of open polylines through a cone spanning a closed loop (joint space).
 
     For curves whose ends lie outside the loop's cone this is the linking number of the loop with
@@ -453,10 +484,20 @@ def linking_number(loop, curves):
     loop : (n, 3) float
         A closed loop (first point = last point, or closed implicitly).
     curves : sequence of (k, 3) float
+    tolerances : Tolerances, optional
+        Reads ``linking_parallel`` (default :data:`imagespace.tolerances.TOLERANCES`).
 
     Returns
     -------
     int
+
+    Raises
+    ------
+    TypeError
+        ``curves`` not a sequence of polylines; non-numeric points; ``tolerances`` not a
+        :class:`~imagespace.tolerances.Tolerances`.
+    InputError
+        ``loop`` not a ``(n, 3)`` polyline of at least three points, or a curve not ``(k, 3)``.
 
     Examples
     --------
@@ -467,6 +508,7 @@ def linking_number(loop, curves):
     >>> linking_number(circle, [np.array([[0.2, 0.1, -1.0], [0.2, 0.1, 1.0]])])
     1
     """
+    parallel = as_tolerances(tolerances).linking_parallel
     L = as_float_array(loop, "loop", last=3)
     if L.ndim != 2 or len(L) < 3:
         raise InputError(f"loop must be a (n, 3) polyline of at least three points, got shape {L.shape}")
@@ -488,7 +530,7 @@ def linking_number(loop, curves):
                 e1, e2 = A - apex, B - apex
                 h = np.cross(d, e2)
                 a = e1 @ h
-                if abs(a) < 1e-15:
+                if abs(a) < parallel:
                     continue
                 s_ = P0 - apex
                 u = (s_ @ h) / a

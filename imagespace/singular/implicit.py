@@ -16,6 +16,7 @@ from .._validate import _short, as_float_array, as_sympy_entry
 from ..core.certify import flint_precision
 from ..core.codegen import compile_exprs
 from ..exceptions import InputError
+from ..tolerances import TOLERANCES, Tolerances
 
 __all__ = ["Implicit", "PolynomialImplicit", "FunctionImplicit", "surface_implicit", "TRIG_ULPS"]
 
@@ -26,13 +27,14 @@ it, and a sample is checked against arb at first use (else that chart falls back
 _FILTER_SAFETY = 2.0              # the rounding-error bound is doubled (second-order terms, rounding of the bound)
 _ARB_PRECISIONS = (128, 512)      # bits; arb decides a sign the float filter left open
 _ARB_MAX_POINTS = 20000           # arb evaluations per mesh at most; points beyond stay undecided
-_EPS = np.finfo(float).eps / 2    # unit roundoff u = 2**-53
+UNIT_ROUNDOFF = np.finfo(float).eps / 2
+"""The unit roundoff ``u = 2**-53`` of float64 (shared with :mod:`imagespace.singular.meshing`)."""
 _TINY = 2.0**-1074                # smallest subnormal: absolute error of an underflowing product
 
 
 def _gamma(k):
     """Higham's ``gamma_k = k u / (1 - k u)``."""
-    return k * _EPS / (1 - k * _EPS)
+    return k * UNIT_ROUNDOFF / (1 - k * UNIT_ROUNDOFF)
 
 
 
@@ -128,7 +130,7 @@ class _ProvenSign:
     value is not finite), arb decides at 128 then 512 bits.
     """
 
-    def __init__(self, expr, symbols):
+    def __init__(self, expr, symbols, coefficient_rel):
         expr = sp.expand(as_sympy_entry(expr, "expr"))
         symbols = tuple(symbols)
         trig = sorted((a for a in expr.atoms(sp.sin, sp.cos) if a.free_symbols), key=sp.default_sort_key)
@@ -167,8 +169,8 @@ class _ProvenSign:
                 if not ball.is_finite():
                     raise _Unsupported(f"coefficient {c} is not finite")
                 f = float(ball.mid())
-                err = float(abs(flint.arb(f) - ball).upper()) * (1 + 4 * _EPS)
-                if f == 0 or not np.isfinite(f) or err > 1e-6 * abs(f):
+                err = float(abs(flint.arb(f) - ball).upper()) * (1 + 4 * UNIT_ROUNDOFF)
+                if f == 0 or not np.isfinite(f) or err > coefficient_rel * abs(f):
                     raise _Unsupported(f"coefficient {c} is not well represented in float")
                 cf.append(f)
                 rel.append(err / abs(f))
@@ -208,7 +210,7 @@ class _ProvenSign:
         self.trig_rel = _gamma(2 * TRIG_ULPS * trig_deg)
         self.trig_abs = max(2.0 * trig_deg * (TRIG_ULPS + 1) * float(np.abs(self.coeffs).sum()), 1.0) * _TINY
         self.trig_c = [(float(c), 0.0 if _is_power_of_two(c)
-                        else float(abs(sp.Rational(float(c)) - c)) * (1 + 4 * _EPS)) for _, _, c in self.trig]
+                        else float(abs(sp.Rational(float(c)) - c)) * (1 + 4 * UNIT_ROUNDOFF)) for _, _, c in self.trig]
 
     # float filter ----------------------------------------------------------------------------
     def _generators(self, P):
@@ -223,7 +225,7 @@ class _ProvenSign:
             # the argument: exact for a power-of-two multiple unless it underflows
             arg_err = cerr * np.abs(x) + np.where(np.abs(arg) < 2.0**-1000, _TINY, 0.0)
             if cerr:
-                arg_err = arg_err + _EPS * np.abs(arg)
+                arg_err = arg_err + UNIT_ROUNDOFF * np.abs(arg)
             g = np.sin(arg) if is_sin else np.cos(arg)
             err = arg_err + TRIG_ULPS * np.spacing(np.abs(g))
             # sin(+-0) = +-0 and cos(+-0) = 1 exactly (C99 Annex F)
@@ -260,7 +262,7 @@ class _ProvenSign:
                 for i in self.terms:
                     f += np.multiply(M[i], self.c_full[i], out=tmp)
                     A += np.abs(tmp, out=tmp)
-                rel = self.gamma + self.coeff_rel + 4 * _EPS
+                rel = self.gamma + self.coeff_rel + 4 * UNIT_ROUNDOFF
                 if inexact and self.cheap_trig:
                     # sin/cos of an exact argument: e <= rho |g| + tau with rho = 2 u TRIG_ULPS, so
                     # prod (|g| + e)**a - prod |g|**a <= ((1 + rho)**Dt - 1) prod |g|**a + 2 Dt tau
@@ -329,8 +331,18 @@ def _is_power_of_two(c):
     return c != 0 and (c.p & (c.p - 1)) == 0 and (c.q & (c.q - 1)) == 0
 
 
-class _ArbBudget:
-    """Counts the arb evaluations of one mesh (~0.1 ms each) and refuses those beyond ``limit``."""
+class ArbBudget:
+    """Counts the arb evaluations of one mesh (~0.1 ms each) and refuses those beyond ``limit``.
+
+    Shared with :mod:`imagespace.singular.meshing` (not public API).
+
+    Examples
+    --------
+    >>> from imagespace.singular.implicit import ArbBudget
+    >>> b = ArbBudget(1)
+    >>> b.take(), b.take(), b.used, b.refused
+    (True, False, 1, True)
+    """
 
     def __init__(self, limit=_ARB_MAX_POINTS):
         self.left = limit
@@ -344,6 +356,30 @@ class _ArbBudget:
         self.left -= 1
         self.used += 1
         return True
+
+
+def as_tolerances(value, name: str = "tolerances") -> Tolerances:
+    """A ``tolerances=None`` keyword at a public boundary: ``None`` gives the defaults.
+
+    Shared by :mod:`imagespace.singular` and :mod:`imagespace.paths` (not public API).
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is neither ``None`` nor a :class:`~imagespace.tolerances.Tolerances`.
+
+    Examples
+    --------
+    >>> from imagespace.singular.implicit import as_tolerances
+    >>> as_tolerances(None).mesh_on_grid
+    1e-12
+    """
+    if value is None:
+        return TOLERANCES
+    if not isinstance(value, Tolerances):
+        raise TypeError(f"{name} must be an imagespace.Tolerances or None, got {type(value).__name__} "
+                        f"{_short(value)}")
+    return value
 
 
 # -- implicit functions ---------------------------------------------------------------------------
@@ -384,7 +420,13 @@ class Implicit:
     sign_test = "float signs (not proven against rounding)"
 
     def value_and_gradient(self, P):
-        """``(F (n,), grad F (n, 3))`` at points ``P`` ``(n, 3)``."""
+        """``(F (n,), grad F (n, 3))`` at points ``P`` ``(n, 3)``.
+
+        Raises
+        ------
+        NotImplementedError
+            Always, on the base class (subclasses implement it).
+        """
         raise NotImplementedError
 
     def value(self, P):
@@ -405,6 +447,13 @@ class Implicit:
         == "float signs ..."``); :class:`PolynomialImplicit` proves it (see the module docstring).
         ``_budget`` (internal) caps the number of arb evaluations of one mesh.
 
+        Raises
+        ------
+        TypeError
+            ``P`` not numeric.
+        InputError
+            ``P`` not of shape ``(3,)`` or ``(n, 3)`` (NaN passes through).
+
         Examples
         --------
         >>> import numpy as np
@@ -422,6 +471,13 @@ class Implicit:
         """``F`` on the tensor grid of three 1-d ``axes``: ``(len(u), len(v), len(w))`` float.
 
         ``block(k, n)`` is called after each of ``n`` slabs (progress reporting).
+
+        Raises
+        ------
+        TypeError
+            ``axes`` not three arrays.
+        InputError
+            An axis not a 1-d array of finite values.
         """
         u, v, w = _axes3(axes)
         out = np.empty((len(u), len(v), len(w)))
@@ -448,6 +504,17 @@ class PolynomialImplicit(Implicit):
     expr : sympy expression
         Polynomial in ``symbols[0], symbols[1]``; any expression in ``symbols[2]``.
     symbols : three sympy symbols
+    tolerances : Tolerances, optional
+        Reads ``implicit_coefficient`` (default :data:`imagespace.tolerances.TOLERANCES`).
+
+    Raises
+    ------
+    TypeError
+        ``symbols`` not three sympy symbols; ``expr`` a string, not real, or not an expression;
+        ``tolerances`` not a :class:`~imagespace.tolerances.Tolerances`.
+    InputError
+        ``symbols`` not three distinct symbols; ``expr`` with poles in the chart variables or
+        other free symbols.
 
     Examples
     --------
@@ -470,7 +537,8 @@ class PolynomialImplicit(Implicit):
     ([0, 1], [True, True])
     """
 
-    def __init__(self, expr, symbols):
+    def __init__(self, expr, symbols, tolerances=None):
+        self.tolerances = as_tolerances(tolerances)
         if isinstance(symbols, (str, bytes)) or not hasattr(symbols, "__iter__"):
             raise TypeError(f"symbols must be three sympy symbols, got {type(symbols).__name__} "
                             f"{_short(symbols)}; strings are never parsed")
@@ -514,7 +582,7 @@ class PolynomialImplicit(Implicit):
     def _sign_evaluator(self):
         if self._signs is None:
             try:
-                self._signs = _ProvenSign(self.expr, self.symbols)
+                self._signs = _ProvenSign(self.expr, self.symbols, self.tolerances.implicit_coefficient)
                 self._sign_note = "rounding-error bound, arb below it"
             except _Unsupported as exc:
                 self._signs = False
@@ -572,6 +640,11 @@ class FunctionImplicit(Implicit):
 
     Its signs are float signs (``sign_test`` starts with ``"float signs"``): a mesh of it is
     certified only up to the rounding of ``f``.
+
+    Raises
+    ------
+    TypeError
+        ``value_and_gradient`` not callable, or ``value`` neither callable nor ``None``.
 
     Examples
     --------
@@ -634,6 +707,13 @@ def surface_implicit(surface, chart="image"):
         A :class:`PolynomialImplicit` for polynomial surfaces (fast grid), else a
         :class:`FunctionImplicit` through the leg inverse kinematics.
 
+    Raises
+    ------
+    TypeError
+        ``surface`` not a :class:`SingularitySurface`, or ``chart`` not a string.
+    InputError
+        ``chart`` not ``'image'`` or ``'pose'``.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -659,7 +739,7 @@ def _build_implicit(surface, chart):
     to_X = image_chart_point if chart == "image" else pose_chart_point
     if surface.is_polynomial:
         expr, syms = surface.chart_expression(chart)
-        return PolynomialImplicit(expr, syms)
+        return PolynomialImplicit(expr, syms, tolerances=surface.manipulator.tolerances)
 
     def vg(P):
         X, dX = to_X(P)

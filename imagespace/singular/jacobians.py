@@ -12,7 +12,7 @@ from .._validate import as_float_array, as_scalar
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
-from .surface import _constraint_values, pose_chart_point
+from .surface import constraint_values, pose_chart_point
 
 __all__ = ["PoseJacobians", "jacobians", "symbolic_jacobians"]
 
@@ -82,6 +82,13 @@ class PoseJacobians:
         -------
         (n, 3, 3) float
 
+        Raises
+        ------
+        TypeError
+            ``length`` not a number.
+        InputError
+            ``length`` not positive and finite.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -108,6 +115,13 @@ class PoseJacobians:
         Returns
         -------
         (n, 3) float
+
+        Raises
+        ------
+        TypeError
+            ``tau`` not numeric.
+        InputError
+            ``tau`` of the wrong shape or not finite.
 
         Examples
         --------
@@ -136,6 +150,14 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
     PoseJacobians
         Arrays with a leading batch axis (length 1 for a single pose).
 
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; non-numeric ``P`` or ``q``; bad ``working_modes``.
+    InputError
+        ``P`` not ``(3,)`` or ``(n, 3)``; ``q`` not one row or one row per pose, or outside
+        a joint's domain; a design with free symbols.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -160,7 +182,7 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
         Q = np.broadcast_to(Q, (n, 3)).copy()
     valid = np.all(np.isfinite(Q), axis=-1)
     X, dX = pose_chart_point(P)
-    _, dQdx, dQdq = _constraint_values(manipulator, X, Q)
+    _, dQdx, dQdq = constraint_values(manipulator, X, Q)
     Jx = np.einsum("nij,njk->nik", dQdx, dX)
     Jq = np.zeros_like(Jx)
     idx = np.arange(3)
@@ -199,6 +221,11 @@ def symbolic_jacobians(manipulator):
     Jx, Jq : sympy.Matrix (3, 3)
     symbols : tuple
         ``(x, y, phi)``.
+
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design.
 
     Examples
     --------

@@ -67,11 +67,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validate import _short, as_count, as_flag, as_float_array
+from .._validate import _short, as_box, as_count, as_flag, as_float_array
 from .._files import atomic_write
 from ..exceptions import InputError
-from .implicit import (TRIG_ULPS, FunctionImplicit, Implicit, PolynomialImplicit, _ArbBudget, _EPS,  # noqa: F401
-                       surface_implicit)
+from .implicit import (TRIG_ULPS, FunctionImplicit, Implicit, PolynomialImplicit, ArbBudget, UNIT_ROUNDOFF,  # noqa: F401
+                       as_tolerances, surface_implicit)
 
 __all__ = ["Implicit", "PolynomialImplicit", "FunctionImplicit", "mesh_implicit", "mesh_surface",
            "export_mesh", "surface_implicit", "EXPORT_FORMATS", "EXPORT_PRECISION", "MAX_MEMORY",
@@ -84,10 +84,8 @@ MAX_MEMORY = 2 * 1024**3
 """Default limit (bytes) for the estimated memory of a mesh's grid and marching cubes."""
 _BYTES_PER_CELL = 8 * 3           # float64 grid + the monomial block + marching-cubes work
 
-# thresholds of the meshing pipeline (index units are grid cells)
-_ON_GRID = 1e-12                  # a marching-cubes coordinate this close to an integer lies on a grid plane
-_NODE_MERGE = 1e-9                # vertices this close to the same grid node are merged by _clean
-_MIN_ALTITUDE = 1e-3              # faces lower than this times tol * size are dropped as degenerate
+# numerical knobs of the meshing pipeline (index units are grid cells); its decision thresholds are
+# Tolerances.mesh_on_grid, mesh_node_merge and mesh_min_altitude
 _NEWTON_STEPS = 200               # safeguarded Newton / bisection steps along an edge
 _NEWTON_SMALL = 0.25              # a Newton step below this fraction of the wanted width has converged
 _SEARCH_STEPS = (0.25, 0.5, 1.0)  # neighbourhood search: points at these multiples of a cell on each side
@@ -97,21 +95,6 @@ _ORIENT_SAMPLE = 4096             # faces sampled to decide the orientation
 
 
 # -- meshing ------------------------------------------------------------------------------------
-def _check_box(box):
-    b = as_float_array(box, "box", allow_batch=True)
-    if b.shape != (3, 2):
-        raise InputError(f"box must be ((u_min, u_max), (v_min, v_max), (w_min, w_max)), shape (3, 2); "
-                         f"got shape {b.shape}")
-    if np.any(b[:, 1] <= b[:, 0]):
-        bad = [i for i in range(3) if b[i, 1] <= b[i, 0]]
-        raise InputError(f"box is empty along axis {bad}: need min < max, got {b.tolist()}")
-    with np.errstate(over="ignore"):
-        sides = b[:, 1] - b[:, 0]
-    if not np.all(np.isfinite(sides)):
-        raise InputError(f"box sides must be within the float range (max - min overflows), got {b.tolist()}")
-    return b
-
-
 def _check_max_memory(max_memory):
     if isinstance(max_memory, (bool, np.bool_)) or not isinstance(max_memory, (numbers.Real, np.floating, np.integer)):
         raise TypeError(f"max_memory must be a positive number of bytes, got {type(max_memory).__name__} "
@@ -185,7 +168,7 @@ class _Progress:
 
 
 def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory=MAX_MEMORY,
-                  on_uncertified="remove"):
+                  on_uncertified="remove", tolerances=None):
     """Mesh the zero set of an implicit function inside a box.
 
     Parameters
@@ -208,6 +191,9 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
         What to do with a vertex no proven sign change within ``tol * size`` can be found for
         (e.g. on a surface component of even multiplicity, where ``func`` does not change sign):
         remove it with its faces (default), or keep it at its marching-cubes place and count it.
+    tolerances : Tolerances, optional
+        Reads ``mesh_on_grid``, ``mesh_node_merge`` and ``mesh_min_altitude`` (default
+        :data:`imagespace.tolerances.TOLERANCES`).
 
     Returns
     -------
@@ -227,7 +213,8 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     TypeError
         ``func`` not an :class:`Implicit`; ``resolution`` not whole numbers (this one is also an
         :class:`InputError`, as before); ``tol``, ``max_memory``, ``progress`` or
-        ``on_uncertified`` of the wrong kind (strings are never parsed).
+        ``on_uncertified`` of the wrong kind (strings are never parsed); ``tolerances`` not a
+        :class:`~imagespace.tolerances.Tolerances`.
     InputError
         Empty box, a side that overflows or is too short for its grid points to differ in float,
         resolution below 8, or above the memory limit; ``max_memory`` not a positive finite
@@ -272,7 +259,8 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
                         f"{_short(on_uncertified)}")
     if on_uncertified not in ("remove", "keep"):
         raise InputError(f"on_uncertified must be 'remove' or 'keep', got {on_uncertified!r}")
-    b = _check_box(box)
+    tols = as_tolerances(tolerances)
+    b = as_box(box, "box")
     res = _check_resolution(resolution, max_memory)
     if isinstance(tol, (bool, np.bool_)) or not isinstance(tol, (numbers.Real, np.floating, np.integer)):
         raise TypeError(f"tol must be a number in (0, 0.01), got {type(tol).__name__} {_short(tol)}")
@@ -336,13 +324,15 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     times["marching_cubes"] = time.perf_counter() - t0
     bar.step()
     t0 = time.perf_counter()
-    budget = _ArbBudget()
-    V, bound, resid, searched = _project(func, verts, b[:, 0], h, tol * size, budget)
+    budget = ArbBudget()
+    V, bound, resid, searched = _project(func, verts, b[:, 0], h, tol * size, budget, tols.mesh_on_grid)
     times["projection"] = time.perf_counter() - t0
     bar.step()
     t0 = time.perf_counter()
-    V, faces, bound, removed, removed_faces = _clean(V, faces, bound, b[:, 0], h, _MIN_ALTITUDE * tol * size,
-                                                     remove=on_uncertified == "remove")
+    V, faces, bound, removed, removed_faces = _clean(V, faces, bound, b[:, 0], h,
+                                                     tols.mesh_min_altitude * tol * size,
+                                                     remove=on_uncertified == "remove",
+                                                     node_merge=tols.mesh_node_merge)
     mesh = trimesh.Trimesh(V, faces, process=False)
     mesh.vertex_attributes["distance_bound"] = bound
     agree = _orient(func, mesh)
@@ -382,14 +372,14 @@ def _marching_cubes(marching_cubes, G, kw):
     return verts, faces
 
 
-def _clean(V, faces, bound, origin, h, height, remove):
+def _clean(V, faces, bound, origin, h, height, remove, node_merge):
     """Merge vertices that landed on the same grid node (the best-certified one stays), drop faces
     that became degenerate (repeated vertex or altitude below ``height``), then the faces of
     uncertified vertices if ``remove``, and vertices no face uses.
 
     Returns ``(V, faces, bound, removed, removed_faces)``."""
     idx = (V - origin) / h
-    node = np.flatnonzero(np.all(np.abs(idx - np.round(idx)) < _NODE_MERGE, axis=1))
+    node = np.flatnonzero(np.all(np.abs(idx - np.round(idx)) < node_merge, axis=1))
     remap = np.arange(len(V))
     if node.size:
         node = node[np.argsort(bound[node], kind="stable")]       # the smallest bound represents its node
@@ -426,7 +416,7 @@ def _cube_mask(finite):
     return m
 
 
-def _project(func, verts, origin, h, tol_abs, budget):
+def _project(func, verts, origin, h, tol_abs, budget, on_grid):
     """Move marching-cubes vertices onto the surface and certify each.
 
     Returns ``(V, bound, resid, searched)``: the vertices ``(n, 3)``, the certified distance bound
@@ -437,12 +427,12 @@ def _project(func, verts, origin, h, tol_abs, budget):
     n = len(verts)
     frac = np.abs(verts - np.round(verts))
     # a vertex on a grid node (marching cubes interpolated next to a tiny value) starts at the node
-    P0 = origin + np.where((frac <= _ON_GRID).all(axis=1)[:, None], np.round(verts), verts) * h
+    P0 = origin + np.where((frac <= on_grid).all(axis=1)[:, None], np.round(verts), verts) * h
     V = P0.copy()
     bound = np.full(n, np.inf)
     if n == 0:
         return V, bound, 0.0, 0
-    on_edge = (frac > _ON_GRID).sum(axis=1) == 1          # between grid planes along exactly one axis
+    on_edge = (frac > on_grid).sum(axis=1) == 1          # between grid planes along exactly one axis
     axis = np.argmax(frac, axis=1)
     k = np.flatnonzero(on_edge)
     if k.size:
@@ -535,7 +525,7 @@ def _project_edges(func, verts, axis, origin, h, tol_abs, budget):
     bound = np.full(n, np.inf)
     if proven.any():
         b = np.maximum(np.linalg.norm(V[proven] - P_lo[proven], axis=1),
-                       np.linalg.norm(V[proven] - P_hi[proven], axis=1)) * (1 + 8 * _EPS)
+                       np.linalg.norm(V[proven] - P_hi[proven], axis=1)) * (1 + 8 * UNIT_ROUNDOFF)
         bound[proven] = np.where(b <= tol_abs, b, np.inf)
     check = np.flatnonzero(~bad & ~(bound <= tol_abs))
     if check.size:
@@ -550,7 +540,7 @@ def _project_edges(func, verts, axis, origin, h, tol_abs, budget):
         b = np.where(crossing, np.maximum(d1, d2), b)
         b = np.where(k1 & (s1 == 0), np.minimum(b, d1), b)     # a proven zero at a bracket end
         b = np.where(k2 & (s2 == 0), np.minimum(b, d2), b)
-        b = b * (1 + 8 * _EPS)
+        b = b * (1 + 8 * UNIT_ROUNDOFF)
         bound[check] = np.where(b <= tol_abs, b, np.inf)
     return V, bound
 
@@ -662,7 +652,7 @@ def _bisect(func, lo, hi, s_lo, tol_abs, budget):
             pending = pending[~kn]
         stuck[pending] = True
     V = 0.5 * (lo + hi)
-    bound = np.maximum(np.linalg.norm(V - lo, axis=1), np.linalg.norm(V - hi, axis=1)) * (1 + 8 * _EPS)
+    bound = np.maximum(np.linalg.norm(V - lo, axis=1), np.linalg.norm(V - hi, axis=1)) * (1 + 8 * UNIT_ROUNDOFF)
     z = ~np.isnan(zero_at[:, 0])
     V[z], bound[z] = zero_at[z], 0.0
     bound[~z & (stuck | (bound > tol_abs))] = np.inf
@@ -700,7 +690,8 @@ def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress
         ``chart="pose"``: ranges of ``(x, y, phi)``.
     chart : {"image", "pose"}
     resolution, tol, progress, max_memory, on_uncertified
-        As in :func:`mesh_implicit`.
+        As in :func:`mesh_implicit`; the meshing thresholds are read from the surface's
+        manipulator (``surface.manipulator.tolerances``).
 
     Returns
     -------
@@ -721,7 +712,8 @@ def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress
     """
     func = surface_implicit(surface, chart)
     mesh = mesh_implicit(func, box, resolution=resolution, tol=tol, progress=progress,
-                         max_memory=max_memory, on_uncertified=on_uncertified)
+                         max_memory=max_memory, on_uncertified=on_uncertified,
+                         tolerances=surface.manipulator.tolerances)
     mesh.metadata["imagespace"].update(chart=chart, surface=repr(surface))
     return mesh
 

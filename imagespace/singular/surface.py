@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .._validate import _short, as_exact, as_flag, as_float_array, is_symbolic, as_scalar
+from .._validate import _short, as_exact, as_flag, as_float_array, as_joint_vector, is_symbolic, as_scalar
 from ..core.codegen import compile_exprs
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
@@ -69,6 +69,13 @@ def pose_chart_point(P):
         ``(cos(phi/2), sin(phi/2), (x1 x - x0 y)/2, (x0 x + x1 y)/2)``.
     dX : (n, 4, 3) float
         ``dX[:, :, k]`` is the derivative along ``x``, ``y``, ``phi``.
+
+    Raises
+    ------
+    TypeError
+        ``P`` not numeric.
+    InputError
+        ``P`` not ``(3,)`` or ``(n, 3)`` (NaN and infinity pass through).
 
     Examples
     --------
@@ -102,6 +109,13 @@ def image_chart_point(U):
         ``(1, w, u, v)``.
     dX : (n, 4, 3) float
 
+    Raises
+    ------
+    TypeError
+        ``U`` not numeric.
+    InputError
+        ``U`` not ``(3,)`` or ``(n, 3)`` (NaN and infinity pass through).
+
     Examples
     --------
     >>> from imagespace.singular.surface import image_chart_point
@@ -127,9 +141,7 @@ def _check_joint_values(manipulator, q, name="q"):
         if len(items) != 3:
             raise InputError(f"{name} must have shape (3,), got {len(items)} entries: {_short(q)}")
         return tuple(as_exact(v, f"{name}[{i}]") for i, v in enumerate(items))
-    qa = manipulator.check_q(q, name)
-    if qa.shape != (3,):
-        raise InputError(f"{name} must have shape (3,), got {qa.shape}")
+    qa = manipulator.check_q(as_joint_vector(q, name), name)
     return tuple(as_exact(float(v), f"{name}[{i}]") for i, v in enumerate(qa))
 
 
@@ -160,8 +172,46 @@ def _require_numeric(m):
                          f"{sorted(map(str, free))} (substitute numbers first)")
 
 
-def _constraint_values(m, X, Q):
-    """``(vals (n,3), grad (n,3,4), dq (n,3))`` of the three quadrics at image points and joints."""
+def constraint_values(m, X, Q):
+    """The three constraint quadrics, their gradients and joint derivatives at image points and joints.
+
+    Shared with :mod:`imagespace.singular.jacobians` (not public API: not in ``__all__``); the
+    compiled functions are cached on the design (``m.cached("constraint_functions", ...)``).
+
+    Parameters
+    ----------
+    m : PlanarParallel
+        A numeric design.
+    X : (n, 4) float
+        Image points.
+    Q : (n, 3) float
+        Joint values, one row per image point.
+
+    Returns
+    -------
+    vals : (n, 3) float
+        ``Q_i(X; q_i)``.
+    grad : (n, 3, 4) float
+        ``dQ_i/dX``.
+    dq : (n, 3) float
+        ``dQ_i/dq_i``.
+
+    Raises
+    ------
+    InputError
+        If the design has free symbols (numeric evaluation needs numbers).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import imagespace as isp
+    >>> from imagespace.singular.surface import constraint_values
+    >>> m = isp.examples.stigger_husty()
+    >>> X = m.direct_kinematics(m.q_example)[0].image_point[None]
+    >>> vals, grad, dq = constraint_values(m, X, m.q_example_float[None])
+    >>> vals.shape, grad.shape, dq.shape, bool(np.all(np.abs(vals) < 1e-6 * np.abs(grad).max()))
+    ((1, 3), (1, 3, 4), (1, 3), True)
+    """
     out = _constraint_functions(m)(*X.T, *Q.T)
     out = out.reshape(len(X), 3, 6)
     return out[:, :, 0], out[:, :, 1:5], out[:, :, 5]
@@ -301,6 +351,14 @@ class SingularitySurface:
         float or (n,) float
             NaN where a working-mode surface is undefined (a leg cannot reach the pose).
 
+        Raises
+        ------
+        TypeError
+            ``X`` not numeric.
+        InputError
+            ``X`` not ``(4,)`` or ``(n, 4)`` (NaN passes through); a design with free
+            symbols.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -334,6 +392,14 @@ class SingularitySurface:
         value : float or (n,) float
         gradient : (4,) or (n, 4) float
 
+        Raises
+        ------
+        TypeError
+            ``X`` not numeric.
+        InputError
+            ``X`` not ``(4,)`` or ``(n, 4)`` (NaN passes through); a design with free
+            symbols.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -355,7 +421,7 @@ class SingularitySurface:
             Q = np.zeros((len(X2), 3))
             for k, i in enumerate(self.eliminated):
                 Q[:, i] = qe[:, k]
-            _, dQdx, dQdq = _constraint_values(self.manipulator, X2, np.nan_to_num(Q))
+            _, dQdx, dQdq = constraint_values(self.manipulator, X2, np.nan_to_num(Q))
             with np.errstate(divide="ignore", invalid="ignore"):
                 for k, i in enumerate(self.eliminated):
                     G -= (g[:, 4 + k] / dQdq[:, i])[:, None] * dQdx[:, i, :]
@@ -374,6 +440,13 @@ class SingularitySurface:
         -------
         value : float or (n,) float
         gradient : (3,) or (n, 3) float, only with ``gradient=True``
+
+        Raises
+        ------
+        TypeError
+            ``P`` not numeric, ``gradient`` not a bool.
+        InputError
+            ``P`` not ``(3,)`` or ``(n, 3)`` (NaN and infinity pass through).
 
         Examples
         --------
@@ -438,6 +511,14 @@ class SingularitySurface:
         -------
         (n, 6) float
 
+        Raises
+        ------
+        TypeError
+            ``phi`` not numeric.
+        InputError
+            A surface that is not polynomial; ``phi`` not a number or a 1-d array; a
+            section that is not a conic.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -475,6 +556,13 @@ class SingularitySurface:
 
         ``chart="image"``: ``(u, v, w) = (x2/x0, x3/x0, x1/x0)``; ``chart="pose"``:
         ``(u, v, w) = (x, y, phi)`` (polynomial in ``x, y``, trigonometric in ``phi/2``).
+
+        Raises
+        ------
+        TypeError
+            ``chart`` not a string.
+        InputError
+            A surface that is not polynomial; ``chart`` not ``'image'`` or ``'pose'``.
 
         Examples
         --------
@@ -581,6 +669,11 @@ def singularity_surfaces(manipulator):
     -------
     list of SingularitySurface
 
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -636,6 +729,14 @@ class ConicSection:
     def of(cls, surface, phi):
         """The section of ``surface`` (a polynomial :class:`SingularitySurface`) at ``phi``.
 
+        Raises
+        ------
+        TypeError
+            ``surface`` not a :class:`SingularitySurface`; ``phi`` not a number.
+        InputError
+            A surface that is not polynomial; a section of degree above 2; a non-finite
+            ``phi``.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -685,6 +786,13 @@ class ConicSection:
 
     def __call__(self, x, y):
         """The conic's value at workspace points (broadcasting); its sign is the aspect.
+
+        Raises
+        ------
+        TypeError
+            ``x`` or ``y`` not numeric.
+        InputError
+            ``x`` and ``y`` do not broadcast, or are not finite.
 
         Examples
         --------
