@@ -14,6 +14,8 @@ import sympy as sp
 from ._validate import as_exact, as_float_array, check_positive
 from .exceptions import InputError
 from .core.legs import PPR, RPR
+from .design.indices import global_indices
+from .design.workspace import check_tolerances, dexterous_workspace, reachable_workspace
 from .manipulator import PlanarParallel
 
 __all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr", "collinear_3rpr_closed_form",
@@ -72,6 +74,13 @@ def collinear_3rpr(R=2, r=1):
     -------
     PlanarParallel
 
+    Raises
+    ------
+    TypeError
+        For ``R`` or ``r`` that is not a real number or sympy expression.
+    InputError
+        For a non-positive or non-finite ``R`` or ``r``.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -107,6 +116,13 @@ def choi_3ppr(R=1, r=sp.Rational(1, 2), alpha=7 * sp.pi / 18):
     Returns
     -------
     PlanarParallel
+
+    Raises
+    ------
+    TypeError
+        For ``R``, ``r`` or ``alpha`` that is not a real number or sympy expression.
+    InputError
+        For a non-positive or non-finite ``R`` or ``r``, or a non-finite ``alpha``.
 
     Examples
     --------
@@ -156,20 +172,20 @@ def general_3rpr():
     return m
 
 
-_BOUNDARY_ULPS = 16
-"""Rounding allowance of the closed forms below, in units of the machine epsilon times the magnitude
-of the terms summed: a quantity that decides a count (``1 - |cos theta|``, ``1 - |sin psi|``, a
-line-circle discriminant) and lies within ``_BOUNDARY_ULPS * eps * scale`` of zero is taken as
-exactly zero (the input is on the boundary within the rounding of the arithmetic and of the input's
-own computation, e.g. joint values obtained by inverse kinematics of a pose on the boundary)."""
+# The rounding allowance of the closed forms below is Tolerances.closed_form_ulps (default 16), in
+# units of the machine epsilon times the magnitude of the terms summed: a quantity that decides a
+# count (``1 - |cos theta|``, ``1 - |sin psi|``, a line-circle discriminant) and lies within
+# ``closed_form_ulps * eps * scale`` of zero is taken as exactly zero (the input is on the boundary
+# within the rounding of the arithmetic and of the input's own computation, e.g. joint values
+# obtained by inverse kinematics of a pose on the boundary).
 
 
-def _within_rounding(value, scale):
-    """``|value| <= _BOUNDARY_ULPS * eps * scale``: zero within the rounding of its terms."""
-    return abs(value) <= _BOUNDARY_ULPS * np.finfo(float).eps * scale
+def _within_rounding(value, scale, tol):
+    """``|value| <= tol.closed_form_ulps * eps * scale``: zero within the rounding of its terms."""
+    return abs(value) <= tol.closed_form_ulps * np.finfo(float).eps * scale
 
 
-def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
+def collinear_3rpr_closed_form(d, R=2.0, r=1.0, tolerances=None):
     """Seed 003's closed-form direct kinematics of the collinear 3-RPR (an independent check).
 
     The notes: ``cos(theta) = [2 (d2^2 + R^2 + r^2) - d1^2 - d3^2] / (4 r R)``, then the line
@@ -185,7 +201,7 @@ def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
     ``[d1^2 + d3^2 - 2 d2^2 - 2 (R - r)^2] / (4 r R)`` and
     ``[2 d2^2 + 2 (R + r)^2 - d1^2 - d3^2] / (4 r R)`` (no cancellation near ``theta = 0, pi``),
     and ``theta = +-2 atan2(sqrt(1 - cos), sqrt(1 + cos))``. A value within rounding of zero
-    (``_BOUNDARY_ULPS``) is zero: ``theta = 0`` (or ``pi``) is then the one orientation, a
+    (``tolerances.closed_form_ulps``) is zero: ``theta = 0`` (or ``pi``) is then the one orientation, a
     double root of the orientation equation, and its two positions ``(x, +-y)`` are returned once
     each (so orientations ``+-theta`` with ``|theta|`` below about 1e-7 are reported as
     ``theta = 0``, with joint residuals of the order of the rounding); a negative value beyond
@@ -198,6 +214,8 @@ def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
         Leg lengths ``d1, d2, d3``.
     R, r : float
         Positive, ``R != r``.
+    tolerances : Tolerances, optional
+        ``closed_form_ulps``, the rounding allowance of the decisions (``None``: the defaults).
 
     Returns
     -------
@@ -209,8 +227,10 @@ def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
 
     Raises
     ------
+    TypeError
+        For non-numeric ``d``, ``R`` or ``r``, or a ``tolerances`` that is not a Tolerances.
     InputError
-        ``R`` or ``r`` not positive, or ``R == r``.
+        ``R`` or ``r`` not positive, or ``R == r``; ``d`` not of shape ``(3,)`` or not finite.
 
     Examples
     --------
@@ -223,15 +243,16 @@ def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
     """
     d1, d2, d3 = as_float_array(d, "d", last=3, allow_batch=False)
     R, r = float(check_positive(R, "R")), float(check_positive(r, "r"))
+    tol = check_tolerances(tolerances)
     if R == r:
         raise InputError(f"R and r must differ (equal R = r = {R} make the legs' line equation vanish "
                          "at theta = 0)")
     terms = d1**2 + d3**2 + 2 * d2**2 + 2 * (R + r) ** 2          # magnitude of the sums below
     u = d1**2 + d3**2 - 2 * d2**2 - 2 * (R - r) ** 2               # 4 r R (1 - cos theta)
     w = 2 * d2**2 + 2 * (R + r) ** 2 - d1**2 - d3**2               # 4 r R (1 + cos theta)
-    if _within_rounding(u, terms):
+    if _within_rounding(u, terms, tol):
         thetas = [0.0]
-    elif _within_rounding(w, terms):
+    elif _within_rounding(w, terms, tol):
         thetas = [np.pi]
     elif u < 0 or w < 0:
         return np.zeros((0, 3))
@@ -245,7 +266,7 @@ def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
         nn = n @ n                                                  # >= (R - r)^2 > 0
         p0 = h * n / nn                                             # foot of the line from the origin
         disc = d2**2 - h**2 / nn                                    # (half chord)^2
-        if _within_rounding(disc, d2**2 + h**2 / nn):
+        if _within_rounding(disc, d2**2 + h**2 / nn, tol):
             ts = [0.0]
         elif disc < 0:
             continue
@@ -258,7 +279,7 @@ def collinear_3rpr_closed_form(d, R=2.0, r=1.0):
     return np.array(out).reshape(-1, 3)
 
 
-def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18):
+def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18, tolerances=None):
     """Closed-form direct kinematics of Choi's 3-PPR (seed 004), derived from its IK.
 
     With ``k = cot(alpha)`` the IK is ``rho_i = a_i . (x, y) + r (sin phi + k cos phi) - R k`` and
@@ -271,11 +292,11 @@ def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18):
     The boundary ``|sin psi| = 1`` (``psi = +-pi/2``, i.e. ``phi = alpha`` or ``alpha - pi``) is
     the singularity ``det J_h^-1 = 0``: the two rotations coincide there, a double solution, and
     one pose is returned. It is decided on ``r (1 -+ sin psi)`` computed as
-    ``r -+ (sin(alpha) sum(rho)/3 + R cos(alpha))``: within rounding of zero (``_BOUNDARY_ULPS``
+    ``r -+ (sin(alpha) sum(rho)/3 + R cos(alpha))``: within rounding of zero (``closed_form_ulps``
     times eps times the magnitude of the terms, which covers joint values obtained by the IK of a
     pose on the boundary, whose ``sin psi`` evaluates to ``1.0000000000000002``) the input is on the
     boundary; beyond it, no solution (``|sin psi| > 1``) or two. So two rotations closer than
-    ``2 sqrt(2 _BOUNDARY_ULPS eps scale / r)`` (about 2e-7 rad for the default design) are
+    ``2 sqrt(2 closed_form_ulps eps scale / r)`` (about 2e-7 rad for the default design) are
     reported as the one at the boundary; its joint residual is then of the order of the rounding. Away from the boundary
     ``psi = pi/2 - 2 atan2(sqrt(1 - sin psi), sqrt(1 + sin psi))``, accurate near ``+-pi/2``.
 
@@ -284,12 +305,22 @@ def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18):
     rho : (3,) float
         Slider positions.
     R, r, alpha : float
+    tolerances : Tolerances, optional
+        ``closed_form_ulps``, the rounding allowance of the boundary decision (``None``: the
+        defaults).
 
     Returns
     -------
     (k, 3) float
         Poses ``(x, y, phi)``, ``phi`` in ``[-pi, pi)``; ``k = 2``, or 1 at the singular
         ``psi = +-pi/2``, or 0 when ``|sin psi| > 1``.
+
+    Raises
+    ------
+    TypeError
+        For non-numeric ``rho`` or a ``tolerances`` that is not a Tolerances.
+    InputError
+        For ``rho`` not of shape ``(3,)`` or not finite.
 
     Examples
     --------
@@ -303,14 +334,15 @@ def choi_3ppr_closed_form(rho, R=1.0, r=0.5, alpha=7 * np.pi / 18):
     """
     rho = as_float_array(rho, "rho", last=3, allow_batch=False)
     R, r, alpha = float(R), float(r), float(alpha)
+    tol = check_tolerances(tolerances)
     sa, ca = np.sin(alpha), np.cos(alpha)
     k = ca / sa
     v = sa * rho.sum() / 3 + R * ca                                 # r sin(psi)
     terms = r + abs(sa) * np.abs(rho).sum() / 3 + R * abs(ca)
     u, w = r - v, r + v                                             # r (1 - sin psi), r (1 + sin psi)
-    if _within_rounding(u, terms):
+    if _within_rounding(u, terms, tol):
         psis = [np.pi / 2]
-    elif _within_rounding(w, terms):
+    elif _within_rounding(w, terms, tol):
         psis = [-np.pi / 2]
     elif u < 0 or w < 0:
         return np.zeros((0, 3))
@@ -391,6 +423,14 @@ def choi_3ppr_indices(alpha, r_over_R, psi_max=17 * np.pi / 36, n_psi=73):
     -------
     dict
 
+    Raises
+    ------
+    TypeError
+        For a non-numeric ``alpha``/``r_over_R`` or a non-integer ``n_psi``.
+    InputError
+        For a non-positive ``r_over_R``, or a ``psi_max``/``n_psi`` the workspaces and global
+        indices refuse.
+
     Examples
     --------
     >>> import numpy as np, imagespace as isp
@@ -398,9 +438,6 @@ def choi_3ppr_indices(alpha, r_over_R, psi_max=17 * np.pi / 36, n_psi=73):
     >>> sorted(ind), ind["D"] > 0
     (['D', 'I', 'M', 'R', 'S'], True)
     """
-    from .design.indices import global_indices
-    from .design.workspace import dexterous_workspace, reachable_workspace
-
     m = choi_3ppr(1, sp.nsimplify(float(r_over_R), rational=True), sp.nsimplify(float(alpha) / np.pi, rational=True) * sp.pi)
     phi0 = float(alpha) - np.pi / 2
     rng = (phi0 - psi_max, phi0 + psi_max)

@@ -121,6 +121,64 @@ class Tolerances:
     chart_x0 : float
         The command line's ``demo``: an image point is printed in the chart ``x0 = 1`` when
         ``|x0|`` exceeds this (the point is normalised, ``x0**2 + x1**2 = 1``), otherwise as is.
+    workspace_inside : float
+        :meth:`imagespace.design.workspace.Workspace.contains`: a point is inside an exact
+        (polygon) workspace when its signed edge cross products are all ``>= -workspace_inside``
+        (absolute, in squared length units of the design).
+    workspace_affine : float
+        The workspaces: the legs' inverse kinematics is affine in ``(x, y)`` at fixed ``phi`` when
+        it reproduces probe points to within ``workspace_affine`` (relative, and absolute times
+        ``1 + max|q|``).
+    workspace_affine_constant : float
+        The workspaces: the affine coefficients ``a_i`` are independent of ``phi`` when those of
+        three orientations agree to within this (absolute; plus numpy's default relative part).
+    workspace_common_offset : float
+        :func:`imagespace.design.workspace.reachable_workspace`: the offsets ``c_i(phi)`` differ by
+        constants (exact polytope projection) when ``c_i - c_0`` varies by at most this times
+        ``1 + max|c|`` (plus numpy's default relative part).
+    workspace_vertex_det : float
+        The reachable polytope: three facet planes meet in a vertex when ``|det|`` of their
+        normals is at least this (absolute; the normals are the legs' unscaled gradients).
+    workspace_vertex_feasible : float
+        The reachable polytope: a vertex is kept when it violates no facet by more than this
+        times ``1 + |h|`` (``h`` the facet's offset).
+    fuzzy_tie : float
+        :func:`imagespace.design.sweep.fuzzy_minmax`: rows whose weighted score ``W_c`` (in
+        ``[0, 1]``) is within this of the best are all listed as best (absolute).
+    dynamics_residual : float
+        :mod:`imagespace.dynamics`: the loop and task equations are solved when their largest
+        residual after Newton is at most this (absolute, in the model's units); otherwise the
+        kinematics did not converge.
+    dynamics_rank : float
+        :func:`imagespace.dynamics.drive_singularity`: the rank of ``A`` drops by more than one
+        when its second-smallest singular value is below this times the largest.
+    dynamics_alpha_zero : float
+        :func:`imagespace.dynamics.drive_singularity`: a row-dependence coefficient
+        ``alpha_p = -nu_p / nu_s`` below this (absolute; ``|alpha_p| <= 1`` by the choice of
+        ``s``) is zero, i.e. row ``p`` is not involved.
+    dynamics_consistency_slope : float
+        :func:`imagespace.dynamics.consistent_acceleration`: the consistency condition does not
+        involve the path acceleration when its slope is below this times ``max(1, |base|)``.
+    dynamics_mu_dot : float
+        :func:`imagespace.dynamics.inverse_dynamics`: inside the band, the ``mudot`` term is put
+        back only where ``|g| >`` this (``g`` the dimensionless singularity measure); closer, the
+        term is below the rounding of eq. 5 itself.
+    dynamics_consistency : float
+        :func:`imagespace.dynamics.inverse_dynamics`: a crossing of the drive singularity is
+        consistent when ``|nu . (M etaddot - R)| <= dynamics_consistency * |M etaddot - R|``
+        (dimensionless; ``imagespace.dynamics.solve.CONSISTENCY_RTOL`` is its default).
+    timelaw_root : float
+        :meth:`imagespace.dynamics.TimeLaw.is_monotone`: a root of ``s'`` is real when
+        ``|Im| <`` this, and strictly inside ``(0, T)`` when farther than this from both ends
+        (absolute, in time units).
+    timelaw_monotone : float
+        :meth:`imagespace.dynamics.TimeLaw.is_monotone`: ``s'`` is non-negative when no sample is
+        below ``-timelaw_monotone * max(1, max|s'|)``.
+    closed_form_ulps : float
+        The closed forms of :mod:`imagespace.examples` (``collinear_3rpr_closed_form``,
+        ``choi_3ppr_closed_form``): a quantity within ``closed_form_ulps * eps * scale`` of zero
+        (``eps`` the float64 machine epsilon, ``scale`` the size of its terms) is zero, so a
+        boundary case reached through rounding is the boundary case.
 
     The compiled kernel also reads ``cramer_small`` (a root with ``|D| <= cramer_small max|D|``
     sends the row to the numpy path) and ``newton_stop`` (its 4x4 solve's pivot threshold); it
@@ -158,6 +216,23 @@ class Tolerances:
     mesh_min_altitude: float = 1e-3
     plot_orientation: float = 1e-6
     chart_x0: float = 1e-12
+    # design/, dynamics/, spatial/
+    workspace_inside: float = 1e-12
+    workspace_affine: float = 1e-10
+    workspace_affine_constant: float = 1e-12
+    workspace_common_offset: float = 1e-10
+    workspace_vertex_det: float = 1e-12
+    workspace_vertex_feasible: float = 1e-9
+    fuzzy_tie: float = 1e-12
+    dynamics_residual: float = 1e-9
+    dynamics_rank: float = 1e-8
+    dynamics_alpha_zero: float = 1e-12
+    dynamics_consistency_slope: float = 1e-14
+    dynamics_mu_dot: float = 1e-7
+    dynamics_consistency: float = 1e-6
+    timelaw_root: float = 1e-12
+    timelaw_monotone: float = 1e-12
+    closed_form_ulps: float = 16
 
     def __post_init__(self):
         for name, value in self.__dict__.items():

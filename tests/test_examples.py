@@ -170,3 +170,18 @@ def test_choi_closed_form_agrees_with_the_image_space_dk_at_and_off_the_fold():
             assert len(dk) == len(out) and same_poses(out, dk, 1e-6)
             checked += 1
     assert checked == 12
+
+
+def test_closed_form_ulps_decides_the_boundary_of_the_closed_forms():
+    # theta = 0 exactly at d = (1.25, 0.75, 1.25); 1e-9 longer d1 is a pair +-theta, unless the
+    # rounding allowance is widened past 1 - cos(theta) ~ 1e-10 of the terms
+    d = [1.25 + 1e-9, 0.75, 1.25]
+    assert len(isp.examples.collinear_3rpr_closed_form(d)) == 4
+    wide = isp.Tolerances(closed_form_ulps=1e8)
+    poses = isp.examples.collinear_3rpr_closed_form(d, tolerances=wide)
+    assert len(poses) == 2 and np.all(poses[:, 2] == 0)
+    # Choi's 3-PPR: just inside the boundary |sin psi| = 1 there are two rotations, one when widened
+    m = isp.examples.choi_3ppr()
+    q = m.inverse_kinematics(np.array([0.1, -0.05, 7 * np.pi / 18 - 1e-6]))
+    assert len(isp.examples.choi_3ppr_closed_form(q)) == 2
+    assert len(isp.examples.choi_3ppr_closed_form(q, tolerances=wide)) == 1

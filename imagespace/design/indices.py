@@ -21,6 +21,7 @@ import warnings
 from .._validate import _short, as_count, as_float_array, as_scalar
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
+from .workspace import MAX_ORIENTATIONS, check_phi_range
 
 __all__ = ["manipulability", "resistivity", "isotropy", "local_indices", "global_indices"]
 
@@ -35,6 +36,13 @@ def _stack(Jh):
 def manipulability(Jh):
     """``|det J_h|``.
 
+    Raises
+    ------
+    TypeError
+        For non-numeric ``Jh``.
+    InputError
+        For ``Jh`` not of shape ``(3, 3)`` or ``(n, 3, 3)``.
+
     Examples
     --------
     >>> from imagespace.design.indices import manipulability
@@ -46,6 +54,13 @@ def manipulability(Jh):
 
 def resistivity(Jh):
     """``1 / |det J_h|`` (``inf`` at a singularity).
+
+    Raises
+    ------
+    TypeError
+        For non-numeric ``Jh``.
+    InputError
+        For ``Jh`` not of shape ``(3, 3)`` or ``(n, 3, 3)``.
 
     Examples
     --------
@@ -60,6 +75,13 @@ def resistivity(Jh):
 def isotropy(Jh, kind="condition"):
     """Isotropy in ``[0, 1]``: ``"condition"`` (``sigma_min / sigma_max``) or ``"frobenius"``
     (``1 / kappa_F``, the weighted Frobenius condition number).
+
+    Raises
+    ------
+    TypeError
+        For non-numeric ``Jh`` or a ``kind`` that is not a string.
+    InputError
+        For ``Jh`` not of shape ``(3, 3)`` or ``(n, 3, 3)``, or an unknown ``kind``.
 
     Examples
     --------
@@ -99,6 +121,14 @@ def local_indices(manipulator, poses, length, working_modes=None):
     dict of (n,) float
         ``manipulability, resistivity, isotropy, isotropy_frobenius``; NaN where a leg cannot
         reach the pose.
+
+    Raises
+    ------
+    TypeError
+        For a ``manipulator`` that is not a PlanarParallel, or non-numeric ``poses``/``length``.
+    InputError
+        For ``poses`` not ``(3,)``/``(n, 3)``, a non-positive ``length``, or bad
+        ``working_modes``.
 
     Examples
     --------
@@ -141,6 +171,15 @@ def global_indices(manipulator, position, phi_range, length, n=73, working_modes
     -------
     dict of float
 
+    Raises
+    ------
+    TypeError
+        For a ``manipulator`` that is not a PlanarParallel, non-numeric arguments or a
+        non-integer ``n``.
+    InputError
+        For a malformed ``phi_range`` or ``position``, ``n`` outside ``2..MAX_ORIENTATIONS``, a
+        non-positive ``length``, or bad ``working_modes``.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -149,10 +188,8 @@ def global_indices(manipulator, position, phi_range, length, n=73, working_modes
     >>> 0 < g["isotropy"] <= 1
     True
     """
-    from .workspace import MAX_ORIENTATIONS, _phi_range
-
     check_mechanism(manipulator)
-    lo, hi = _phi_range(phi_range)
+    lo, hi = check_phi_range(phi_range)
     n = as_count(n, "n", 2)
     if n > MAX_ORIENTATIONS:
         raise InputError(f"n must be at most {MAX_ORIENTATIONS} orientations, got {n}")

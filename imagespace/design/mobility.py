@@ -83,6 +83,14 @@ def gruebler(n, joints, D=3):
     -------
     Mobility
 
+    Raises
+    ------
+    TypeError
+        For a non-integer ``n`` or ``D``, or ``joints`` that is neither an int nor a sequence.
+    InputError
+        For ``D`` other than 3 or 6, an unknown joint, a joint with more freedoms than ``D``
+        allows, or a negative count.
+
     Examples
     --------
     >>> from imagespace.design.mobility import gruebler
@@ -135,8 +143,12 @@ def mechanism_mobility(links, joints, D=3):
 
     Raises
     ------
+    TypeError
+        For ``links``/``joints`` that are not sequences, an unhashable link name, or a non-integer
+        ``D``.
     InputError
-        A joint names an unknown link, joins a link to itself, or a link has no joint.
+        A joint names an unknown link, joins a link to itself, or a link has no joint; no links,
+        repeated names, a malformed joint entry, or an unknown joint type.
 
     Examples
     --------
@@ -191,6 +203,11 @@ def manipulator_mobility(manipulator, locked=False):
     Returns
     -------
     Mobility
+
+    Raises
+    ------
+    TypeError
+        For a ``manipulator`` that is not a PlanarParallel or a non-boolean ``locked``.
 
     Examples
     --------

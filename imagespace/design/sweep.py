@@ -34,6 +34,7 @@ import numpy as np
 
 from .._validate import _short, as_count, as_flag
 from ..exceptions import ImageSpaceError, InputError
+from .workspace import check_tolerances
 
 __all__ = ["DesignTable", "DesignEvaluationError", "sweep", "fuzzy_minmax", "FuzzyResult"]
 
@@ -82,6 +83,11 @@ class DesignTable:
 
     def grid(self, name):
         """A value reshaped to the grid, ``shape``.
+
+        Raises
+        ------
+        InputError
+            If ``name`` is not one of the table's values.
 
         Examples
         --------
@@ -294,6 +300,10 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
 
     Raises
     ------
+    TypeError
+        A ``func`` that is not callable, a ``grid`` that is not a dict (or whose keys are not
+        identifiers), a ``client`` that is not a dask Client, or non-integer ``processes``/
+        ``chunksize`` or a non-boolean ``progress``.
     InputError
         An empty grid, a parameter with no values, a grid of a single design, or a bad
         ``processes``, ``chunksize`` or ``on_error``.
@@ -469,7 +479,8 @@ class FuzzyResult:
     memberships : dict of (n,) float
         ``z`` per index.
     best : list of int
-        Rows with the largest ``W_c`` (ties within 1e-12 all listed).
+        Rows with the largest ``W_c`` (ties within ``Tolerances.fuzzy_tie``, default 1e-12, all
+        listed).
     """
 
     composite: np.ndarray
@@ -477,7 +488,7 @@ class FuzzyResult:
     best: list
 
 
-def fuzzy_minmax(table, criteria):
+def fuzzy_minmax(table, criteria, tolerances=None):
     """The fuzzy min-max composite index.
 
     Parameters
@@ -485,10 +496,21 @@ def fuzzy_minmax(table, criteria):
     table : DesignTable
     criteria : dict of index name -> (weight, "max" or "min")
         ``"max"``: larger is better; weights in ``[0, 1]``.
+    tolerances : Tolerances, optional
+        ``fuzzy_tie``: rows within it of the best composite are all best (``None``: the defaults).
 
     Returns
     -------
     FuzzyResult
+
+    Raises
+    ------
+    TypeError
+        For a ``table`` that is not a DesignTable, ``criteria`` that is not a dict, a
+        non-numeric weight, or a ``tolerances`` that is not a Tolerances.
+    InputError
+        For empty ``criteria``, a name that is not an index of the table (or has no finite
+        value), a malformed ``(weight, sense)``, a weight outside ``[0, 1]`` or an unknown sense.
 
     Examples
     --------
@@ -506,6 +528,7 @@ def fuzzy_minmax(table, criteria):
                         f"{type(criteria).__name__} {_short(criteria)}")
     if not criteria:
         raise InputError("criteria must be a non-empty dict name -> (weight, 'max'|'min'), got {}")
+    tol = check_tolerances(tolerances)
     z = {}
     for name, spec in criteria.items():
         if name not in table.values:
@@ -530,5 +553,5 @@ def fuzzy_minmax(table, criteria):
             u = 1 - u
         z[name] = 1 + g * (u - 1)
     W = np.min(np.stack(list(z.values())), axis=0)
-    best = np.flatnonzero(W >= np.nanmax(W) - 1e-12).tolist()
+    best = np.flatnonzero(W >= np.nanmax(W) - tol.fuzzy_tie).tolist()
     return FuzzyResult(W, z, best)

@@ -21,9 +21,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validate import _short, as_count, as_float_array, as_scalar
+from .._validate import _short, as_box, as_count, as_float_array, as_scalar
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
+from ..tolerances import TOLERANCES, Tolerances
 
 __all__ = ["Workspace", "halfplane_polygon", "polygon_area", "constant_orientation_workspace",
            "reachable_workspace", "dexterous_workspace", "sampled_workspace", "MAX_MEMORY"]
@@ -34,6 +35,34 @@ _BYTES_PER_CELL = 160
 """Estimated memory per grid cell of :func:`sampled_workspace` (poses, branch values, masks)."""
 MAX_ORIENTATIONS = 100_000
 """The largest ``n_phi`` accepted (each orientation is one pass over the grid, or one IK batch)."""
+EXTREME_XATOL = 1e-12
+"""Stopping width (in ``phi``) of the bounded scalar minimiser that refines the extreme offsets
+``max/min c_i(phi)`` of the dexterous and reachable workspaces (a method knob, not a threshold)."""
+
+
+def check_tolerances(tolerances, name="tolerances"):
+    """``tolerances`` as a :class:`~imagespace.tolerances.Tolerances` (``None``: the defaults).
+
+    Shared by the design modules whose functions receive no manipulator (internal; not in
+    ``__all__``).
+
+    Raises
+    ------
+    TypeError
+        If ``tolerances`` is neither None nor a Tolerances.
+
+    Examples
+    --------
+    >>> from imagespace.design.workspace import check_tolerances
+    >>> check_tolerances(None).workspace_inside
+    1e-12
+    """
+    if tolerances is None:
+        return TOLERANCES
+    if not isinstance(tolerances, Tolerances):
+        raise TypeError(f"{name} must be an imagespace.Tolerances (or None for the defaults), got "
+                        f"{type(tolerances).__name__} {_short(tolerances)}")
+    return tolerances
 
 
 @dataclass(frozen=True)
@@ -64,8 +93,18 @@ class Workspace:
     axes: tuple | None = None
     boundary: list = field(default_factory=list)
 
-    def contains(self, points):
+    def contains(self, points, tolerances=None):
         """Which points ``(n, 2)`` lie inside (polygon test, or the grid cell for sampled kinds).
+
+        A point on an exact workspace's boundary is inside to within
+        ``tolerances.workspace_inside`` (``None``: the defaults).
+
+        Raises
+        ------
+        TypeError
+            For non-numeric points or a ``tolerances`` that is not a Tolerances.
+        InputError
+            For points not of shape ``(2,)`` or ``(n, 2)``, or non-finite ones.
 
         Examples
         --------
@@ -75,13 +114,14 @@ class Workspace:
         [True, False]
         """
         pts = np.atleast_2d(as_float_array(points, "points", last=2))
+        tol = check_tolerances(tolerances)
         if self.polygon is not None:
             if len(self.polygon) < 3:
                 return np.zeros(len(pts), dtype=bool)
             P = self.polygon
             e = np.roll(P, -1, axis=0) - P
             cross = e[None, :, 0] * (pts[:, None, 1] - P[None, :, 1]) - e[None, :, 1] * (pts[:, None, 0] - P[None, :, 0])
-            return np.all(cross >= -1e-12, axis=1)
+            return np.all(cross >= -tol.workspace_inside, axis=1)
         xs, ys = self.axes
         i = np.clip(np.round((pts[:, 0] - xs[0]) / (xs[1] - xs[0])).astype(int), 0, len(xs) - 1)
         j = np.clip(np.round((pts[:, 1] - ys[0]) / (ys[1] - ys[0])).astype(int), 0, len(ys) - 1)
@@ -101,6 +141,14 @@ def halfplane_polygon(A, b, box=1e6):
     -------
     (m, 2) float
         Empty ``(0, 2)`` when infeasible.
+
+    Raises
+    ------
+    TypeError
+        For non-numeric ``A``, ``b`` or ``box``.
+    InputError
+        For ``A`` not ``(k, 2)``, ``b`` not ``(k,)``, a non-finite entry, or a ``box`` that is not
+        one positive number.
 
     Examples
     --------
@@ -137,6 +185,13 @@ def halfplane_polygon(A, b, box=1e6):
 def polygon_area(P):
     """Shoelace area of a simple polygon ``(k, 2)``.
 
+    Raises
+    ------
+    TypeError
+        For non-numeric input.
+    InputError
+        For an array that is not ``(k, 2)``.
+
     Examples
     --------
     >>> from imagespace.design.workspace import polygon_area
@@ -161,7 +216,24 @@ def _limits(limits):
     return L
 
 
-def _phi_range(phi_range, allow_equal=False):
+def check_phi_range(phi_range, allow_equal=False):
+    """``phi_range`` as ``(lo, hi)`` floats with ``lo < hi`` (or ``lo <= hi`` if ``allow_equal``).
+
+    Shared with :mod:`imagespace.design.indices` (internal; not in ``__all__``).
+
+    Raises
+    ------
+    TypeError
+        For non-numeric input.
+    InputError
+        For a shape other than ``(2,)``, a non-finite end, or ``min >= max``.
+
+    Examples
+    --------
+    >>> from imagespace.design.workspace import check_phi_range
+    >>> check_phi_range([-0.5, 0.5])
+    (-0.5, 0.5)
+    """
     r = as_float_array(phi_range, "phi_range")
     if r.shape != (2,):
         raise InputError(f"phi_range must be (min, max), got shape {r.shape}: {_short(phi_range)}")
@@ -172,14 +244,9 @@ def _phi_range(phi_range, allow_equal=False):
 
 
 def _check_box(box, required=False):
-    if box is None:
-        if required:
-            raise InputError("box ((x_min, x_max), (y_min, y_max)) is needed to sample a workspace")
-        return None
-    bx = as_float_array(box, "box")
-    if bx.shape != (2, 2) or np.any(bx[:, 1] <= bx[:, 0]):
-        raise InputError(f"box must be ((x_min, x_max), (y_min, y_max)) with min < max, got {bx.tolist()}")
-    return bx
+    if box is None and required:
+        raise InputError("box ((x_min, x_max), (y_min, y_max)) is needed to sample a workspace, got None")
+    return as_box(box, "box", dim=2, required=False)
 
 
 def _gb(nbytes):
@@ -202,6 +269,7 @@ def _check_grid(resolution, n_phi):
 
 def _affine(manipulator, phis):
     """``a (3, 2)`` and ``c (len(phis), 3)`` with ``q_i = a_i . p + c_i(phi)``, or None."""
+    tol = manipulator.tolerances
     rng = np.random.default_rng(0)
     probe = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]] + rng.normal(size=(3, 2)).tolist())
     cols = []
@@ -211,10 +279,11 @@ def _affine(manipulator, phis):
             return None
         a = np.stack([Q[1] - Q[0], Q[2] - Q[0]], axis=-1)            # (3, 2)
         pred = Q[0] + probe[3:] @ a.T
-        if not np.allclose(pred, Q[3:], rtol=1e-10, atol=1e-10 * (1 + np.abs(Q).max())):
+        if not np.allclose(pred, Q[3:], rtol=tol.workspace_affine,
+                           atol=tol.workspace_affine * (1 + np.abs(Q).max())):
             return None
         cols.append(a)
-    if not all(np.allclose(a, cols[0], atol=1e-12) for a in cols):
+    if not all(np.allclose(a, cols[0], atol=tol.workspace_affine_constant) for a in cols):
         return None
     a = cols[0]
     c = manipulator.inverse_kinematics(np.column_stack([np.zeros(len(phis)), np.zeros(len(phis)), phis]))
@@ -230,7 +299,7 @@ def _extreme(manipulator, i, lo, hi, phis, c, sign):
 
     def f(t):
         return -sign * manipulator.inverse_kinematics([0.0, 0.0, t])[i]
-    r = minimize_scalar(f, bounds=(a, b), method="bounded", options={"xatol": 1e-12})
+    r = minimize_scalar(f, bounds=(a, b), method="bounded", options={"xatol": EXTREME_XATOL})
     return max(sign * c[k, i], -r.fun)
 
 
@@ -259,6 +328,15 @@ def constant_orientation_workspace(manipulator, phi, limits, box=None, resolutio
     -------
     Workspace
 
+    Raises
+    ------
+    TypeError
+        For a ``manipulator`` that is not a PlanarParallel, or non-numeric arguments.
+    InputError
+        For ``limits`` not ``(3, 2)`` with ``min < max``, a malformed ``phi`` or ``box``, a
+        ``resolution`` whose grid exceeds :data:`MAX_MEMORY`, or a design that needs the
+        sampled route without a ``box``.
+
     Examples
     --------
     >>> import numpy as np, imagespace as isp
@@ -285,7 +363,7 @@ def _orientation_range_inputs(manipulator, phi_range, limits, box, resolution, n
     orientations and the design's affine form (None where it has none)."""
     check_mechanism(manipulator)
     L = _limits(limits)
-    lo, hi = _phi_range(phi_range)
+    lo, hi = check_phi_range(phi_range)
     _check_box(box)
     _, n_phi = _check_grid(resolution, n_phi)
     if n_phi < 2:
@@ -296,6 +374,18 @@ def _orientation_range_inputs(manipulator, phi_range, limits, box, resolution, n
 
 def dexterous_workspace(manipulator, phi_range, limits, box=None, resolution=400, n_phi=181):
     """Positions reachable with every ``phi`` in ``phi_range``.
+
+    Exact where the legs' inverse kinematics is affine (decided with the manipulator's
+    ``tolerances.workspace_*`` fields), otherwise sampled on a grid over ``box``.
+
+    Raises
+    ------
+    TypeError
+        For a ``manipulator`` that is not a PlanarParallel, or non-numeric arguments.
+    InputError
+        For ``limits`` not ``(3, 2)`` with ``min < max``, a malformed ``phi_range`` or ``box``, a
+        ``resolution`` whose grid exceeds :data:`MAX_MEMORY`, ``n_phi`` outside ``2..MAX_ORIENTATIONS``, or a design that needs the
+        sampled route without a ``box``.
 
     Examples
     --------
@@ -317,6 +407,18 @@ def dexterous_workspace(manipulator, phi_range, limits, box=None, resolution=400
 def reachable_workspace(manipulator, phi_range, limits, box=None, resolution=400, n_phi=181):
     """Positions reachable with some ``phi`` in ``phi_range``.
 
+    Exact where the legs' inverse kinematics is affine (decided with the manipulator's
+    ``tolerances.workspace_*`` fields), otherwise sampled on a grid over ``box``.
+
+    Raises
+    ------
+    TypeError
+        For a ``manipulator`` that is not a PlanarParallel, or non-numeric arguments.
+    InputError
+        For ``limits`` not ``(3, 2)`` with ``min < max``, a malformed ``phi_range`` or ``box``, a
+        ``resolution`` whose grid exceeds :data:`MAX_MEMORY`, ``n_phi`` outside ``2..MAX_ORIENTATIONS``, or a design that needs the
+        sampled route without a ``box``.
+
     Examples
     --------
     >>> import numpy as np, imagespace as isp
@@ -329,7 +431,8 @@ def reachable_workspace(manipulator, phi_range, limits, box=None, resolution=400
     if aff is not None:
         a, c = aff
         offs = c - c[:, :1]
-        if np.allclose(offs, offs[0], atol=1e-10 * (1 + np.abs(c).max())):
+        tol = manipulator.tolerances
+        if np.allclose(offs, offs[0], atol=tol.workspace_common_offset * (1 + np.abs(c).max())):
             from scipy.spatial import ConvexHull
 
             k = offs[0]                                   # c_i = c_0 + k_i
@@ -344,10 +447,10 @@ def reachable_workspace(manipulator, phi_range, limits, box=None, resolution=400
                 for j in range(i + 1, len(G)):
                     for l in range(j + 1, len(G)):
                         M = G[[i, j, l]]
-                        if abs(np.linalg.det(M)) < 1e-12:
+                        if abs(np.linalg.det(M)) < tol.workspace_vertex_det:
                             continue
                         v = np.linalg.solve(M, h[[i, j, l]])
-                        if np.all(G @ v <= h + 1e-9 * (1 + np.abs(h))):
+                        if np.all(G @ v <= h + tol.workspace_vertex_feasible * (1 + np.abs(h))):
                             verts.append(v[:2])
             if len(verts) < 3:
                 return Workspace("reachable", 0.0, np.zeros((0, 2)), "exact: polytope projection")
@@ -378,6 +481,15 @@ def sampled_workspace(manipulator, limits, phi_range, box, resolution=400, n_phi
     Workspace
         ``area`` = cells inside x cell area; ``boundary`` from ``find_contours``.
 
+    Raises
+    ------
+    TypeError
+        For a ``manipulator`` that is not a PlanarParallel, or non-numeric arguments.
+    InputError
+        For ``limits`` not ``(3, 2)`` with ``min < max``, a missing or malformed ``box``, a
+        malformed ``phi_range``, an unknown ``kind``, a ``resolution`` whose grid exceeds
+        :data:`MAX_MEMORY`, or ``n_phi`` outside ``1..MAX_ORIENTATIONS`` (at least 2 for a range).
+
     Examples
     --------
     >>> import numpy as np, imagespace as isp
@@ -396,7 +508,7 @@ def sampled_workspace(manipulator, limits, phi_range, box, resolution=400, n_phi
     if not isinstance(kind, str) or kind not in ("reachable", "dexterous", "constant-orientation"):
         raise InputError(f"kind must be reachable, dexterous or constant-orientation, got {kind!r}")
     resolution, n_phi = _check_grid(resolution, n_phi)
-    lo, hi = _phi_range(phi_range, allow_equal=True)
+    lo, hi = check_phi_range(phi_range, allow_equal=True)
     if hi > lo and n_phi < 2:
         raise InputError(f"n_phi must be at least 2 for a range of orientations, got {n_phi}")
     xs = np.linspace(*bx[0], resolution)

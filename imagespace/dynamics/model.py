@@ -12,6 +12,7 @@ Coriolis/centrifugal and gravity terms, i.e. ``A^T mu = M etaddot - R``, ``A^T =
 
 from __future__ import annotations
 
+import copy
 import numbers
 from dataclasses import dataclass
 
@@ -21,7 +22,7 @@ import sympy as sp
 from .._validate import _short, as_count
 from ..core.codegen import compile_exprs
 from ..exceptions import InputError
-from . import _checks
+from . import checks
 
 __all__ = ["Body", "OpenTreeModel"]
 
@@ -39,6 +40,22 @@ class Body:
     angle : sympy expression
         The body's orientation (only its derivative enters the kinetic energy).
     name : str
+
+    Raises
+    ------
+    TypeError
+        For a string (never parsed) or a non-numeric, non-sympy mass, inertia, angle or centre,
+        a centre that is not two entries, or a non-string name.
+    InputError
+        For a non-finite or non-positive mass, or a non-finite or negative inertia.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace.dynamics.model import Body
+    >>> t = sp.Symbol("t")
+    >>> Body(1.0, 0.1, (sp.cos(t), sp.sin(t)), t, "link").name
+    'link'
     """
 
     mass: object
@@ -48,17 +65,17 @@ class Body:
     name: str = ""
 
     def __post_init__(self):
-        _checks.not_text(self.mass, "mass")
-        _checks.not_text(self.inertia, "inertia")
+        checks.not_text(self.mass, "mass")
+        checks.not_text(self.inertia, "inertia")
         for name, v, strict in (("mass", self.mass, True), ("inertia", self.inertia, False)):
             if isinstance(v, (numbers.Real, sp.Number)) and not np.isfinite(float(v)):
                 raise InputError(f"{name} must be finite, got {v!r}")
             if isinstance(v, (numbers.Real, sp.Number)) and not (v > 0 if strict else v >= 0):
                 raise InputError(f"{name} must be {'positive' if strict else 'non-negative'}, got {v!r}")
-        _checks.not_text(self.angle, "angle")
+        checks.not_text(self.angle, "angle")
         if isinstance(self.centre, (str, bytes)) or not hasattr(self.centre, "__iter__") or len(list(self.centre)) != 2:
             raise TypeError(f"centre must be (x, y), two numbers or sympy expressions, got {_short(self.centre)}")
-        _checks.not_text(list(self.centre), "centre")
+        checks.not_text(list(self.centre), "centre")
         if not isinstance(self.name, str):
             raise TypeError(f"name must be a str, got {type(self.name).__name__} {_short(self.name)}")
 
@@ -79,6 +96,20 @@ class OpenTreeModel:
     bodies : sequence of Body
     gravity : (2,) float
         Acceleration of gravity (e.g. ``(0, -9.81)``).
+    tolerances : Tolerances, optional
+        The thresholds of the numeric decisions made with this model (the ``dynamics_*`` and
+        ``timelaw_*`` fields: Newton acceptance, rank and consistency tests); ``None``: the
+        defaults. Kept as ``model.tolerances``; :meth:`with_tolerances` gives a copy with others.
+
+    Raises
+    ------
+    TypeError
+        For a non-sequence ``eta``/``constraints``/``task``/``actuated``/``bodies``, a non-symbol in
+        ``eta``, a string anywhere in the symbolic input, a body that is not a :class:`Body`, or a
+        ``tolerances`` that is not a :class:`~imagespace.tolerances.Tolerances`.
+    InputError
+        For repeated symbols, a count of constraints other than ``m - n``, actuated indices that
+        are not ``n`` distinct coordinates, or a malformed ``gravity``.
 
     Examples
     --------
@@ -88,7 +119,8 @@ class OpenTreeModel:
     (5, 3)
     """
 
-    def __init__(self, eta, constraints, task, actuated, bodies, gravity=(0.0, -9.81)):
+    def __init__(self, eta, constraints, task, actuated, bodies, gravity=(0.0, -9.81), tolerances=None):
+        self.tolerances = checks.tolerances(tolerances)
         for name, seq in (("eta", eta), ("constraints", constraints), ("task", task), ("actuated", actuated),
                           ("bodies", bodies)):
             if isinstance(seq, (str, bytes)) or not hasattr(seq, "__iter__"):
@@ -101,8 +133,8 @@ class OpenTreeModel:
             raise InputError(f"eta must be distinct symbols, got {_short(self.eta)}")
         self.m = len(self.eta)
         constraints, task = list(constraints), list(task)
-        _checks.not_text(constraints, "constraints")
-        _checks.not_text(task, "task")
+        checks.not_text(constraints, "constraints")
+        checks.not_text(task, "task")
         self.phi = sp.Matrix(constraints)
         self.f = sp.Matrix(task)
         self.n = len(self.f)
@@ -118,9 +150,28 @@ class OpenTreeModel:
             self.Z[k, a] = 1.0
         self.bodies = tuple(bodies)
         for i, b in enumerate(self.bodies):
-            _checks.instance(b, Body, f"bodies[{i}]")
-        self.gravity = _checks.vector(gravity, "gravity", 2)
+            checks.instance(b, Body, f"bodies[{i}]")
+        self.gravity = checks.vector(gravity, "gravity", 2)
         self._derive()
+
+    def with_tolerances(self, tolerances):
+        """The same model (sharing its compiled functions) with other decision thresholds.
+
+        Raises
+        ------
+        TypeError
+            If ``tolerances`` is neither None nor a :class:`~imagespace.tolerances.Tolerances`.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.dynamics.seed000 import seed000_model
+        >>> seed000_model().with_tolerances(isp.Tolerances(dynamics_residual=1e-6)).tolerances.dynamics_residual
+        1e-06
+        """
+        out = copy.copy(self)
+        out.tolerances = checks.tolerances(tolerances)
+        return out
 
     # -- symbolic derivation ------------------------------------------------------------------
     def _derive(self):
@@ -174,12 +225,19 @@ class OpenTreeModel:
 
     # -- numeric faces ---------------------------------------------------------------------------
     def _mat(self, fn, *args, shape):
-        flat = np.concatenate([_checks.vector(a, name, self.m)
+        flat = np.concatenate([checks.vector(a, name, self.m)
                                for a, name in zip(args, ("eta", "etad", "etadd"))])
         return np.asarray(fn(*flat)).reshape(shape)
 
     def Gamma(self, eta):
         """``Gamma = [Gamma_K; Gamma_G]`` at ``eta`` (``(m, m)``).
+
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
 
         Examples
         --------
@@ -193,6 +251,13 @@ class OpenTreeModel:
     def Gamma_dot(self, eta, etad):
         """Time derivative of ``Gamma`` for the rates ``etad``.
 
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
+
         Examples
         --------
         >>> from imagespace.dynamics import seed000_model
@@ -204,6 +269,13 @@ class OpenTreeModel:
 
     def Gamma_ddot(self, eta, etad, etadd):
         """Second time derivative of ``Gamma`` (rates ``etad``, accelerations ``etadd``).
+
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
 
         Examples
         --------
@@ -217,6 +289,13 @@ class OpenTreeModel:
     def M(self, eta):
         """Mass matrix of the open tree (``(m, m)``).
 
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
+
         Examples
         --------
         >>> from imagespace.dynamics import seed000_model
@@ -228,6 +307,13 @@ class OpenTreeModel:
 
     def M_dot(self, eta, etad):
         """Time derivative of the mass matrix.
+
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
 
         Examples
         --------
@@ -241,6 +327,13 @@ class OpenTreeModel:
     def R(self, eta, etad):
         """``R = -(Coriolis/centrifugal) - grad V`` (``(m,)``).
 
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
+
         Examples
         --------
         >>> from imagespace.dynamics import seed000_model
@@ -252,6 +345,13 @@ class OpenTreeModel:
 
     def R_dot(self, eta, etad, etadd):
         """Time derivative of ``R`` (rates and accelerations).
+
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
 
         Examples
         --------
@@ -265,6 +365,13 @@ class OpenTreeModel:
     def potential(self, eta):
         """Potential energy ``V(eta)`` (gravity).
 
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
+
         Examples
         --------
         >>> from imagespace.dynamics import seed000_model
@@ -275,6 +382,13 @@ class OpenTreeModel:
 
     def A_T(self, eta):
         """``A^T = [Gamma_K^T  Z^T]`` (``(m, m)``): rows are coordinates, columns the unknowns ``mu``.
+
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
 
         Examples
         --------
@@ -289,6 +403,13 @@ class OpenTreeModel:
     def A_T_dot(self, eta, etad):
         """Time derivative of ``A^T``.
 
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
+
         Examples
         --------
         >>> from imagespace.dynamics import seed000_model
@@ -302,6 +423,13 @@ class OpenTreeModel:
     def loop(self, eta):
         """The loop constraints ``phi(eta)``.
 
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
+
         Examples
         --------
         >>> from imagespace.dynamics import seed000_model
@@ -313,6 +441,13 @@ class OpenTreeModel:
 
     def task(self, eta):
         """The task coordinates ``f(eta)``.
+
+        Raises
+        ------
+        TypeError
+            For non-numeric coordinates.
+        InputError
+            For coordinates of a length other than ``m`` or non-finite ones.
 
         Examples
         --------

@@ -20,6 +20,7 @@ import sympy as sp
 
 from .._validate import as_exact
 from ..exceptions import InputError
+from . import checks
 from .model import Body, OpenTreeModel
 
 __all__ = ["SEED000", "seed000_model", "seed000_path"]
@@ -38,8 +39,6 @@ centre offsets of the five bodies; the path of P (direction, length), the crossi
 
 def _params(params):
     """Check overrides of :data:`SEED000`: known names, real numbers (pairs for ``A`` and ``C``)."""
-    from . import _checks
-
     if params is None:
         return {}
     if not isinstance(params, dict):
@@ -49,17 +48,33 @@ def _params(params):
         if k not in SEED000:
             raise InputError(f"params names {k!r}, not one of SEED000's {sorted(SEED000)}")
         if k in ("A", "C"):
-            out[k] = tuple(float(x) for x in _checks.vector(v, f"params[{k!r}]", 2))
+            out[k] = tuple(float(x) for x in checks.vector(v, f"params[{k!r}]", 2))
         elif isinstance(v, sp.Basic) and not v.free_symbols:
             out[k] = as_exact(v, f"params[{k!r}]")            # an exact number stays exact
         else:
-            out[k] = _checks.scalar(v, f"params[{k!r}]")
+            out[k] = checks.scalar(v, f"params[{k!r}]")
     return out
 
 
-def seed000_model(params=None):
+def seed000_model(params=None, tolerances=None):
     """The seed's mechanism as an :class:`OpenTreeModel` (symbolic derivation, compiled; the default
     model is built once per process and shared).
+
+    Parameters
+    ----------
+    params : dict, optional
+        Overrides of :data:`SEED000`.
+    tolerances : Tolerances, optional
+        The model's decision thresholds (``None``: the defaults); the shared compiled model is
+        reused with them.
+
+    Raises
+    ------
+    TypeError
+        For ``params`` that is not a dict or holds a non-numeric value, or ``tolerances`` that is
+        not a :class:`~imagespace.tolerances.Tolerances`.
+    InputError
+        For a name that is not one of :data:`SEED000`'s, or a malformed value.
 
     Examples
     --------
@@ -69,11 +84,13 @@ def seed000_model(params=None):
     (0, 1, 3)
     """
     params = _params(params)
+    tolerances = checks.tolerances(tolerances)
     if not params:
         if "model" not in _CACHE:
             _CACHE["model"] = _build(dict(SEED000))
-        return _CACHE["model"]
-    return _build(dict(SEED000, **params))
+        model = _CACHE["model"]
+        return model if tolerances is model.tolerances else model.with_tolerances(tolerances)
+    return _build(dict(SEED000, **params)).with_tolerances(tolerances)
 
 
 _CACHE = {}
@@ -106,6 +123,13 @@ def seed000_path(params=None):
     -------
     x0 : (3,) float
     e : (3,) float
+
+    Raises
+    ------
+    TypeError
+        For ``params`` that is not a dict or holds a non-numeric value.
+    InputError
+        For a name that is not one of :data:`SEED000`'s, or a malformed value.
 
     Examples
     --------

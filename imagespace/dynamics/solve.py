@@ -11,16 +11,33 @@ import numpy as np
 
 from .._validate import as_flag, as_float_array
 from ..exceptions import InputError
-from . import _checks
+from ..tolerances import TOLERANCES
+from . import checks
+from .model import OpenTreeModel
 from .timelaw import TimeLaw, sextic_through
 
 __all__ = ["LinePath", "TrajectoryState", "state", "drive_singularity", "DriveSingularity",
            "consistent_acceleration", "plan_consistent_law", "InverseDynamicsResult", "inverse_dynamics",
            "power_balance", "simulate"]
 
-CONSISTENCY_RTOL = 1e-6
-"""A crossing of the drive singularity satisfies the consistency condition when
-``|nu . (M etaddot - R)| <= CONSISTENCY_RTOL * |M etaddot - R|`` there (dimensionless)."""
+CONSISTENCY_RTOL = TOLERANCES.dynamics_consistency
+"""The default of :attr:`Tolerances.dynamics_consistency <imagespace.tolerances.Tolerances>` (1e-6):
+a crossing of the drive singularity satisfies the consistency condition when
+``|nu . (M etaddot - R)| <= dynamics_consistency * |M etaddot - R|`` there (dimensionless). The
+decision reads ``model.tolerances.dynamics_consistency``."""
+
+NEWTON_STOP = 1e-13
+"""Newton on the loop and task equations stops once the largest residual is below this (a
+stopping rule; whether the result is accepted is ``Tolerances.dynamics_residual``)."""
+
+NEWTON_STEPS = 50
+"""The most Newton steps taken on the loop and task equations."""
+
+BISECTION_WIDTH = 1e-13
+"""The drive singularity's bisection stops once its bracket in ``s`` is narrower than this."""
+
+TIME_STEP = 1e-6
+"""The central-difference step in time for ``alphadot`` and ``mudot`` inside the band."""
 
 CROSSING_SAMPLES = 2049
 """Samples of ``s(t) - s_sing`` over the trajectory's time domain that bracket its crossings of the
@@ -29,16 +46,30 @@ drive singularity before bisection (independent of the caller's time grid)."""
 
 @dataclass(frozen=True)
 class LinePath:
-    """A straight task path ``x(s) = x0 + s e`` (``n``-vectors)."""
+    """A straight task path ``x(s) = x0 + s e`` (``n``-vectors).
+
+    Raises
+    ------
+    TypeError
+        For non-numeric ``x0`` or ``e``.
+    InputError
+        For an empty ``x0``, an ``e`` of another length, a non-finite entry, or ``e = 0``.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics.solve import LinePath
+    >>> LinePath([0.0, 1.0], [1.0, 0.0]).e.tolist()
+    [1.0, 0.0]
+    """
 
     x0: np.ndarray
     e: np.ndarray
 
     def __post_init__(self):
-        x0 = _checks.vector(self.x0, "x0")
+        x0 = checks.vector(self.x0, "x0")
         if len(x0) == 0:
             raise InputError("x0 must have at least one task coordinate, got shape (0,)")
-        e = _checks.vector(self.e, "e", len(x0))
+        e = checks.vector(self.e, "e", len(x0))
         if not np.any(e):
             raise InputError("e must be a non-zero direction, got the zero vector")
         object.__setattr__(self, "x0", x0)
@@ -56,11 +87,11 @@ class TrajectoryState:
     d3: np.ndarray
 
 
-def _newton(model, x, guess, tol=1e-13, steps=50):
+def _newton(model, x, guess):
     eta = np.array(guess, float)
-    for _ in range(steps):
+    for _ in range(NEWTON_STEPS):
         F = np.concatenate([model.loop(eta), model.task(eta) - x])
-        if np.max(np.abs(F)) < tol:
+        if np.max(np.abs(F)) < NEWTON_STOP:
             return eta
         try:
             eta = eta - np.linalg.solve(model.Gamma(eta), F)
@@ -69,27 +100,37 @@ def _newton(model, x, guess, tol=1e-13, steps=50):
                              f"eta = {np.round(eta, 6).tolist()}; give a guess near the intended "
                              "assembly") from None
     F = np.concatenate([model.loop(eta), model.task(eta) - x])
-    if np.max(np.abs(F)) > 1e-9:
+    if np.max(np.abs(F)) > model.tolerances.dynamics_residual:
         raise InputError(f"the kinematics did not converge at x = {np.round(x, 6).tolist()} "
                          f"(residual {np.max(np.abs(F)):.1e}); out of reach or at an inverse-kinematic singularity")
     return eta
 
 
 def _model_path(model, path):
-    from .model import OpenTreeModel
-
-    _checks.instance(model, OpenTreeModel, "model", " (e.g. seed000_model())")
-    _checks.instance(path, LinePath, "path", " (LinePath(x0, e))")
+    checks.instance(model, OpenTreeModel, "model", " (e.g. seed000_model())")
+    checks.instance(path, LinePath, "path", " (LinePath(x0, e))")
     if len(path.x0) != model.n:
         raise InputError(f"path must have {model.n} task coordinates like the model, got {len(path.x0)}")
 
 
 def _guess(model, guess):
-    return _checks.vector(guess, "guess", model.m)
+    return checks.vector(guess, "guess", model.m)
 
 
 def state(model, path, s, sd=0.0, sdd=0.0, sddd=0.0, guess=None, t=0.0):
     """``eta, etadot, etaddot, etadddot`` for the path parameter and its time derivatives.
+
+    Newton on the loop and task equations from ``guess`` (zeros if None); the result is accepted
+    when the residual is at most ``model.tolerances.dynamics_residual``.
+
+    Raises
+    ------
+    TypeError
+        For a ``model`` that is not an OpenTreeModel or a ``path`` that is not a LinePath, or
+        non-numeric values.
+    InputError
+        For a path of another dimension, a malformed ``guess``, a singular ``Gamma`` on the way,
+        or no convergence (out of reach, or at an inverse-kinematic singularity).
 
     Examples
     --------
@@ -101,7 +142,7 @@ def state(model, path, s, sd=0.0, sdd=0.0, sddd=0.0, guess=None, t=0.0):
     True
     """
     _model_path(model, path)
-    s, sd, sdd, sddd, t = (_checks.scalar(v, name) for v, name in
+    s, sd, sdd, sddd, t = (checks.scalar(v, name) for v, name in
                            zip((s, sd, sdd, sddd, t), ("s", "sd", "sdd", "sddd", "t")))
     guess = np.zeros(model.m) if guess is None else _guess(model, guess)
     x = path.x0 + s * path.e
@@ -134,7 +175,7 @@ class DriveSingularity:
     Attributes
     ----------
     s : float
-        Path parameter (bisection to 1e-13).
+        Path parameter (bisection to ``BISECTION_WIDTH`` = 1e-13).
     eta : (m,) float
     nu : (m,) float
         Left null vector of ``A^T`` (``nu^T A^T = 0``): row ``s_row`` of ``A^T`` equals
@@ -154,11 +195,18 @@ class DriveSingularity:
 def drive_singularity(model, path, s_range, guess, samples=400):
     """Locate the drive singularity ``det A = 0`` on the path (sign change, then bisection).
 
+    A rank drop of more than one is judged with ``model.tolerances.dynamics_rank``; coefficients
+    ``alpha_p`` below ``model.tolerances.dynamics_alpha_zero`` are zero.
+
     Raises
     ------
+    TypeError
+        For a ``model`` that is not an OpenTreeModel or a ``path`` that is not a LinePath, or
+        non-numeric values.
     InputError
         If ``det A`` does not change sign on ``s_range`` (the path never crosses a drive
-        singularity), or the rank of ``A`` drops by more than one there.
+        singularity), or the rank of ``A`` drops by more than one there; for equal ends of
+        ``s_range``, a malformed ``guess`` or ``samples``, or kinematics that fail on the way.
 
     Examples
     --------
@@ -170,11 +218,11 @@ def drive_singularity(model, path, s_range, guess, samples=400):
     (0.662, 4)
     """
     _model_path(model, path)
-    sr = _checks.vector(s_range, "s_range", 2)
+    sr = checks.vector(s_range, "s_range", 2)
     if sr[0] == sr[1]:
         raise InputError(f"s_range must be two different path parameters, got {sr.tolist()}")
     eta = _guess(model, guess)
-    samples = _checks.count(samples, "samples", 2)
+    samples = checks.count(samples, "samples", 2)
     ss = np.linspace(sr[0], sr[1], samples)
     prev = None
     for s in ss:
@@ -191,20 +239,20 @@ def drive_singularity(model, path, s_range, guess, samples=400):
                     a, ea, da = mid, em, dm
                 else:
                     b = mid
-                if b - a < 1e-13:
+                if b - a < BISECTION_WIDTH:
                     break
             s_star = 0.5 * (a + b)
             e_star = state(model, path, s_star, guess=ea).eta
             AT = model.A_T(e_star)
             sv = np.linalg.svd(AT, compute_uv=False)
-            if sv[-2] < 1e-8 * sv[0]:
+            if sv[-2] < model.tolerances.dynamics_rank * sv[0]:
                 raise InputError(f"rank(A) < m - 1 at the singularity (singular values {sv}); "
                                  "the modified equation needs a rank drop of exactly one")
             nu, _ = _left_null(AT)
             k = int(np.argmax(np.abs(nu)))
             alpha = -nu / nu[k]
             alpha[k] = 0.0
-            alpha[np.abs(alpha) < 1e-12] = 0.0
+            alpha[np.abs(alpha) < model.tolerances.dynamics_alpha_zero] = 0.0
             return DriveSingularity(float(s_star), e_star, nu, k, alpha)
         prev = (s, d, eta.copy())
     raise InputError(f"the path never reaches a drive singularity on s in {list(s_range)}: det A keeps its sign")
@@ -214,6 +262,16 @@ def consistent_acceleration(model, path, sing, v):
     """The path acceleration ``a = s''(T_d)`` that satisfies the consistency condition at the
     singularity with path speed ``v`` (seed 000 eq. 8/20): ``nu . (M etaddot - R) = 0`` with
     ``etaddot = eta' a + (eta'' v^2)``; linear in ``a``.
+
+    Raises
+    ------
+    TypeError
+        For a ``model`` that is not an OpenTreeModel or a ``path`` that is not a LinePath, a
+        ``sing`` that is not a DriveSingularity, or a non-numeric ``v``.
+    InputError
+        When the condition does not involve ``a`` (its slope below
+        ``model.tolerances.dynamics_consistency_slope`` times ``max(1, |base|)``), or the
+        kinematics fail.
 
     Examples
     --------
@@ -225,15 +283,15 @@ def consistent_acceleration(model, path, sing, v):
     True
     """
     _model_path(model, path)
-    _checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
-    v = _checks.scalar(v, "v")
+    checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
+    v = checks.scalar(v, "v")
     st0 = state(model, path, sing.s, v, 0.0, guess=sing.eta)
     st1 = state(model, path, sing.s, v, 1.0, guess=sing.eta)
     M = model.M(st0.eta)
     R = model.R(st0.eta, st0.d1)
     base = sing.nu @ (M @ st0.d2 - R)
     slope = sing.nu @ (M @ (st1.d2 - st0.d2))
-    if abs(slope) < 1e-14 * max(1.0, abs(base)):
+    if abs(slope) < model.tolerances.dynamics_consistency_slope * max(1.0, abs(base)):
         raise InputError("the consistency condition does not involve the path acceleration here")
     return -base / slope
 
@@ -249,6 +307,15 @@ def plan_consistent_law(model, path, sing, T, L, Td=None, v=None):
     (TimeLaw, dict)
         The law and ``{"Td", "v", "a", "monotone"}``.
 
+    Raises
+    ------
+    TypeError
+        For a ``model`` that is not an OpenTreeModel or a ``path`` that is not a LinePath, a
+        ``sing`` that is not a DriveSingularity, or non-numeric values.
+    InputError
+        For a non-positive ``T``, a ``Td`` outside ``(0, T)``, or a failure of
+        :func:`consistent_acceleration`.
+
     Examples
     --------
     >>> from imagespace.dynamics import *
@@ -260,11 +327,11 @@ def plan_consistent_law(model, path, sing, T, L, Td=None, v=None):
     True
     """
     _model_path(model, path)
-    _checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
-    T = _checks.scalar(T, "T", positive=True)
-    L = _checks.scalar(L, "L")
-    Td = None if Td is None else _checks.scalar(Td, "Td")
-    v = None if v is None else _checks.scalar(v, "v")
+    checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
+    T = checks.scalar(T, "T", positive=True)
+    L = checks.scalar(L, "L")
+    Td = None if Td is None else checks.scalar(Td, "Td")
+    v = None if v is None else checks.scalar(v, "v")
     Tds = [Td] if Td is not None else list(np.linspace(0.35, 0.75, 41) * T)
     vs = [v] if v is not None else list(np.linspace(0.5, 3.0, 51) * L / T)
     best = None
@@ -272,7 +339,8 @@ def plan_consistent_law(model, path, sing, T, L, Td=None, v=None):
         for vv in vs:
             a = consistent_acceleration(model, path, sing, vv)
             law = sextic_through(T, L, td, sing.s, vv, a)
-            info = {"Td": float(td), "v": float(vv), "a": float(a), "monotone": law.is_monotone()}
+            info = {"Td": float(td), "v": float(vv), "a": float(a),
+                    "monotone": law.is_monotone(tolerances=model.tolerances)}
             if info["monotone"]:
                 return law, info
             best = best or (law, info)
@@ -359,6 +427,16 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
     -------
     InverseDynamicsResult
 
+    Raises
+    ------
+    TypeError
+        For a ``model`` that is not an OpenTreeModel or a ``path`` that is not a LinePath, a
+        ``law`` that is not a TimeLaw, a ``sing`` that is not a DriveSingularity, a
+        non-boolean ``mu_dot_correction`` or non-numeric values.
+    InputError
+        For a non-positive ``eps``, empty ``times`` or times outside ``[0, law.T]``, a malformed
+        ``guess``, or kinematics that fail along the way.
+
     Examples
     --------
     >>> from imagespace.dynamics import *
@@ -374,10 +452,10 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
     (['eq11', 'eq11'], True, True)
     """
     _model_path(model, path)
-    _checks.instance(law, TimeLaw, "law", " (cubic_rest_to_rest, sextic_through ...)")
+    checks.instance(law, TimeLaw, "law", " (cubic_rest_to_rest, sextic_through ...)")
     if sing is not None:
-        _checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
-    eps = _checks.scalar(eps, "eps")
+        checks.instance(sing, DriveSingularity, "sing", " (from drive_singularity)")
+    eps = checks.scalar(eps, "eps")
     if not eps > 0:
         raise InputError(f"eps must be positive, got {eps!r}")
     mu_dot_correction = as_flag(mu_dot_correction, "mu_dot_correction")
@@ -401,11 +479,11 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
         if sing is not None and abs(g) < eps:
             D, S = _modified(model, path, law, t, st, sing)
             mu = np.linalg.solve(D, S)
-            if mu_dot_correction and abs(g) > 1e-7:
+            if mu_dot_correction and abs(g) > model.tolerances.dynamics_mu_dot:
                 # restore the dropped term (A_s - alpha_p A_p) mudot; mudot from eq. 5 at t +- h,
-                # still well conditioned there (cond ~ 1/|g|); closer than |g| = 1e-7 the term is
-                # below the rounding of eq. 5 itself and is left out
-                h = 1e-6
+                # still well conditioned there (cond ~ 1/|g|); closer than |g| = dynamics_mu_dot
+                # (1e-7) the term is below the rounding of eq. 5 itself and is left out
+                h = TIME_STEP
                 mus_ = []
                 for tt in (t - h, t + h):
                     st2 = _at(model, path, law, tt, st.eta)
@@ -438,7 +516,7 @@ def inverse_dynamics(model, path, law, times, guess, sing=None, eps=1e-3, mu_dot
             b = model.M(stc.eta) @ stc.d2 - model.R(stc.eta, stc.d1)
             residuals.append(abs(sing.nu @ b) / max(np.finfo(float).tiny, np.linalg.norm(b)))
         residuals = np.array(residuals)
-        bad = residuals > CONSISTENCY_RTOL
+        bad = residuals > model.tolerances.dynamics_consistency
         consistent = not bad.any()
         crossed_residual = float(residuals.max()) if len(residuals) else 0.0
         inside = np.flatnonzero(np.abs(np.array(gs)) < eps)
@@ -488,7 +566,7 @@ def _alpha(model, eta, sing):
     return alpha
 
 
-def _modified(model, path, law, t, st, sing, h=1e-6):
+def _modified(model, path, law, t, st, sing, h=TIME_STEP):
     s = sing.s_row
     alpha = _alpha(model, st.eta, sing)
     sp_ = state(model, path, law(t + h), guess=st.eta).eta
@@ -523,6 +601,15 @@ def power_balance(model, path, law, result, h=2e-4):
     (k,) float
         Residuals relative to the largest actuator power along the trajectory.
 
+    Raises
+    ------
+    TypeError
+        For a ``model`` that is not an OpenTreeModel or a ``path`` that is not a LinePath, a
+        ``law`` that is not a TimeLaw, a ``result`` that is not an InverseDynamicsResult, or a
+        non-numeric ``h``.
+    InputError
+        For a non-positive ``h`` or kinematics that fail at ``t +- 2h``.
+
     Examples
     --------
     >>> from imagespace.dynamics import *
@@ -535,9 +622,9 @@ def power_balance(model, path, law, result, h=2e-4):
     True
     """
     _model_path(model, path)
-    _checks.instance(law, TimeLaw, "law")
-    _checks.instance(result, InverseDynamicsResult, "result", " (from inverse_dynamics)")
-    h = _checks.scalar(h, "h", positive=True)
+    checks.instance(law, TimeLaw, "law")
+    checks.instance(result, InverseDynamicsResult, "result", " (from inverse_dynamics)")
+    h = checks.scalar(h, "h", positive=True)
     k = model.m - model.n
     res, pw = [], []
     for t, mu, st in zip(result.t, result.mu, result.states):
@@ -559,6 +646,16 @@ def simulate(model, path, law, result, guess, baumgarte=(20.0, 100.0), rtol=1e-1
     (k,) float
         ``|P_simulated - P_planned|`` at ``result.t``.
 
+    Raises
+    ------
+    TypeError
+        For a ``model`` that is not an OpenTreeModel or a ``path`` that is not a LinePath, a
+        ``law`` that is not a TimeLaw, a ``result`` that is not an InverseDynamicsResult, or
+        non-numeric values.
+    InputError
+        For a malformed ``guess`` or ``baumgarte``, non-positive ``rtol``/``atol``, or a result
+        with fewer than two instants.
+
     Examples
     --------
     >>> from imagespace.dynamics import *
@@ -574,11 +671,11 @@ def simulate(model, path, law, result, guess, baumgarte=(20.0, 100.0), rtol=1e-1
     from scipy.interpolate import CubicSpline
 
     _model_path(model, path)
-    _checks.instance(law, TimeLaw, "law")
-    _checks.instance(result, InverseDynamicsResult, "result", " (from inverse_dynamics)")
+    checks.instance(law, TimeLaw, "law")
+    checks.instance(result, InverseDynamicsResult, "result", " (from inverse_dynamics)")
     _guess(model, guess)
-    a1, a0 = _checks.vector(baumgarte, "baumgarte", 2)
-    rtol, atol = _checks.scalar(rtol, "rtol", positive=True), _checks.scalar(atol, "atol", positive=True)
+    a1, a0 = checks.vector(baumgarte, "baumgarte", 2)
+    rtol, atol = checks.scalar(rtol, "rtol", positive=True), checks.scalar(atol, "atol", positive=True)
     if len(result.t) < 2:
         raise InputError(f"result must hold at least two instants to simulate, got {len(result.t)}")
     k = model.m - model.n

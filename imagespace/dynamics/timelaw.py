@@ -7,10 +7,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import InputError
-from .._validate import as_float_array
-from . import _checks
+from .._validate import as_count, as_float_array
+from . import checks
 
 __all__ = ["TimeLaw", "cubic_rest_to_rest", "sextic_through"]
+
+SIGN_PROBE = 1e-7
+"""Relative to ``T``: how far either side of an interior root of ``s'`` its sign is compared (a
+probe step, not a threshold)."""
 
 
 @dataclass(frozen=True)
@@ -22,20 +26,40 @@ class TimeLaw:
     coefficients : (k + 1,) float
         ``c_0 .. c_k``.
     T : float
+
+    Raises
+    ------
+    TypeError
+        For non-numeric coefficients or ``T``.
+    InputError
+        For no coefficients, a non-finite one, or a non-positive ``T``.
+
+    Examples
+    --------
+    >>> from imagespace.dynamics.timelaw import TimeLaw
+    >>> float(TimeLaw([0.0, 1.0], 2.0)(2.0))
+    2.0
     """
 
     coefficients: np.ndarray
     T: float
 
     def __post_init__(self):
-        c = _checks.vector(self.coefficients, "coefficients")
+        c = checks.vector(self.coefficients, "coefficients")
         if len(c) == 0:
             raise InputError("coefficients must hold at least one coefficient, got none")
         object.__setattr__(self, "coefficients", c)
-        object.__setattr__(self, "T", _checks.scalar(self.T, "T", positive=True))
+        object.__setattr__(self, "T", checks.scalar(self.T, "T", positive=True))
 
     def __call__(self, t, order=0):
         """``s``, or its ``order``-th time derivative, at ``t``.
+
+        Raises
+        ------
+        TypeError
+            For a non-integer ``order`` or non-numeric ``t``.
+        InputError
+            For a negative ``order``.
 
         Examples
         --------
@@ -44,16 +68,31 @@ class TimeLaw:
         >>> float(law(1.0)), float(law(1.0, 1))
         (1.5, 0.0)
         """
-        order = _checks.as_count(order, "order", 0)
+        order = as_count(order, "order", 0)
         t = as_float_array(t, "t", finite=False)
         c = np.polynomial.polynomial.Polynomial(self.coefficients)
         for _ in range(order):
             c = c.deriv()
         return c(t)
 
-    def is_monotone(self, n=2001):
+    def is_monotone(self, n=2001, tolerances=None):
         """True if ``s`` never decreases on ``[0, T]`` (sampled with ``n`` points, plus the
         derivative's real roots inside).
+
+        Parameters
+        ----------
+        n : int
+            Samples of ``s'`` over ``[0, T]``.
+        tolerances : Tolerances, optional
+            ``timelaw_root`` (which roots of ``s'`` are real and interior) and ``timelaw_monotone``
+            (the slack of ``s' >= 0``); ``None``: the defaults.
+
+        Raises
+        ------
+        TypeError
+            For a non-integer ``n`` or a ``tolerances`` that is not a Tolerances.
+        InputError
+            For ``n < 2`` or above ``MAX_SAMPLES``.
 
         Examples
         --------
@@ -61,23 +100,32 @@ class TimeLaw:
         >>> cubic_rest_to_rest(1.5, 1.0).is_monotone()
         True
         """
-        n = _checks.count(n, "n", 2)
+        n = checks.count(n, "n", 2)
+        tol = checks.tolerances(tolerances)
         d = np.polynomial.polynomial.Polynomial(self.coefficients).deriv()
         r = d.roots()
-        r = r[(np.abs(r.imag) < 1e-12) & (r.real > 1e-12) & (r.real < self.T - 1e-12)].real
+        edge = tol.timelaw_root
+        r = r[(np.abs(r.imag) < edge) & (r.real > edge) & (r.real < self.T - edge)].real
         ts = np.concatenate([np.linspace(0, self.T, n), r])
         vals = d(ts)
         scale = max(1.0, float(np.max(np.abs(vals))))
         # a root strictly inside where the derivative changes sign means a local extremum
         for x in r:
-            h = 1e-7 * self.T
+            h = SIGN_PROBE * self.T
             if d(x - h) * d(x + h) < 0:
                 return False
-        return bool(np.all(vals >= -1e-12 * scale))
+        return bool(np.all(vals >= -tol.timelaw_monotone * scale))
 
 
 def cubic_rest_to_rest(L, T):
     """``s(t) = 3 L t^2/T^2 - 2 L t^3/T^3`` (zero speed at both ends).
+
+    Raises
+    ------
+    TypeError
+        For non-numeric ``L`` or ``T``.
+    InputError
+        For a non-finite value or a non-positive ``T``.
 
     Examples
     --------
@@ -85,7 +133,7 @@ def cubic_rest_to_rest(L, T):
     >>> cubic_rest_to_rest(1.5, 1.0).coefficients.tolist()
     [0.0, 0.0, 4.5, -3.0]
     """
-    L, T = _checks.scalar(L, "L"), _checks.scalar(T, "T")
+    L, T = checks.scalar(L, "L"), checks.scalar(T, "T")
     if not T > 0:
         raise InputError(f"T must be positive, got {T}")
     return TimeLaw(np.array([0.0, 0.0, 3 * L / T**2, -2 * L / T**3]), T)
@@ -105,8 +153,10 @@ def sextic_through(T, L, Td, Ld, v, a):
 
     Raises
     ------
+    TypeError
+        For a non-numeric argument.
     InputError
-        ``Td`` not inside ``(0, T)``.
+        ``Td`` not inside ``(0, T)``, or a non-finite argument.
 
     Examples
     --------
@@ -115,7 +165,7 @@ def sextic_through(T, L, Td, Ld, v, a):
     >>> [round(float(c), 1) for c in law.coefficients[2:]]
     [20.8, -88.0, 147.0, -104.0, 25.8]
     """
-    T, L, Td, Ld, v, a = (_checks.scalar(x, name) for x, name in
+    T, L, Td, Ld, v, a = (checks.scalar(x, name) for x, name in
                           zip((T, L, Td, Ld, v, a), ("T", "L", "Td", "Ld", "v", "a")))
     if not 0 < Td < T:
         raise InputError(f"Td must be inside (0, T) = (0, {T}), got {Td}")

@@ -30,7 +30,7 @@ import sympy as sp
 
 import numbers
 
-from .._validate import _short, as_count, as_exact, as_float_array, is_symbolic, as_scalar
+from .._validate import _short, as_count, as_exact, as_float_array, as_index, is_symbolic, as_scalar
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
 
@@ -104,6 +104,13 @@ def revolute(axis, point):
     -------
     (6,) / (n, 6) float or sympy Matrix (6, 1)
 
+    Raises
+    ------
+    TypeError
+        For non-numeric (or string) input.
+    InputError
+        For vectors that are not 3-vectors, a zero axis, or batches of different lengths.
+
     Examples
     --------
     >>> from imagespace.spatial.screws import revolute
@@ -119,6 +126,13 @@ def revolute(axis, point):
 def prismatic(axis):
     """Unit twist of a prismatic joint: ``(0; u)``.
 
+    Raises
+    ------
+    TypeError
+        For non-numeric (or string) input.
+    InputError
+        For an axis that is not a 3-vector, or a zero axis.
+
     Examples
     --------
     >>> from imagespace.spatial.screws import prismatic
@@ -132,6 +146,14 @@ def prismatic(axis):
 
 def helical(axis, point, pitch):
     """Unit twist of a helical joint of pitch ``h``: ``(u; p x u + h u)``.
+
+    Raises
+    ------
+    TypeError
+        For non-numeric (or string) input, or several pitches with a symbolic axis.
+    InputError
+        For vectors that are not 3-vectors, a zero axis, batches of different lengths, or a
+        pitch that is neither one number nor one per axis.
 
     Examples
     --------
@@ -178,6 +200,13 @@ def transfer(screw, point, kind="twist"):
     point : (3,)
     kind : {"twist", "wrench"}
 
+    Raises
+    ------
+    TypeError
+        For non-numeric (or string) input.
+    InputError
+        For a screw that is not a 6-vector (or is zero), a point that is not one 3-vector, or an unknown ``kind``.
+
     Examples
     --------
     >>> from imagespace.spatial.screws import transfer, revolute
@@ -199,6 +228,13 @@ def transfer(screw, point, kind="twist"):
 
 def reciprocal_product(twist, wrench):
     """The power ``omega . m + v . f`` of a wrench on a twist (not the plain dot product).
+
+    Raises
+    ------
+    TypeError
+        For non-numeric (or string) input.
+    InputError
+        For a screw that is not a 6-vector (or is zero), or batches of different lengths.
 
     Examples
     --------
@@ -235,8 +271,11 @@ def reciprocal_system(twists, tol=1e-9):
 
     Raises
     ------
+    TypeError
+        For non-numeric twists or ``tol``.
     InputError
-        More than six twists, a twist that is not a 6-vector or is zero.
+        More than six twists, a twist that is not a 6-vector or is zero, or ``tol`` outside
+        ``(0, 1)``.
 
     Examples
     --------
@@ -358,6 +397,16 @@ def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
     -------
     ConstraintAnalysis
 
+    Raises
+    ------
+    TypeError
+        For ``legs`` that is not a sequence of twist arrays, non-numeric twists, ``tol`` or
+        ``intended``, or ``actuated`` that is not a sequence of joint indices.
+    InputError
+        For ``dof`` outside ``1..6``, no legs, a leg of more than six joints, an ``intended``
+        not of shape ``(dof, 6)``, ``actuated`` not naming one joint of every leg, or ``tol``
+        outside ``(0, 1)``.
+
     Examples
     --------
     >>> from imagespace.spatial.screws import TranslationalFiveR, constraint_analysis
@@ -436,12 +485,22 @@ def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
                               "+".join(kinds) if kinds else "regular")
 
 
+def _small_index(value, name, size, what):
+    """:func:`as_index` with the wording ``{name} must be {what}``."""
+    try:
+        return as_index(value, name, size)
+    except TypeError:
+        raise TypeError(f"{name} must be {what}, got {type(value).__name__} {_short(value)}") from None
+    except InputError:
+        raise InputError(f"{name} must be {what}, got {_short(value)}") from None
+
+
 def _branch(value, name):
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
-        raise TypeError(f"{name} must be 0 or 1, got {type(value).__name__} {_short(value)}")
-    if value not in (0, 1):
-        raise InputError(f"{name} must be 0 or 1, got {value}")
-    return int(value)
+    return _small_index(value, name, 2, "0 or 1")
+
+
+def _leg_index(i):
+    return _small_index(i, "i", 3, "the leg index 0, 1 or 2")
 
 
 @dataclass(frozen=True)
@@ -467,6 +526,19 @@ class TranslationalFiveR:
     Parameters
     ----------
     a, b, c, l1, l2 : float
+
+    Raises
+    ------
+    TypeError
+        For a non-numeric dimension.
+    InputError
+        For a non-finite dimension or a non-positive link length.
+
+    Examples
+    --------
+    >>> from imagespace.spatial.screws import TranslationalFiveR
+    >>> TranslationalFiveR(l1=1.2).l1
+    1.2
     """
 
     a: float = 1.0
@@ -484,30 +556,85 @@ class TranslationalFiveR:
 
     @staticmethod
     def d(i, theta):
-        """The direction of joints 2-4 of leg ``i`` (``(3,)`` or ``(n, 3)``)."""
+        """The direction of joints 2-4 of leg ``i`` (``(3,)`` or ``(n, 3)``).
+
+        Raises
+        ------
+        TypeError
+            For a leg index that is not a whole number.
+        InputError
+            For a leg index other than 0, 1 or 2.
+
+        Examples
+        --------
+        >>> from imagespace.spatial.screws import TranslationalFiveR
+        >>> TranslationalFiveR.d(2, 0.0).tolist()
+        [1.0, 0.0, 0.0]
+        """
+        i = _leg_index(i)
         t = np.asarray(theta, float)
         c, s = np.cos(t), np.sin(t)
-        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (numbers.Integral, np.integer)) or i not in (0, 1, 2):
-            raise InputError(f"i must be the leg index 0, 1 or 2, got {_short(i)}")
         z = np.zeros_like(t)
         return np.stack([(z, c, s), (s, z, c), (c, s, z)][i], axis=-1)
 
     def base(self, i):
-        """The base point ``A_i`` of leg ``i``."""
-        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (numbers.Integral, np.integer)) or i not in (0, 1, 2):
-            raise InputError(f"i must be the leg index 0, 1 or 2, got {_short(i)}")
+        """The base point ``A_i`` of leg ``i``.
+
+        Raises
+        ------
+        TypeError
+            For a leg index that is not a whole number.
+        InputError
+            For a leg index other than 0, 1 or 2.
+
+        Examples
+        --------
+        >>> from imagespace.spatial.screws import TranslationalFiveR
+        >>> TranslationalFiveR().base(0).tolist()
+        [-1.0, 0.5, 0.0]
+        """
+        i = _leg_index(i)
         E = np.eye(3)
         return -self.a * E[i] + self.b * E[(i + 1) % 3]
 
     @staticmethod
     def couple_condition(theta):
-        """Seed 001's closed form: the couple block ``det = s1 s2 s3 - c1 c2 c3`` (``(n,)``)."""
+        """Seed 001's closed form: the couple block ``det = s1 s2 s3 - c1 c2 c3`` (``(n,)``).
+
+        Raises
+        ------
+        TypeError
+            For non-numeric ``theta``.
+        InputError
+            For ``theta`` not of shape ``(3,)`` or ``(n, 3)``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from imagespace.spatial.screws import TranslationalFiveR
+        >>> TranslationalFiveR.couple_condition([0.0, 0.0, 0.0]).tolist()
+        [-1.0]
+        """
         t = np.atleast_2d(as_float_array(theta, "theta", last=3, finite=False))
         s, c = np.sin(t), np.cos(t)
         return s[:, 0] * s[:, 1] * s[:, 2] - c[:, 0] * c[:, 1] * c[:, 2]
 
     def thetas(self, P, branch=0):
-        """First joint angles at platform positions ``P`` ``(n, 3)``: ``(n, 3)``."""
+        """First joint angles at platform positions ``P`` ``(n, 3)``: ``(n, 3)``.
+
+        Raises
+        ------
+        TypeError
+            For non-numeric ``P`` or a ``branch`` that is not a whole number.
+        InputError
+            For ``P`` not of shape ``(3,)``/``(n, 3)`` or not finite, or ``branch`` not 0 or 1.
+
+        Examples
+        --------
+        >>> from imagespace.spatial.screws import TranslationalFiveR
+        >>> TranslationalFiveR().thetas([0.0, 0.1, 0.0]).shape
+        (1, 3)
+        """
         P = np.atleast_2d(as_float_array(P, "P", last=3))
         branch = _branch(branch, "branch")
         out = np.empty((len(P), 3))
@@ -521,7 +648,22 @@ class TranslationalFiveR:
         return out
 
     def leg_twists(self, P, branch=0, elbow=0):
-        """Joint twists of the three legs at platform position ``P`` ``(3,)``, about the origin."""
+        """Joint twists of the three legs at platform position ``P`` ``(3,)``, about the origin.
+
+        Raises
+        ------
+        TypeError
+            For non-numeric ``P`` or a ``branch``/``elbow`` that is not a whole number.
+        InputError
+            For ``P`` not of shape ``(3,)`` or not finite, ``branch``/``elbow`` not 0 or 1, or a
+            position out of reach of a leg.
+
+        Examples
+        --------
+        >>> from imagespace.spatial.screws import TranslationalFiveR
+        >>> [T.shape for T in TranslationalFiveR().leg_twists([0.0, 0.1, 0.0])]
+        [(5, 6), (5, 6), (5, 6)]
+        """
         P = as_float_array(P, "P", last=3, allow_batch=False)
         elbow = _branch(elbow, "elbow")
         th = self.thetas(P, branch)[0]
@@ -571,6 +713,15 @@ def singularity_fractions(mechanism, box=0.4, n=2000, eps=0.05, seed=0):
         classical 3x3 Jacobian of the actuation forces on the translations), ``leg``,
         ``ignoring_constraints`` (input-output or leg: what an analysis blind to constraint
         singularities reports) and ``all``.
+
+    Raises
+    ------
+    TypeError
+        For a ``mechanism`` that is not a TranslationalFiveR, non-numeric ``box``/``eps``, or a
+        non-integer ``n``/``seed``.
+    InputError
+        For ``eps`` outside ``(0, 1)``, a non-positive ``box``, ``n`` above ``MAX_SAMPLES`` or
+        below 1, or a negative ``seed``.
 
     Examples
     --------
@@ -637,6 +788,14 @@ def planar_leg_wrenches(manipulator, pose):
     -------
     W : (3, 3) float
     lengths : (3,) float
+
+    Raises
+    ------
+    TypeError
+        For a ``manipulator`` that is not a PlanarParallel, or a non-numeric ``pose``.
+    InputError
+        For a ``pose`` not of shape ``(3,)``, a leg that is not RPR, or a leg of zero length at
+        the pose.
 
     Examples
     --------
