@@ -10,18 +10,21 @@ imports them, and they are kept out of ``__all__``.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import sympy as sp
 
 from .._validate import as_exact, as_point, as_sympy_entry
 from ..exceptions import InputError
+from ..tolerances import TOLERANCES, Tolerances
 
 __all__: list[str] = []
 
 
 # --------------------------------------------------------------------------- exact geometry input
 
-def wrap_angle(a):
+def wrap_angle(a: Any) -> Any:
     """Wrap angles (radians, array or number) to ``(-pi, pi]``.
 
     Examples
@@ -32,13 +35,18 @@ def wrap_angle(a):
     return np.pi - np.remainder(np.pi - a, 2 * np.pi)
 
 
-def exact_cos_sin(angle, name):
+def exact_cos_sin(angle: Any, name: str) -> tuple[Any, Any]:
     """Exact (cos, sin) of an angle.
 
     Symbols stay symbolic; angles whose cosine and sine sympy evaluates in closed form (``pi/2``,
     ``7*pi/18`` ...) stay exact; any other number (a float, or a rational such as a float joint
     value made exact) enters through the binary rationals of its float cosine and sine, so that no
     unevaluated ``cos(331254131695027/140737488355328)`` reaches the elimination.
+
+    Raises
+    ------
+    InputError
+        the angle's float is not finite.
     """
     if isinstance(angle, sp.Basic):
         if angle.free_symbols:
@@ -54,15 +62,21 @@ def exact_cos_sin(angle, name):
     return sp.Rational(np.cos(a)), sp.Rational(np.sin(a))
 
 
-def short_text(value):
+def short_text(value: Any) -> str:
     """``str(value)``, cut to 80 characters for an error message."""
     text = str(value)
     return text if len(text) <= 80 else text[:77] + "..."
 
 
-def in_float_range(values, name):
+def in_float_range(values: Any, name: str) -> Any:
     """Geometry is kept exact, but every numeric method works on its floats: refuse numbers whose
-    float is infinite (``2**1100``), naming the entry."""
+    float is infinite (``2**1100``), naming the entry.
+
+    Raises
+    ------
+    InputError
+        an entry's float is infinite (the message names the entry).
+    """
     single = not isinstance(values, tuple)
     for i, v in enumerate((values,) if single else values):
         if isinstance(v, sp.Basic) and not v.free_symbols and not np.isfinite(float(v)):
@@ -71,8 +85,14 @@ def in_float_range(values, name):
     return values
 
 
-def real_entry(value, name):
-    """A sympy entry of the geometry: a real expression (no booleans, relations, I, nan)."""
+def real_entry(value: Any, name: str) -> Any:
+    """A sympy entry of the geometry: a real expression (no booleans, relations, I, nan).
+
+    Raises
+    ------
+    TypeError
+        the entry is not a real sympy expression (a boolean, a relation, or it holds ``I``).
+    """
     if isinstance(value, sp.Basic):
         value = as_sympy_entry(value, name)
         if value.has(sp.I):
@@ -80,7 +100,7 @@ def real_entry(value, name):
     return value
 
 
-def geometry_point(value, name):
+def geometry_point(value: Any, name: str) -> tuple[Any, Any]:
     """A 2-vector of the geometry as a pair of exact sympy entries (real, within the float range).
 
     Raises
@@ -104,18 +124,25 @@ def geometry_point(value, name):
     return in_float_range(as_point(value, name), name)
 
 
-def geometry_number(value, name):
+def geometry_number(value: Any, name: str) -> Any:
     """A scalar of the geometry as an exact sympy number or expression (real, within the float
     range); raises like :func:`geometry_point`."""
     return in_float_range(as_exact(real_entry(value, name), name), name)
 
 
-def unit_direction(value, name):
+def unit_direction(value: Any, name: str) -> tuple[Any, Any]:
     """A direction normalised to length 1.
 
     Exact input (integers, rationals, sympy) is normalised exactly (``(-10, -9)`` becomes
     ``(-10, -9)/sqrt(181)``); float input is normalised in floating point and then taken as exact
     binary rationals, so that no square roots of long rationals enter the symbolic paths.
+
+    Raises
+    ------
+    InputError
+        the vector is zero, or not a finite 2-vector.
+    TypeError
+        an entry is not a real number.
     """
     vx, vy = geometry_point(value, name)
     n2 = sp.expand(vx**2 + vy**2)
@@ -135,10 +162,10 @@ def unit_direction(value, name):
 class Arithmetic:
     """cos/sin and constants for one arithmetic: sympy (exact or symbolic) or numpy (float)."""
 
-    def __init__(self, symbolic):
+    def __init__(self, symbolic: bool) -> None:
         self.symbolic = symbolic
 
-    def cs(self, q):
+    def cs(self, q: Any) -> tuple[Any, Any]:
         """``(cos q, sin q)`` in this arithmetic (exact through :func:`exact_cos_sin`)."""
         if self.symbolic:
             if isinstance(q, sp.Basic) and q.free_symbols:
@@ -147,7 +174,7 @@ class Arithmetic:
         return np.cos(q), np.sin(q)
 
 
-def floatify(value):
+def floatify(value: Any) -> Any:
     """The float copy of a geometry entry (a tuple entry by entry); None where it holds a symbol."""
     if isinstance(value, tuple):
         return tuple(floatify(v) for v in value)
@@ -160,39 +187,64 @@ def floatify(value):
 
 # --------------------------------------------------------------------------- float plane primitives
 
-def world_point(x, y, phi, p):
+def as_tolerances(value: Any) -> Tolerances:
+    """The ``tolerances=None`` keyword of the legs' inverse kinematics: None gives
+    :data:`~imagespace.tolerances.TOLERANCES`.
+
+    Raises
+    ------
+    TypeError
+        ``value`` is neither None nor a :class:`~imagespace.tolerances.Tolerances`.
+
+    Examples
+    --------
+    >>> as_tolerances(None).ik_tangent
+    1e-12
+    """
+    if value is None:
+        return TOLERANCES
+    if not isinstance(value, Tolerances):
+        raise TypeError(f"tolerances must be an imagespace.Tolerances or None, got {type(value).__name__} "
+                        f"{short_text(repr(value))}")
+    return value
+
+
+
+def world_point(x: Any, y: Any, phi: Any, p: Any) -> tuple[Any, Any]:
     """The platform point ``p`` (moving frame) in the base frame at poses ``(x, y, phi)``."""
     c, s = np.cos(phi), np.sin(phi)
     return x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]
 
 
-def rotate_vector(phi, v):
+def rotate_vector(phi: Any, v: Any) -> tuple[Any, Any]:
     """The vector ``v`` rotated by ``phi``."""
     c, s = np.cos(phi), np.sin(phi)
     return c * v[0] - s * v[1], s * v[0] + c * v[1]
 
 
-def direction_angle(v):
+def direction_angle(v: Any) -> Any:
     """The direction angle ``atan2(v_y, v_x)`` of ``v``."""
     return np.arctan2(v[1], v[0])
 
 
-def lines_meet(p, u, r, v):
-    """Solve p + s u = r + t v for (s, t) (arrays); NaN where parallel."""
+def lines_meet(p: Any, u: Any, r: Any, v: Any, parallel: float) -> tuple[Any, Any]:
+    """Solve p + s u = r + t v for (s, t) (arrays); NaN where parallel (``|u x v| < parallel``,
+    :attr:`~imagespace.tolerances.Tolerances.ik_parallel`)."""
     det = -u[0] * v[1] + u[1] * v[0]
     dx, dy = r[0] - p[0], r[1] - p[1]
     with np.errstate(invalid="ignore", divide="ignore"):
         s = (-dx * v[1] + dy * v[0]) / det
         t = (u[0] * dy - u[1] * dx) / det
-    bad = np.abs(det) < 1e-14
+    bad = np.abs(det) < parallel
     return np.where(bad, np.nan, s), np.where(bad, np.nan, t)
 
 
-def circle_line(centre, radius, p, v):
-    """Parameters s of p + s v (v unit) on the circle; two branches, NaN if none."""
+def circle_line(centre: Any, radius: Any, p: Any, v: Any, tangent: float) -> tuple[Any, Any]:
+    """Parameters s of p + s v (v unit) on the circle; two branches, NaN if none. A discriminant
+    above ``-tangent (1 + radius^2)`` is a tangency (:attr:`~imagespace.tolerances.Tolerances.ik_tangent`)."""
     dx, dy = p[0] - centre[0], p[1] - centre[1]
     b = v[0] * dx + v[1] * dy
     disc = b * b - (dx * dx + dy * dy) + radius * radius
-    disc = np.where((disc < 0) & (disc > -1e-12 * (1 + radius * radius)), 0.0, disc)
+    disc = np.where((disc < 0) & (disc > -tangent * (1 + radius * radius)), 0.0, disc)
     r = np.sqrt(np.where(disc >= 0, disc, np.nan))
     return -b + r, -b - r

@@ -49,15 +49,19 @@ floats enter the exact paths through the binary rationals of their cosine and si
 
 from __future__ import annotations
 
+from typing import Any, Optional, Union
+
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_count, as_exact, as_flag, as_float_array, as_sympy_entry, check_positive, is_symbolic
-from .leg_geometry import (Arithmetic, circle_line, direction_angle, exact_cos_sin, floatify, geometry_number,
-                           geometry_point, in_float_range, lines_meet, rotate_vector, short_text, unit_direction,
-                           world_point, wrap_angle)
+from .leg_geometry import (Arithmetic, as_tolerances, circle_line, direction_angle, exact_cos_sin, floatify,
+                           geometry_number, geometry_point, in_float_range, lines_meet, rotate_vector, short_text,
+                           unit_direction, world_point, wrap_angle)
 from .quadrics import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric
 from ..exceptions import DegenerateDesignError, InputError
+from ..tolerances import Tolerances
 
 __all__ = ["Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR", "LEG_TYPES"]
 
@@ -67,6 +71,22 @@ class Leg:
 
     Subclasses define ``joints`` (e.g. ``"RPR"``), ``default_actuated``, the geometry, the
     inverse kinematics and the dyad for each choice of actuated joint.
+
+    Raises
+    ------
+    TypeError
+        ``actuated`` is not an integer; a geometry entry is not a real number or expression.
+    InputError
+        ``actuated`` is not 0, 1 or 2; a geometry entry is not finite, a point is not a 2-vector,
+        a direction is zero, or a length is not positive.
+    DegenerateDesignError
+        The geometry makes the leg degenerate (RPP, PPR: sliders at angle 0 or pi).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isinstance(isp.RPR(base=(0, 0), platform=(1, 0)), isp.Leg)
+    True
     """
 
     joints = "???"
@@ -74,7 +94,7 @@ class Leg:
     joint_names = ("q0", "q1", "q2")
     n_branches = 1
 
-    def __init__(self, actuated=None):
+    def __init__(self, actuated: Optional[int] = None) -> None:
         if actuated is None:
             actuated = self.default_actuated
         if isinstance(actuated, (bool, np.bool_)) or not isinstance(actuated, (int, np.integer)):
@@ -84,15 +104,20 @@ class Leg:
             raise InputError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
                              f"{self.joints}), got {short_text(repr(actuated))}")
         self.actuated = int(actuated)
-        self._float = None
+        self._float: Optional[dict[str, Any]] = None
 
     # -- geometry access --------------------------------------------------------
     def _geometry(self):
         """Dict of the exact geometry (sympy)."""
         raise NotImplementedError
 
-    def geometry(self, exact=True):
+    def geometry(self, exact: bool = True) -> dict[str, Any]:
         """The leg's geometry as a dict: exact sympy values, or floats with ``exact=False``.
+
+        Raises
+        ------
+        InputError
+            ``exact=False`` and the geometry holds sympy symbols (substitute numbers first).
 
         Examples
         --------
@@ -113,7 +138,7 @@ class Leg:
         return dict(self._float)
 
     @property
-    def free_symbols(self):
+    def free_symbols(self) -> set[sp.Basic]:
         """Set of sympy symbols in the design parameters."""
         out = set()
         for v in self._geometry().values():
@@ -123,12 +148,12 @@ class Leg:
         return out
 
     @property
-    def actuated_is_angle(self):
+    def actuated_is_angle(self) -> bool:
         """True if the actuated joint is revolute."""
         return self.joints[self.actuated] == "R"
 
     @property
-    def actuated_name(self):
+    def actuated_name(self) -> str:
         """Name of the actuated joint variable."""
         return self.joint_names[self.actuated]
 
@@ -137,7 +162,7 @@ class Leg:
         return f"{type(self).__name__}({g}, actuated={self.actuated})"
 
     # -- the dyad ---------------------------------------------------------------
-    def joint_values_ok(self, q):
+    def joint_values_ok(self, q: npt.ArrayLike) -> npt.NDArray[np.bool_]:
         """Boolean mask: which actuated joint values are inside the joint's domain (every finite
         value, by default; NaN and infinities never are).
 
@@ -149,8 +174,14 @@ class Leg:
         """
         return np.isfinite(as_float_array(q, "q", finite=False))
 
-    def check_joint_value(self, q, name="q"):
+    def check_joint_value(self, q: Any, name: str = "q") -> Any:
         """Raise InputError if a value of the actuated joint is not finite or outside its domain.
+
+        Raises
+        ------
+        InputError
+            a value is not finite, or is outside the actuated joint's domain (for the RPR
+            leg's length: negative).
 
         Examples
         --------
@@ -167,7 +198,7 @@ class Leg:
                              f"{self.actuated_name} of {self.joints}, got {q}")
         return q
 
-    def dyad(self, q):
+    def dyad(self, q: Any) -> Quadric:
         """The quadric left when the actuated joint is locked at ``q``.
 
         Parameters
@@ -179,6 +210,14 @@ class Leg:
         Returns
         -------
         Quadric
+
+        Raises
+        ------
+        InputError
+            ``q`` is outside the actuated joint's domain or not finite, is an array of more
+            than one dimension, or is too large for the float dyad.
+        TypeError
+            ``q`` is not a number, an array of numbers or a real sympy expression.
 
         Examples
         --------
@@ -218,19 +257,31 @@ class Leg:
         raise NotImplementedError
 
     # -- inverse kinematics -----------------------------------------------------
-    def inverse_kinematics(self, pose):
+    def inverse_kinematics(self, pose: npt.ArrayLike,
+                           tolerances: Optional[Tolerances] = None) -> npt.NDArray[np.float64]:
         """All branches of the leg's inverse kinematics.
 
         Parameters
         ----------
         pose : (3,) or (n, 3) float
             ``(x, y, phi)``.
+        tolerances : Tolerances, optional
+            The thresholds of the branch decisions (``ik_parallel``, ``ik_tangent``); default
+            :data:`~imagespace.tolerances.TOLERANCES`. A mechanism passes its own.
 
         Returns
         -------
         (n_branches, 3) or (n, n_branches, 3) float
             The three joint values of every branch (see the module docstring for the order);
             NaN where a branch does not exist (pose out of reach of this leg).
+
+        Raises
+        ------
+        InputError
+            ``pose`` is not of shape ``(3,)`` or ``(n, 3)``, or not finite; the leg's geometry is
+            symbolic.
+        TypeError
+            ``pose`` is not numeric; ``tolerances`` is not a :class:`~imagespace.tolerances.Tolerances`.
 
         Examples
         --------
@@ -240,14 +291,18 @@ class Leg:
                [ 3.14159265, -1.        ,  3.14159265]])
         """
         p = as_float_array(pose, "pose", last=3)
+        tol = as_tolerances(tolerances)
         single = p.ndim == 1
         p2 = np.atleast_2d(p)
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-            out = self._ik(p2[:, 0], p2[:, 1], p2[:, 2], self.geometry(exact=False))
+            out = self._ik(p2[:, 0], p2[:, 1], p2[:, 2], self.geometry(exact=False), tol)
         return out[0] if single else out
 
-    def actuated_values(self, pose):
+    def actuated_values(self, pose: npt.ArrayLike,
+                        tolerances: Optional[Tolerances] = None) -> npt.NDArray[np.float64]:
         """Actuated joint value of every branch at ``pose``: ``(n_branches,)`` or ``(n, n_branches)``.
+
+        ``tolerances`` as in :meth:`inverse_kinematics`, which raises for this method.
 
         Examples
         --------
@@ -255,9 +310,9 @@ class Leg:
         >>> isp.RPR(base=(0, 0), platform=(3, 4)).actuated_values([0.0, 0.0, 0.0])
         array([ 5., -5.])
         """
-        return self.inverse_kinematics(pose)[..., self.actuated]
+        return self.inverse_kinematics(pose, tolerances)[..., self.actuated]
 
-    def joint_difference(self, a, b):
+    def joint_difference(self, a: npt.ArrayLike, b: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """``a - b`` for the actuated joint: plain for a prismatic joint, wrapped to ``(-pi, pi]``
         for an angle (radians). Broadcasts; NaN stays NaN.
 
@@ -271,7 +326,7 @@ class Leg:
         d = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
         return wrap_angle(d) if self.actuated_is_angle else d
 
-    def joint_distance(self, a, b):
+    def joint_distance(self, a: npt.ArrayLike, b: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """``|a - b|`` for the actuated joint (angles compared modulo ``2 pi``); see
         :meth:`joint_difference`.
 
@@ -283,10 +338,16 @@ class Leg:
         """
         return np.abs(self.joint_difference(a, b))
 
-    def nearest_branch(self, pose, q):
+    def nearest_branch(self, pose: npt.ArrayLike, q: npt.ArrayLike,
+                       tolerances: Optional[Tolerances] = None) -> Union[int, npt.NDArray[np.intp]]:
         """The IK branch whose actuated value is nearest to ``q`` at ``pose``: an int for one pose,
         ``(n,)`` ints for ``(n, 3)`` poses (with ``q`` a number or ``(n,)``); ``-1`` where no branch
-        reaches the pose.
+        reaches the pose. ``tolerances`` as in :meth:`inverse_kinematics`.
+
+        Raises
+        ------
+        InputError, TypeError
+            As :meth:`inverse_kinematics`.
 
         Examples
         --------
@@ -295,7 +356,7 @@ class Leg:
         >>> leg.nearest_branch([0.0, 0.0, 0.0], -4.0)
         1
         """
-        vals = self.actuated_values(pose)                       # (nb,) or (n, nb)
+        vals = self.actuated_values(pose, tolerances)           # (nb,) or (n, nb)
         q = np.asarray(q, dtype=float)
         d = self.joint_distance(vals, q[..., None] if q.ndim else q)
         d = np.where(np.isnan(d), np.inf, d)
@@ -303,11 +364,23 @@ class Leg:
         best = np.where(np.isfinite(np.min(d, axis=-1)), best, -1)
         return int(best) if np.ndim(best) == 0 else best
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         raise NotImplementedError
 
-    def joint_points(self, pose, branch=0):
+    def joint_points(self, pose: npt.ArrayLike, branch: int = 0,
+                     tolerances: Optional[Tolerances] = None) -> npt.NDArray[np.float64]:
         """The leg drawn as a polyline in the base frame: ``(k, 2)`` points from base to platform.
+
+        ``branch`` is the inverse-kinematics branch drawn; ``tolerances`` as in
+        :meth:`inverse_kinematics`.
+
+        Raises
+        ------
+        InputError
+            ``pose`` is not one finite pose ``(3,)``; ``branch`` is negative or not below
+            :attr:`n_branches`.
+        TypeError
+            ``branch`` is not an integer; ``tolerances`` is not a Tolerances.
 
         Examples
         --------
@@ -322,7 +395,7 @@ class Leg:
             raise InputError(f"branch must be below {self.n_branches} (the {self.joints} leg's inverse "
                              f"kinematics has {self.n_branches} branch{'es' if self.n_branches > 1 else ''}), "
                              f"got {branch}")
-        q = self.inverse_kinematics(p)[branch]
+        q = self.inverse_kinematics(p, tolerances)[branch]
         return self._points(p, q, self.geometry(exact=False))
 
     def _points(self, pose, q, g):
@@ -355,7 +428,8 @@ class RPR(Leg):
     joint_names = ("theta", "rho", "psi")
     n_branches = 2
 
-    def __init__(self, base, platform, actuated=None):
+    def __init__(self, base: Any, platform: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
         self.base = geometry_point(base, "base")
         self.platform = geometry_point(platform, "platform")
@@ -363,11 +437,24 @@ class RPR(Leg):
     def _geometry(self):
         return {"base": self.base, "platform": self.platform}
 
-    def joint_values_ok(self, q):
+    def joint_values_ok(self, q: npt.ArrayLike) -> npt.NDArray[np.bool_]:
         q = as_float_array(q, "q", finite=False)
         return (np.isfinite(q) & (q >= 0)) if self.actuated == 1 else np.isfinite(q)
 
-    def check_joint_value(self, q, name="q"):
+    def check_joint_value(self, q: Any, name: str = "q") -> Any:
+        """Raise InputError if a leg length is not finite, or negative when ``rho`` is actuated.
+
+        Raises
+        ------
+        InputError
+            a value is not finite, or ``rho`` (``actuated=1``) is negative.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.RPR(base=(0, 0), platform=(0, 0)).check_joint_value(2.0)
+        2.0
+        """
         arr = as_float_array(q, name, finite=False)
         if not np.all(np.isfinite(arr)):
             raise InputError(f"{name} (the actuated joint {self.actuated_name} of RPR) must be finite, got {q}")
@@ -384,7 +471,7 @@ class RPR(Leg):
             return pr_quadric(a, A, (c, s))
         return rp_quadric(a, (c, -s), A)
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, a = g["base"], g["platform"]
         ax, ay = world_point(x, y, phi, a)
         dx, dy = ax - A[0], ay - A[1]
@@ -425,7 +512,8 @@ class RRR(Leg):
     joint_names = ("theta1", "theta2", "theta3")
     n_branches = 2
 
-    def __init__(self, base, platform, lengths, actuated=None):
+    def __init__(self, base: Any, platform: Any, lengths: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
         self.base = geometry_point(base, "base")
         self.platform = geometry_point(platform, "platform")
@@ -444,14 +532,14 @@ class RRR(Leg):
             return rr_quadric(A, l1 * l1 + l2 * l2 + 2 * l1 * l2 * c, a)
         return rr_quadric(A, l1 * l1, (a[0] - l2 * c, a[1] + l2 * s))
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, a, (l1, l2) = g["base"], g["platform"], g["lengths"]
         ax, ay = world_point(x, y, phi, a)
         dx, dy = ax - A[0], ay - A[1]
         d = np.hypot(dx, dy)
         along = (l1 * l1 - l2 * l2 + d * d) / (2 * d)
         h2 = l1 * l1 - along * along
-        h2 = np.where((h2 < 0) & (h2 > -1e-12 * l1 * l1), 0.0, h2)
+        h2 = np.where((h2 < 0) & (h2 > -tol.ik_tangent * l1 * l1), 0.0, h2)
         h = np.sqrt(np.where(h2 >= 0, h2, np.nan))
         ex, ey = dx / d, dy / d
         out = []
@@ -495,7 +583,8 @@ class PRR(Leg):
     joint_names = ("s", "theta2", "theta3")
     n_branches = 2
 
-    def __init__(self, base, axis, platform, length, actuated=None):
+    def __init__(self, base: Any, axis: Any, platform: Any, length: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
         self.base = geometry_point(base, "base")
         self.axis = unit_direction(axis, "axis")
@@ -515,12 +604,12 @@ class PRR(Leg):
             return pr_quadric(a, P, u)
         return pr_quadric((a[0] - l * c, a[1] + l * s), A, u)
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, u, a, l = g["base"], g["axis"], g["platform"], g["length"]
         ax, ay = world_point(x, y, phi, a)
         gam = direction_angle(u)
         out = []
-        for s in circle_line((ax, ay), l, A, u):
+        for s in circle_line((ax, ay), l, A, u, tol.ik_tangent):
             Sx, Sy = A[0] + s * u[0], A[1] + s * u[1]
             t = np.arctan2(ay - Sy, ax - Sx)
             out.append(np.stack([s, wrap_angle(t - gam), wrap_angle(phi - t)], -1))
@@ -558,7 +647,8 @@ class RRP(Leg):
     joint_names = ("theta1", "theta2", "s")
     n_branches = 2
 
-    def __init__(self, base, length, platform, direction, actuated=None):
+    def __init__(self, base: Any, length: Any, platform: Any, direction: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
         self.base = geometry_point(base, "base")
         self.length = check_positive(geometry_number(length, "length"), "length")
@@ -579,12 +669,12 @@ class RRP(Leg):
         w = (v[0] * c + v[1] * s, v[1] * c - v[0] * s)   # e^{i(angle(v) - q)}
         return rp_quadric((b[0] - l * w[0], b[1] - l * w[1]), v, A)
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, l, b, v = g["base"], g["length"], g["platform"], g["direction"]
         bw = world_point(x, y, phi, b)
         vw = rotate_vector(phi, v)
         out = []
-        for s in circle_line(A, l, bw, vw):
+        for s in circle_line(A, l, bw, vw, tol.ik_tangent):
             Ex, Ey = bw[0] + s * vw[0], bw[1] + s * vw[1]
             t1 = np.arctan2(Ey - A[1], Ex - A[0])
             out.append(np.stack([t1, wrap_angle(phi + direction_angle(v) - t1), s], -1))
@@ -622,7 +712,8 @@ class RPP(Leg):
     default_actuated = 1
     joint_names = ("theta1", "s1", "s2")
 
-    def __init__(self, base, platform, direction, angle, actuated=None):
+    def __init__(self, base: Any, platform: Any, direction: Any, angle: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
         self.base = geometry_point(base, "base")
         self.platform = geometry_point(platform, "platform")
@@ -648,14 +739,14 @@ class RPP(Leg):
         # phi_c = q + beta - angle(v): cos/sin through e^{iq} * conj(w)
         return pp_quadric(c * w[0] + s * w[1], s * w[0] - c * w[1])
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, b, v, (cb, sb) = g["base"], g["platform"], g["direction"], g["angle_cs"]
         beta = np.arctan2(sb, cb)
         t1 = wrap_angle(phi + direction_angle(v) - beta)
         d1 = (np.cos(t1), np.sin(t1))
         bw = world_point(x, y, phi, b)
         vw = rotate_vector(phi, v)
-        s1, s2 = lines_meet(A, d1, bw, vw)
+        s1, s2 = lines_meet(A, d1, bw, vw, tol.ik_parallel)
         return np.stack([t1, s1, s2], -1)[..., None, :]
 
     def _points(self, pose, q, g):
@@ -689,7 +780,8 @@ class PRP(Leg):
     default_actuated = 0
     joint_names = ("s1", "theta2", "s2")
 
-    def __init__(self, base, axis, platform, direction, actuated=None):
+    def __init__(self, base: Any, axis: Any, platform: Any, direction: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
         self.base = geometry_point(base, "base")
         self.axis = unit_direction(axis, "axis")
@@ -711,11 +803,11 @@ class PRP(Leg):
         ux, uy = u[0] * c - u[1] * s, u[1] * c + u[0] * s
         return pp_quadric(ux * v[0] + uy * v[1], uy * v[0] - ux * v[1])
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, u, b, v = g["base"], g["axis"], g["platform"], g["direction"]
         bw = world_point(x, y, phi, b)
         vw = rotate_vector(phi, v)
-        s1, s2 = lines_meet(A, u, bw, vw)
+        s1, s2 = lines_meet(A, u, bw, vw, tol.ik_parallel)
         t2 = wrap_angle(phi + direction_angle(v) - direction_angle(u))
         return np.stack([s1, t2, s2], -1)[..., None, :]
 
@@ -752,7 +844,8 @@ class PPR(Leg):
     default_actuated = 0
     joint_names = ("s1", "s2", "theta3")
 
-    def __init__(self, base, axis, platform, angle, actuated=None):
+    def __init__(self, base: Any, axis: Any, platform: Any, angle: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
         self.base = geometry_point(base, "base")
         self.axis = unit_direction(axis, "axis")
@@ -777,10 +870,10 @@ class PPR(Leg):
         cq, sq = ops.cs(q)
         return pp_quadric(cq, sq)
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         C, u, c, w = g["base"], g["axis"], g["platform"], g["second_axis"]
         cw = world_point(x, y, phi, c)
-        s1, t = lines_meet(C, u, cw, w)
+        s1, t = lines_meet(C, u, cw, w, tol.ik_parallel)
         return np.stack([s1, -t, wrap_angle(phi)], -1)[..., None, :]
 
     def _points(self, pose, q, g):

@@ -61,9 +61,10 @@ from ..tolerances import TOLERANCES
 
 __all__ = ["BatchKernel", "KernelCacheWarning", "build_kernel", "real_roots_cascade", "HAVE_NUMBA"]
 
-_KEEP = 1.0 + 1e-12          # chart roots kept up to this |t|; the overlap is deduplicated
 _REACH = 1.0 + 1.0 / 64      # each chart searches a little beyond 1
 _MAX = 6
+# root-finder constants of real_roots_cascade (numerical-method knobs, not read from Tolerances: the
+# cascade is called without a design, and its answers are checked by the row's later decisions)
 _CRITICAL_STEP = 1e-9        # critical points (roots of a derivative) are polished to this step
 _TOUCH_DUPLICATE = 1e-12     # a root touching the axis this close to a crossing root is that root
 
@@ -77,7 +78,8 @@ _WORK_SIZE = sum(_WORK_SIZES)
 
 # The kernel's decision thresholds arrive as one float array (from the design's Tolerances, see
 # kernel_tolerances); these name its entries.
-_T_CRAMER_SMALL, _T_PIVOT, _T_CHART_DUPLICATE, _T_NEWTON_STOP, _T_RESIDUAL, _T_DUPLICATE = range(6)
+(_T_CRAMER_SMALL, _T_PIVOT, _T_CHART_DUPLICATE, _T_NEWTON_STOP, _T_RESIDUAL, _T_DUPLICATE,
+ _T_CHART_OVERLAP) = range(7)
 
 
 def kernel_tolerances(tol):
@@ -89,10 +91,11 @@ def kernel_tolerances(tol):
     >>> import imagespace as isp
     >>> from imagespace.solve.kernel import kernel_tolerances
     >>> kernel_tolerances(isp.TOLERANCES).tolist()
-    [1e-07, 1e-14, 1e-10, 1e-09, 1e-09, 1e-09]
+    [1e-07, 1e-14, 1e-10, 1e-09, 1e-09, 1e-09, 1e-12]
     """
     return np.array([tol.cramer_small, tol.newton_stop, tol.kernel_chart_duplicate,
-                     tol.kernel_newton_stop, tol.kernel_residual, tol.kernel_duplicate], dtype=float)
+                     tol.kernel_newton_stop, tol.kernel_residual, tol.kernel_duplicate,
+                     tol.kernel_chart_overlap], dtype=float)
 
 
 # --------------------------------------------------------------------------- scalar numerics
@@ -435,7 +438,7 @@ def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
         suspect = suspect or sus
         for m in range(nr):
             t = rts[m]
-            if abs(t) > _KEEP:
+            if abs(t) > 1.0 + tol[_T_CHART_OVERLAP]:    # chart roots kept up to this; overlap deduplicated
                 continue
             h = 1.0 / math.sqrt(1.0 + t * t)
             x0 = h if chart == 0 else t * h
