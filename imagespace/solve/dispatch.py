@@ -127,6 +127,15 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
     DKBatchResult
         ``solver`` says per row which path answered.
 
+    Raises
+    ------
+    InputError
+        ``Q`` is not of shape ``(3,)`` or ``(n, 3)``; ``method`` is not ``'auto'``, ``'kernel'``
+        or ``'numpy'``; ``method='kernel'`` is not available for this design (no numba, a PP
+        dyad, or a Cramer denominator vanishing identically).
+    TypeError
+        ``Q`` or ``certify`` has the wrong type.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -178,6 +187,14 @@ def direct_kinematics_chunks(m: Any, Q: npt.ArrayLike, chunk_size: int = 65536, 
     ------
     (start, DKBatchResult)
         The rows ``start : start + len(result.count)`` of ``Q``.
+
+    Raises
+    ------
+    InputError
+        ``Q`` is not of shape ``(n, 3)``, ``chunk_size`` is not a positive count, or ``method``
+        is not one of ``'auto'``, ``'kernel'``, ``'numpy'``.
+    TypeError
+        ``Q`` is not a real float or integer array, or ``certify`` is not a bool.
 
     Examples
     --------
