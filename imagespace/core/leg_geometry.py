@@ -3,7 +3,8 @@
 Two families, both used only by the legs: turning user geometry into exact sympy values (points,
 numbers, unit directions, exact cosine and sine of an angle, the float copy of that geometry), and
 the float plane primitives the legs' inverse kinematics is built from (a platform point in the base
-frame, a rotated vector, the meeting point of two lines, a line's intersections with a circle).
+frame, a rotated vector, the meeting point of two lines, a line's intersections with a circle),
+with the ``tolerances`` keyword their decisions read (:func:`as_tolerances`).
 Nothing here is public API: the names carry no underscore because :mod:`imagespace.core.legs`
 imports them, and they are kept out of ``__all__``.
 """

@@ -67,6 +67,10 @@ _MAX = 6
 # cascade is called without a design, and its answers are checked by the row's later decisions)
 _CRITICAL_STEP = 1e-9        # critical points (roots of a derivative) are polished to this step
 _TOUCH_DUPLICATE = 1e-12     # a root touching the axis this close to a crossing root is that root
+_UNIT_ROUNDOFF = 2.2e-16     # the double precision unit roundoff the rounding bounds below scale
+_HORNER_ZERO = 4.5e-16       # |p(t)| below this * deg * sum|c_k||t|^k is zero within Horner's rounding
+_BISECT_WIDTH = 4e-16        # a bracket narrower than this (relative) has converged: stopping width
+_TOUCH_ZERO = 64 * _UNIT_ROUNDOFF  # a critical value below this * deg * scale touches the axis
 
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
 # into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
@@ -148,13 +152,13 @@ def _monotone_root(c, deg, a, b, fa, fb, flat_a, flat_b, coarse):
             d = d * t + f
             f = f * t + c[k]
             e = e * at + abs(c[k])
-        if abs(f) <= 4.5e-16 * deg * e:
+        if abs(f) <= _HORNER_ZERO * deg * e:
             return t
         if (f < 0.0) == (fa < 0.0):
             a, fa = t, f
         else:
             b, fb = t, f
-        if b - a <= 4e-16 * max(1.0, abs(a), abs(b)):
+        if b - a <= _BISECT_WIDTH * max(1.0, abs(a), abs(b)):
             return t
         tn = t - f / d if d != 0.0 else 0.5 * (a + b)
         if it % 4 == 3:
@@ -222,7 +226,7 @@ def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
                 # a root touching the axis at the critical point pts[i + 1]
                 t = pts[i + 1]
                 scale = _abs_horner(c, dg, max(abs(t), 1.0))
-                if abs(vals[i + 1]) <= 64 * 2.2e-16 * dg * scale:
+                if abs(vals[i + 1]) <= _TOUCH_ZERO * dg * scale:
                     dup = False
                     for m in range(nnew):
                         if abs(new[m] - t) <= _TOUCH_DUPLICATE * max(1.0, abs(t)):
