@@ -64,6 +64,18 @@ class Tolerances:
         Rows solved orientation by orientation (Cramer cases): a mode whose
         ``|det J| / prod(row norms)`` is below this, or a line-circle intersection whose
         discriminant is below this relative to its terms, makes the row ``near_singular``.
+    ik_parallel : float
+        Leg inverse kinematics: two lines (unit directions) with ``|u x v|`` below this are
+        parallel, and the branch they would give does not exist (NaN).
+    ik_tangent : float
+        Leg inverse kinematics: a circle-line (or elbow) intersection whose discriminant is
+        negative by less than this, relative to the squared link length (``1 + r^2`` for a
+        circle of radius ``r`` and a line), is a tangency (the two branches meet) rather than no
+        solution.
+    kernel_chart_overlap : float
+        The compiled kernel: a root ``t`` of one chart's polynomial is kept when
+        ``|t| <= 1 + kernel_chart_overlap``; the roots both charts keep are deduplicated
+        (``kernel_chart_duplicate``).
     kernel_chart_duplicate : float
         The compiled kernel: two orientation candidates from the two charts with
         ``|x0 x1' - x1 x0'|`` below this are one root.
@@ -197,6 +209,9 @@ class Tolerances:
     newton_stop: float = 1e-14
     near_singular_gap: float = 1e-6
     near_singular_condition: float = 1e-8
+    ik_parallel: float = 1e-14
+    ik_tangent: float = 1e-12
+    kernel_chart_overlap: float = 1e-12
     kernel_chart_duplicate: float = 1e-10
     kernel_newton_stop: float = 1e-9
     kernel_residual: float = 1e-9

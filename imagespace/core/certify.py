@@ -93,6 +93,11 @@ def arb_bounds(ball):
     ``lo <= x <= hi`` holds for every number ``x`` the ball encloses, whatever the working
     precision. (``float(ball.lower())`` is not such a bound: it rounds to nearest.)
 
+    Raises
+    ------
+    InputError
+        ``ball`` is not finite.
+
     Examples
     --------
     >>> import flint
@@ -175,6 +180,11 @@ def exact_is_zero(c):
     """Exact zero test of an exact sympy number: rationals directly; otherwise an arb ball
     that excludes zero proves ``c != 0`` (fast), and only a ball containing zero goes to sympy's
     symbolic test.
+
+    Raises
+    ------
+    InputError
+        sympy cannot decide whether the coefficient is zero.
 
     Examples
     --------
@@ -405,6 +415,15 @@ def certify_real_roots(form):
     -------
     RealRootCertificate
 
+    Raises
+    ------
+    TypeError
+        ``form`` is not a sympy Poly or a sequence of numbers (a string, a non-iterable), or a
+        coefficient is a boolean, a string or another non-numeric object.
+    InputError
+        ``form`` is a 2-d array, a coefficient is not finite or holds symbols, or every
+        coefficient is zero.
+
     Examples
     --------
     >>> import sympy as sp
@@ -611,6 +630,12 @@ def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):
         For each certified real root, an interval of ``t = x1/x0`` that contains it and no other
         root, rounded outwards, in ascending order; ``(inf, inf)`` for the root ``x0 = 0``; NaN
         in unused slots. On the disc path the roots are simple.
+
+    Raises
+    ------
+    InputError
+        ``F`` is not of shape ``(n, d+1)`` with ``d >= 1``; ``err`` has a negative entry or
+        another shape than ``F``; ``err`` is non-zero but ``exact`` is not given.
 
     Examples
     --------

@@ -121,6 +121,11 @@ class CoefficientEnclosure:
         or directly a list of such coefficients (any number of them).
     symbols : sequence of three sympy symbols
 
+    Raises
+    ------
+    ValueError
+        A coefficient is not polynomial in the features of ``symbols``.
+
     Examples
     --------
     >>> import numpy as np

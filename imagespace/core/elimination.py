@@ -79,6 +79,11 @@ def bf_mul(f, g):
 def bf_add(f, g):
     """Sum of two binary forms of the same degree.
 
+    Raises
+    ------
+    ValueError
+        the two forms have different degrees.
+
     Examples
     --------
     >>> from imagespace.core.elimination import bf_add
@@ -284,6 +289,12 @@ def orientation_form(rows):
 
     Returns the binary quadratic ``G`` as a coefficient list, or raises DegenerateDesignError when
     every such combination vanishes identically.
+
+    Raises
+    ------
+    DegenerateDesignError
+        the ``x2, x3``-free combination of the linear constraints vanishes identically (a
+        continuum of assembly modes, an architecture singularity).
 
     Examples
     --------

@@ -368,6 +368,12 @@ def compose(a: Union[Symbolic, npt.ArrayLike], b: Union[Symbolic, npt.ArrayLike]
     (4,) or (n, 4) float, or sympy.Matrix (4, 1)
         Not normalised (the product of the norms ``x0**2 + x1**2``).
 
+    Raises
+    ------
+    InputError
+        ``a`` or ``b`` is not an image point (or is on the absolute line ``x0 = x1 = 0``), or
+        they are batches of different lengths.
+
     Examples
     --------
     >>> import imagespace as isp

@@ -49,129 +49,21 @@ floats enter the exact paths through the binary rationals of their cosine and si
 
 from __future__ import annotations
 
+from typing import Any, Optional, Union
+
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
-from .._validate import (as_count, as_exact, as_flag, as_float_array, as_point, as_sympy_entry,
-                        check_positive, is_symbolic)
+from .._validate import as_count, as_exact, as_flag, as_float_array, as_sympy_entry, check_positive, is_symbolic
+from .leg_geometry import (Arithmetic, as_tolerances, circle_line, direction_angle, exact_cos_sin, floatify,
+                           geometry_number, geometry_point, in_float_range, lines_meet, rotate_vector, short_text,
+                           unit_direction, world_point, wrap_angle)
 from .quadrics import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric
 from ..exceptions import DegenerateDesignError, InputError
+from ..tolerances import Tolerances
 
 __all__ = ["Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR", "LEG_TYPES"]
-
-
-# --------------------------------------------------------------------------- helpers
-
-def _wrap(a):
-    """Wrap angles to (-pi, pi]."""
-    return np.pi - np.remainder(np.pi - a, 2 * np.pi)
-
-
-def _exact_cs(angle, name):
-    """Exact (cos, sin) of an angle.
-
-    Symbols stay symbolic; angles whose cosine and sine sympy evaluates in closed form (``pi/2``,
-    ``7*pi/18`` ...) stay exact; any other number (a float, or a rational such as a float joint
-    value made exact) enters through the binary rationals of its float cosine and sine, so that no
-    unevaluated ``cos(331254131695027/140737488355328)`` reaches the elimination.
-    """
-    if isinstance(angle, sp.Basic):
-        if angle.free_symbols:
-            return sp.cos(angle), sp.sin(angle)
-        c, s = sp.cos(angle), sp.sin(angle)
-        if not (c.has(sp.cos, sp.sin) or s.has(sp.cos, sp.sin)):
-            return c, s
-        if angle.has(sp.pi):
-            return c, s
-    a = float(as_exact(angle, name))
-    if not np.isfinite(a):
-        raise InputError(f"{name} must be an angle within the float range, got {_short(angle)}")
-    return sp.Rational(np.cos(a)), sp.Rational(np.sin(a))
-
-
-def _short(value):
-    text = str(value)
-    return text if len(text) <= 80 else text[:77] + "..."
-
-
-def _in_float_range(values, name):
-    """Geometry is kept exact, but every numeric method works on its floats: refuse numbers whose
-    float is infinite (``2**1100``), naming the entry."""
-    single = not isinstance(values, tuple)
-    for i, v in enumerate((values,) if single else values):
-        if isinstance(v, sp.Basic) and not v.free_symbols and not np.isfinite(float(v)):
-            raise InputError(f"{name if single else f'{name}[{i}]'} must be within the float range, "
-                             f"got {_short(v)}")
-    return values
-
-
-def _real_entry(value, name):
-    """A sympy entry of the geometry: a real expression (no booleans, relations, I, nan)."""
-    if isinstance(value, sp.Basic):
-        value = as_sympy_entry(value, name)
-        if value.has(sp.I):
-            raise TypeError(f"{name} must be real, got {_short(value)}")
-    return value
-
-
-def _geom_point(value, name):
-    if isinstance(value, (list, tuple)) and len(value) == 2:
-        value = tuple(_real_entry(v, f"{name}[{i}]") for i, v in enumerate(value))
-    elif isinstance(value, sp.MatrixBase) and len(value) == 2:
-        value = tuple(_real_entry(v, f"{name}[{i}]") for i, v in enumerate(value))
-    elif isinstance(value, np.ndarray) and value.dtype == object and value.shape == (2,):
-        value = tuple(_real_entry(v, f"{name}[{i}]") for i, v in enumerate(value))
-    return _in_float_range(as_point(value, name), name)
-
-
-def _geom_number(value, name):
-    return _in_float_range(as_exact(_real_entry(value, name), name), name)
-
-
-def _unit(value, name):
-    """A direction normalised to length 1.
-
-    Exact input (integers, rationals, sympy) is normalised exactly (``(-10, -9)`` becomes
-    ``(-10, -9)/sqrt(181)``); float input is normalised in floating point and then taken as exact
-    binary rationals, so that no square roots of long rationals enter the symbolic paths.
-    """
-    vx, vy = _geom_point(value, name)
-    n2 = sp.expand(vx**2 + vy**2)
-    if n2 == 0 or (n2.is_number and float(n2) == 0.0):
-        raise InputError(f"{name} must be a non-zero direction vector, got ({vx}, {vy})")
-    if n2 == 1:
-        return (vx, vy)
-    raw = list(value) if not isinstance(value, np.ndarray) else list(value.ravel())
-    if any(isinstance(r, (float, np.floating)) and not isinstance(r, sp.Basic) for r in raw):
-        f = np.array([float(vx), float(vy)])
-        f = f / np.hypot(*f)
-        return (sp.Rational(f[0]), sp.Rational(f[1]))
-    n = sp.sqrt(n2)
-    return (sp.radsimp(vx / n), sp.radsimp(vy / n))
-
-
-class _Ops:
-    """cos/sin and constants for one arithmetic: sympy (exact or symbolic) or numpy (float)."""
-
-    def __init__(self, symbolic):
-        self.symbolic = symbolic
-
-    def cs(self, q):
-        if self.symbolic:
-            if isinstance(q, sp.Basic) and q.free_symbols:
-                return sp.cos(q), sp.sin(q)
-            return _exact_cs(q, "q")
-        return np.cos(q), np.sin(q)
-
-
-def _floatify(value):
-    if isinstance(value, tuple):
-        return tuple(_floatify(v) for v in value)
-    if isinstance(value, sp.Basic):
-        if value.free_symbols:
-            return None
-        return float(value)
-    return value
 
 
 class Leg:
@@ -179,6 +71,22 @@ class Leg:
 
     Subclasses define ``joints`` (e.g. ``"RPR"``), ``default_actuated``, the geometry, the
     inverse kinematics and the dyad for each choice of actuated joint.
+
+    Raises
+    ------
+    TypeError
+        ``actuated`` is not an integer; a geometry entry is not a real number or expression.
+    InputError
+        ``actuated`` is not 0, 1 or 2; a geometry entry is not finite, a point is not a 2-vector,
+        a direction is zero, or a length is not positive.
+    DegenerateDesignError
+        The geometry makes the leg degenerate (RPP, PPR: sliders at angle 0 or pi).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> isinstance(isp.RPR(base=(0, 0), platform=(1, 0)), isp.Leg)
+    True
     """
 
     joints = "???"
@@ -186,25 +94,30 @@ class Leg:
     joint_names = ("q0", "q1", "q2")
     n_branches = 1
 
-    def __init__(self, actuated=None):
+    def __init__(self, actuated: Optional[int] = None) -> None:
         if actuated is None:
             actuated = self.default_actuated
         if isinstance(actuated, (bool, np.bool_)) or not isinstance(actuated, (int, np.integer)):
             raise TypeError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
-                            f"{self.joints}), got {type(actuated).__name__} {_short(repr(actuated))}")
+                            f"{self.joints}), got {type(actuated).__name__} {short_text(repr(actuated))}")
         if not 0 <= actuated <= 2:
             raise InputError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
-                             f"{self.joints}), got {_short(repr(actuated))}")
+                             f"{self.joints}), got {short_text(repr(actuated))}")
         self.actuated = int(actuated)
-        self._float = None
+        self._float: Optional[dict[str, Any]] = None
 
     # -- geometry access --------------------------------------------------------
     def _geometry(self):
         """Dict of the exact geometry (sympy)."""
         raise NotImplementedError
 
-    def geometry(self, exact=True):
+    def geometry(self, exact: bool = True) -> dict[str, Any]:
         """The leg's geometry as a dict: exact sympy values, or floats with ``exact=False``.
+
+        Raises
+        ------
+        InputError
+            ``exact=False`` and the geometry holds sympy symbols (substitute numbers first).
 
         Examples
         --------
@@ -216,7 +129,7 @@ class Leg:
         if as_flag(exact, "exact"):
             return dict(g)
         if self._float is None:
-            fl = {k: _floatify(v) for k, v in g.items()}
+            fl = {k: floatify(v) for k, v in g.items()}
             if any(v is None or (isinstance(v, tuple) and None in v) for v in fl.values()):
                 free = sorted(str(s) for s in self.free_symbols)
                 raise InputError(f"the {self.joints} leg has symbolic design parameters {free}; "
@@ -225,7 +138,7 @@ class Leg:
         return dict(self._float)
 
     @property
-    def free_symbols(self):
+    def free_symbols(self) -> set[sp.Basic]:
         """Set of sympy symbols in the design parameters."""
         out = set()
         for v in self._geometry().values():
@@ -235,12 +148,12 @@ class Leg:
         return out
 
     @property
-    def actuated_is_angle(self):
+    def actuated_is_angle(self) -> bool:
         """True if the actuated joint is revolute."""
         return self.joints[self.actuated] == "R"
 
     @property
-    def actuated_name(self):
+    def actuated_name(self) -> str:
         """Name of the actuated joint variable."""
         return self.joint_names[self.actuated]
 
@@ -249,7 +162,7 @@ class Leg:
         return f"{type(self).__name__}({g}, actuated={self.actuated})"
 
     # -- the dyad ---------------------------------------------------------------
-    def joint_values_ok(self, q):
+    def joint_values_ok(self, q: npt.ArrayLike) -> npt.NDArray[np.bool_]:
         """Boolean mask: which actuated joint values are inside the joint's domain (every finite
         value, by default; NaN and infinities never are).
 
@@ -261,8 +174,14 @@ class Leg:
         """
         return np.isfinite(as_float_array(q, "q", finite=False))
 
-    def check_joint_value(self, q, name="q"):
+    def check_joint_value(self, q: Any, name: str = "q") -> Any:
         """Raise InputError if a value of the actuated joint is not finite or outside its domain.
+
+        Raises
+        ------
+        InputError
+            a value is not finite, or is outside the actuated joint's domain (for the RPR
+            leg's length: negative).
 
         Examples
         --------
@@ -279,7 +198,7 @@ class Leg:
                              f"{self.actuated_name} of {self.joints}, got {q}")
         return q
 
-    def dyad(self, q):
+    def dyad(self, q: Any) -> Quadric:
         """The quadric left when the actuated joint is locked at ``q``.
 
         Parameters
@@ -291,6 +210,14 @@ class Leg:
         Returns
         -------
         Quadric
+
+        Raises
+        ------
+        InputError
+            ``q`` is outside the actuated joint's domain or not finite, is an array of more
+            than one dimension, or is too large for the float dyad.
+        TypeError
+            ``q`` is not a number, an array of numbers or a real sympy expression.
 
         Examples
         --------
@@ -306,11 +233,11 @@ class Leg:
             q = as_exact(q, "q")
             if not q.free_symbols:
                 if self.actuated_is_angle:
-                    _in_float_range(q, "q")      # its cosine and sine are taken in float
+                    in_float_range(q, "q")      # its cosine and sine are taken in float
                 qf = float(q)
                 self.check_joint_value(qf if np.isfinite(qf) else float(np.sign(qf)))
             g = self._geometry()
-            return self._dyad(q, g, _Ops(symbolic))
+            return self._dyad(q, g, Arithmetic(symbolic))
         q = as_float_array(q, "q", finite=False)
         if q.ndim > 1:
             raise InputError(f"q must be a number or a 1-d array of values of the actuated joint, "
@@ -319,7 +246,7 @@ class Leg:
         g = self.geometry(exact=False)
         with np.errstate(over="ignore", invalid="ignore"):
             try:
-                return self._dyad(q, g, _Ops(symbolic))
+                return self._dyad(q, g, Arithmetic(symbolic))
             except InputError as exc:
                 if q.ndim == 0 and "finite" in str(exc):
                     raise InputError(f"q = {float(q)} is too large for the float dyad of the {self.joints} "
@@ -330,19 +257,31 @@ class Leg:
         raise NotImplementedError
 
     # -- inverse kinematics -----------------------------------------------------
-    def inverse_kinematics(self, pose):
+    def inverse_kinematics(self, pose: npt.ArrayLike,
+                           tolerances: Optional[Tolerances] = None) -> npt.NDArray[np.float64]:
         """All branches of the leg's inverse kinematics.
 
         Parameters
         ----------
         pose : (3,) or (n, 3) float
             ``(x, y, phi)``.
+        tolerances : Tolerances, optional
+            The thresholds of the branch decisions (``ik_parallel``, ``ik_tangent``); default
+            :data:`~imagespace.tolerances.TOLERANCES`. A mechanism passes its own.
 
         Returns
         -------
         (n_branches, 3) or (n, n_branches, 3) float
             The three joint values of every branch (see the module docstring for the order);
             NaN where a branch does not exist (pose out of reach of this leg).
+
+        Raises
+        ------
+        InputError
+            ``pose`` is not of shape ``(3,)`` or ``(n, 3)``, or not finite; the leg's geometry is
+            symbolic.
+        TypeError
+            ``pose`` is not numeric; ``tolerances`` is not a :class:`~imagespace.tolerances.Tolerances`.
 
         Examples
         --------
@@ -352,14 +291,18 @@ class Leg:
                [ 3.14159265, -1.        ,  3.14159265]])
         """
         p = as_float_array(pose, "pose", last=3)
+        tol = as_tolerances(tolerances)
         single = p.ndim == 1
         p2 = np.atleast_2d(p)
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-            out = self._ik(p2[:, 0], p2[:, 1], p2[:, 2], self.geometry(exact=False))
+            out = self._ik(p2[:, 0], p2[:, 1], p2[:, 2], self.geometry(exact=False), tol)
         return out[0] if single else out
 
-    def actuated_values(self, pose):
+    def actuated_values(self, pose: npt.ArrayLike,
+                        tolerances: Optional[Tolerances] = None) -> npt.NDArray[np.float64]:
         """Actuated joint value of every branch at ``pose``: ``(n_branches,)`` or ``(n, n_branches)``.
+
+        ``tolerances`` as in :meth:`inverse_kinematics`, which raises for this method.
 
         Examples
         --------
@@ -367,9 +310,9 @@ class Leg:
         >>> isp.RPR(base=(0, 0), platform=(3, 4)).actuated_values([0.0, 0.0, 0.0])
         array([ 5., -5.])
         """
-        return self.inverse_kinematics(pose)[..., self.actuated]
+        return self.inverse_kinematics(pose, tolerances)[..., self.actuated]
 
-    def joint_difference(self, a, b):
+    def joint_difference(self, a: npt.ArrayLike, b: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """``a - b`` for the actuated joint: plain for a prismatic joint, wrapped to ``(-pi, pi]``
         for an angle (radians). Broadcasts; NaN stays NaN.
 
@@ -381,9 +324,9 @@ class Leg:
         -0.083185
         """
         d = np.asarray(a, dtype=float) - np.asarray(b, dtype=float)
-        return _wrap(d) if self.actuated_is_angle else d
+        return wrap_angle(d) if self.actuated_is_angle else d
 
-    def joint_distance(self, a, b):
+    def joint_distance(self, a: npt.ArrayLike, b: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """``|a - b|`` for the actuated joint (angles compared modulo ``2 pi``); see
         :meth:`joint_difference`.
 
@@ -395,10 +338,16 @@ class Leg:
         """
         return np.abs(self.joint_difference(a, b))
 
-    def nearest_branch(self, pose, q):
+    def nearest_branch(self, pose: npt.ArrayLike, q: npt.ArrayLike,
+                       tolerances: Optional[Tolerances] = None) -> Union[int, npt.NDArray[np.intp]]:
         """The IK branch whose actuated value is nearest to ``q`` at ``pose``: an int for one pose,
         ``(n,)`` ints for ``(n, 3)`` poses (with ``q`` a number or ``(n,)``); ``-1`` where no branch
-        reaches the pose.
+        reaches the pose. ``tolerances`` as in :meth:`inverse_kinematics`.
+
+        Raises
+        ------
+        InputError, TypeError
+            As :meth:`inverse_kinematics`.
 
         Examples
         --------
@@ -407,7 +356,7 @@ class Leg:
         >>> leg.nearest_branch([0.0, 0.0, 0.0], -4.0)
         1
         """
-        vals = self.actuated_values(pose)                       # (nb,) or (n, nb)
+        vals = self.actuated_values(pose, tolerances)           # (nb,) or (n, nb)
         q = np.asarray(q, dtype=float)
         d = self.joint_distance(vals, q[..., None] if q.ndim else q)
         d = np.where(np.isnan(d), np.inf, d)
@@ -415,11 +364,23 @@ class Leg:
         best = np.where(np.isfinite(np.min(d, axis=-1)), best, -1)
         return int(best) if np.ndim(best) == 0 else best
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         raise NotImplementedError
 
-    def joint_points(self, pose, branch=0):
+    def joint_points(self, pose: npt.ArrayLike, branch: int = 0,
+                     tolerances: Optional[Tolerances] = None) -> npt.NDArray[np.float64]:
         """The leg drawn as a polyline in the base frame: ``(k, 2)`` points from base to platform.
+
+        ``branch`` is the inverse-kinematics branch drawn; ``tolerances`` as in
+        :meth:`inverse_kinematics`.
+
+        Raises
+        ------
+        InputError
+            ``pose`` is not one finite pose ``(3,)``; ``branch`` is negative or not below
+            :attr:`n_branches`.
+        TypeError
+            ``branch`` is not an integer; ``tolerances`` is not a Tolerances.
 
         Examples
         --------
@@ -434,46 +395,11 @@ class Leg:
             raise InputError(f"branch must be below {self.n_branches} (the {self.joints} leg's inverse "
                              f"kinematics has {self.n_branches} branch{'es' if self.n_branches > 1 else ''}), "
                              f"got {branch}")
-        q = self.inverse_kinematics(p)[branch]
+        q = self.inverse_kinematics(p, tolerances)[branch]
         return self._points(p, q, self.geometry(exact=False))
 
     def _points(self, pose, q, g):
         raise NotImplementedError
-
-
-def _world(x, y, phi, p):
-    c, s = np.cos(phi), np.sin(phi)
-    return x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]
-
-
-def _rotv(phi, v):
-    c, s = np.cos(phi), np.sin(phi)
-    return c * v[0] - s * v[1], s * v[0] + c * v[1]
-
-
-def _angle(v):
-    return np.arctan2(v[1], v[0])
-
-
-def _lines_meet(p, u, r, v):
-    """Solve p + s u = r + t v for (s, t) (arrays); NaN where parallel."""
-    det = -u[0] * v[1] + u[1] * v[0]
-    dx, dy = r[0] - p[0], r[1] - p[1]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        s = (-dx * v[1] + dy * v[0]) / det
-        t = (u[0] * dy - u[1] * dx) / det
-    bad = np.abs(det) < 1e-14
-    return np.where(bad, np.nan, s), np.where(bad, np.nan, t)
-
-
-def _circle_line(centre, radius, p, v):
-    """Parameters s of p + s v (v unit) on the circle; two branches, NaN if none."""
-    dx, dy = p[0] - centre[0], p[1] - centre[1]
-    b = v[0] * dx + v[1] * dy
-    disc = b * b - (dx * dx + dy * dy) + radius * radius
-    disc = np.where((disc < 0) & (disc > -1e-12 * (1 + radius * radius)), 0.0, disc)
-    r = np.sqrt(np.where(disc >= 0, disc, np.nan))
-    return -b + r, -b - r
 
 
 # --------------------------------------------------------------------------- leg types
@@ -502,19 +428,33 @@ class RPR(Leg):
     joint_names = ("theta", "rho", "psi")
     n_branches = 2
 
-    def __init__(self, base, platform, actuated=None):
+    def __init__(self, base: Any, platform: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
-        self.base = _geom_point(base, "base")
-        self.platform = _geom_point(platform, "platform")
+        self.base = geometry_point(base, "base")
+        self.platform = geometry_point(platform, "platform")
 
     def _geometry(self):
         return {"base": self.base, "platform": self.platform}
 
-    def joint_values_ok(self, q):
+    def joint_values_ok(self, q: npt.ArrayLike) -> npt.NDArray[np.bool_]:
         q = as_float_array(q, "q", finite=False)
         return (np.isfinite(q) & (q >= 0)) if self.actuated == 1 else np.isfinite(q)
 
-    def check_joint_value(self, q, name="q"):
+    def check_joint_value(self, q: Any, name: str = "q") -> Any:
+        """Raise InputError if a leg length is not finite, or negative when ``rho`` is actuated.
+
+        Raises
+        ------
+        InputError
+            a value is not finite, or ``rho`` (``actuated=1``) is negative.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.RPR(base=(0, 0), platform=(0, 0)).check_joint_value(2.0)
+        2.0
+        """
         arr = as_float_array(q, name, finite=False)
         if not np.all(np.isfinite(arr)):
             raise InputError(f"{name} (the actuated joint {self.actuated_name} of RPR) must be finite, got {q}")
@@ -531,18 +471,18 @@ class RPR(Leg):
             return pr_quadric(a, A, (c, s))
         return rp_quadric(a, (c, -s), A)
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, a = g["base"], g["platform"]
-        ax, ay = _world(x, y, phi, a)
+        ax, ay = world_point(x, y, phi, a)
         dx, dy = ax - A[0], ay - A[1]
         th = np.arctan2(dy, dx)
         rho = np.hypot(dx, dy)
-        b0 = np.stack([th, rho, _wrap(phi - th)], -1)
-        b1 = np.stack([_wrap(th + np.pi), -rho, _wrap(phi - th - np.pi)], -1)
+        b0 = np.stack([th, rho, wrap_angle(phi - th)], -1)
+        b1 = np.stack([wrap_angle(th + np.pi), -rho, wrap_angle(phi - th - np.pi)], -1)
         return np.stack([b0, b1], -2)
 
     def _points(self, pose, q, g):
-        return np.array([g["base"], _world(*pose, g["platform"])], dtype=float)
+        return np.array([g["base"], world_point(*pose, g["platform"])], dtype=float)
 
 
 class RRR(Leg):
@@ -572,11 +512,12 @@ class RRR(Leg):
     joint_names = ("theta1", "theta2", "theta3")
     n_branches = 2
 
-    def __init__(self, base, platform, lengths, actuated=None):
+    def __init__(self, base: Any, platform: Any, lengths: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
-        self.base = _geom_point(base, "base")
-        self.platform = _geom_point(platform, "platform")
-        l1, l2 = _geom_point(lengths, "lengths")
+        self.base = geometry_point(base, "base")
+        self.platform = geometry_point(platform, "platform")
+        l1, l2 = geometry_point(lengths, "lengths")
         self.lengths = (check_positive(l1, "lengths[0]"), check_positive(l2, "lengths[1]"))
 
     def _geometry(self):
@@ -591,14 +532,14 @@ class RRR(Leg):
             return rr_quadric(A, l1 * l1 + l2 * l2 + 2 * l1 * l2 * c, a)
         return rr_quadric(A, l1 * l1, (a[0] - l2 * c, a[1] + l2 * s))
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, a, (l1, l2) = g["base"], g["platform"], g["lengths"]
-        ax, ay = _world(x, y, phi, a)
+        ax, ay = world_point(x, y, phi, a)
         dx, dy = ax - A[0], ay - A[1]
         d = np.hypot(dx, dy)
         along = (l1 * l1 - l2 * l2 + d * d) / (2 * d)
         h2 = l1 * l1 - along * along
-        h2 = np.where((h2 < 0) & (h2 > -1e-12 * l1 * l1), 0.0, h2)
+        h2 = np.where((h2 < 0) & (h2 > -tol.ik_tangent * l1 * l1), 0.0, h2)
         h = np.sqrt(np.where(h2 >= 0, h2, np.nan))
         ex, ey = dx / d, dy / d
         out = []
@@ -607,13 +548,13 @@ class RRR(Leg):
             Ey = A[1] + along * ey + sign * h * ex
             t1 = np.arctan2(Ey - A[1], Ex - A[0])
             t12 = np.arctan2(ay - Ey, ax - Ex)
-            out.append(np.stack([t1, _wrap(t12 - t1), _wrap(phi - t12)], -1))
+            out.append(np.stack([t1, wrap_angle(t12 - t1), wrap_angle(phi - t12)], -1))
         return np.stack(out, -2)
 
     def _points(self, pose, q, g):
         A, (l1, _) = g["base"], g["lengths"]
         E = (A[0] + l1 * np.cos(q[0]), A[1] + l1 * np.sin(q[0]))
-        return np.array([A, E, _world(*pose, g["platform"])], dtype=float)
+        return np.array([A, E, world_point(*pose, g["platform"])], dtype=float)
 
 
 class PRR(Leg):
@@ -642,12 +583,13 @@ class PRR(Leg):
     joint_names = ("s", "theta2", "theta3")
     n_branches = 2
 
-    def __init__(self, base, axis, platform, length, actuated=None):
+    def __init__(self, base: Any, axis: Any, platform: Any, length: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
-        self.base = _geom_point(base, "base")
-        self.axis = _unit(axis, "axis")
-        self.platform = _geom_point(platform, "platform")
-        self.length = check_positive(_geom_number(length, "length"), "length")
+        self.base = geometry_point(base, "base")
+        self.axis = unit_direction(axis, "axis")
+        self.platform = geometry_point(platform, "platform")
+        self.length = check_positive(geometry_number(length, "length"), "length")
 
     def _geometry(self):
         return {"base": self.base, "axis": self.axis, "platform": self.platform, "length": self.length}
@@ -662,21 +604,21 @@ class PRR(Leg):
             return pr_quadric(a, P, u)
         return pr_quadric((a[0] - l * c, a[1] + l * s), A, u)
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, u, a, l = g["base"], g["axis"], g["platform"], g["length"]
-        ax, ay = _world(x, y, phi, a)
-        gam = _angle(u)
+        ax, ay = world_point(x, y, phi, a)
+        gam = direction_angle(u)
         out = []
-        for s in _circle_line((ax, ay), l, A, u):
+        for s in circle_line((ax, ay), l, A, u, tol.ik_tangent):
             Sx, Sy = A[0] + s * u[0], A[1] + s * u[1]
             t = np.arctan2(ay - Sy, ax - Sx)
-            out.append(np.stack([s, _wrap(t - gam), _wrap(phi - t)], -1))
+            out.append(np.stack([s, wrap_angle(t - gam), wrap_angle(phi - t)], -1))
         return np.stack(out, -2)
 
     def _points(self, pose, q, g):
         A, u = g["base"], g["axis"]
         S = (A[0] + q[0] * u[0], A[1] + q[0] * u[1])
-        return np.array([A, S, _world(*pose, g["platform"])], dtype=float)
+        return np.array([A, S, world_point(*pose, g["platform"])], dtype=float)
 
 
 class RRP(Leg):
@@ -705,12 +647,13 @@ class RRP(Leg):
     joint_names = ("theta1", "theta2", "s")
     n_branches = 2
 
-    def __init__(self, base, length, platform, direction, actuated=None):
+    def __init__(self, base: Any, length: Any, platform: Any, direction: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
-        self.base = _geom_point(base, "base")
-        self.length = check_positive(_geom_number(length, "length"), "length")
-        self.platform = _geom_point(platform, "platform")
-        self.direction = _unit(direction, "direction")
+        self.base = geometry_point(base, "base")
+        self.length = check_positive(geometry_number(length, "length"), "length")
+        self.platform = geometry_point(platform, "platform")
+        self.direction = unit_direction(direction, "direction")
 
     def _geometry(self):
         return {"base": self.base, "length": self.length, "platform": self.platform,
@@ -726,21 +669,21 @@ class RRP(Leg):
         w = (v[0] * c + v[1] * s, v[1] * c - v[0] * s)   # e^{i(angle(v) - q)}
         return rp_quadric((b[0] - l * w[0], b[1] - l * w[1]), v, A)
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, l, b, v = g["base"], g["length"], g["platform"], g["direction"]
-        bw = _world(x, y, phi, b)
-        vw = _rotv(phi, v)
+        bw = world_point(x, y, phi, b)
+        vw = rotate_vector(phi, v)
         out = []
-        for s in _circle_line(A, l, bw, vw):
+        for s in circle_line(A, l, bw, vw, tol.ik_tangent):
             Ex, Ey = bw[0] + s * vw[0], bw[1] + s * vw[1]
             t1 = np.arctan2(Ey - A[1], Ex - A[0])
-            out.append(np.stack([t1, _wrap(phi + _angle(v) - t1), s], -1))
+            out.append(np.stack([t1, wrap_angle(phi + direction_angle(v) - t1), s], -1))
         return np.stack(out, -2)
 
     def _points(self, pose, q, g):
         A, l, b, v = g["base"], g["length"], g["platform"], g["direction"]
         E = (A[0] + l * np.cos(q[0]), A[1] + l * np.sin(q[0]))
-        return np.array([A, E, _world(*pose, b)], dtype=float)
+        return np.array([A, E, world_point(*pose, b)], dtype=float)
 
 
 class RPP(Leg):
@@ -769,13 +712,14 @@ class RPP(Leg):
     default_actuated = 1
     joint_names = ("theta1", "s1", "s2")
 
-    def __init__(self, base, platform, direction, angle, actuated=None):
+    def __init__(self, base: Any, platform: Any, direction: Any, angle: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
-        self.base = _geom_point(base, "base")
-        self.platform = _geom_point(platform, "platform")
-        self.direction = _unit(direction, "direction")
-        self.angle = _geom_number(angle, "angle")
-        self._beta_cs = _exact_cs(angle, "angle")
+        self.base = geometry_point(base, "base")
+        self.platform = geometry_point(platform, "platform")
+        self.direction = unit_direction(direction, "direction")
+        self.angle = geometry_number(angle, "angle")
+        self._beta_cs = exact_cos_sin(angle, "angle")
         if not self._beta_cs[1].free_symbols and float(self._beta_cs[1]) == 0.0:
             raise DegenerateDesignError(f"angle (between the two sliders of RPP) must not be 0 or pi, got {angle}")
 
@@ -795,20 +739,20 @@ class RPP(Leg):
         # phi_c = q + beta - angle(v): cos/sin through e^{iq} * conj(w)
         return pp_quadric(c * w[0] + s * w[1], s * w[0] - c * w[1])
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, b, v, (cb, sb) = g["base"], g["platform"], g["direction"], g["angle_cs"]
         beta = np.arctan2(sb, cb)
-        t1 = _wrap(phi + _angle(v) - beta)
+        t1 = wrap_angle(phi + direction_angle(v) - beta)
         d1 = (np.cos(t1), np.sin(t1))
-        bw = _world(x, y, phi, b)
-        vw = _rotv(phi, v)
-        s1, s2 = _lines_meet(A, d1, bw, vw)
+        bw = world_point(x, y, phi, b)
+        vw = rotate_vector(phi, v)
+        s1, s2 = lines_meet(A, d1, bw, vw, tol.ik_parallel)
         return np.stack([t1, s1, s2], -1)[..., None, :]
 
     def _points(self, pose, q, g):
         A = g["base"]
         S = (A[0] + q[1] * np.cos(q[0]), A[1] + q[1] * np.sin(q[0]))
-        return np.array([A, S, _world(*pose, g["platform"])], dtype=float)
+        return np.array([A, S, world_point(*pose, g["platform"])], dtype=float)
 
 
 class PRP(Leg):
@@ -836,12 +780,13 @@ class PRP(Leg):
     default_actuated = 0
     joint_names = ("s1", "theta2", "s2")
 
-    def __init__(self, base, axis, platform, direction, actuated=None):
+    def __init__(self, base: Any, axis: Any, platform: Any, direction: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
-        self.base = _geom_point(base, "base")
-        self.axis = _unit(axis, "axis")
-        self.platform = _geom_point(platform, "platform")
-        self.direction = _unit(direction, "direction")
+        self.base = geometry_point(base, "base")
+        self.axis = unit_direction(axis, "axis")
+        self.platform = geometry_point(platform, "platform")
+        self.direction = unit_direction(direction, "direction")
 
     def _geometry(self):
         return {"base": self.base, "axis": self.axis, "platform": self.platform,
@@ -858,18 +803,18 @@ class PRP(Leg):
         ux, uy = u[0] * c - u[1] * s, u[1] * c + u[0] * s
         return pp_quadric(ux * v[0] + uy * v[1], uy * v[0] - ux * v[1])
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         A, u, b, v = g["base"], g["axis"], g["platform"], g["direction"]
-        bw = _world(x, y, phi, b)
-        vw = _rotv(phi, v)
-        s1, s2 = _lines_meet(A, u, bw, vw)
-        t2 = _wrap(phi + _angle(v) - _angle(u))
+        bw = world_point(x, y, phi, b)
+        vw = rotate_vector(phi, v)
+        s1, s2 = lines_meet(A, u, bw, vw, tol.ik_parallel)
+        t2 = wrap_angle(phi + direction_angle(v) - direction_angle(u))
         return np.stack([s1, t2, s2], -1)[..., None, :]
 
     def _points(self, pose, q, g):
         A, u = g["base"], g["axis"]
         S = (A[0] + q[0] * u[0], A[1] + q[0] * u[1])
-        return np.array([A, S, _world(*pose, g["platform"])], dtype=float)
+        return np.array([A, S, world_point(*pose, g["platform"])], dtype=float)
 
 
 class PPR(Leg):
@@ -899,13 +844,14 @@ class PPR(Leg):
     default_actuated = 0
     joint_names = ("s1", "s2", "theta3")
 
-    def __init__(self, base, axis, platform, angle, actuated=None):
+    def __init__(self, base: Any, axis: Any, platform: Any, angle: Any,
+                 actuated: Optional[int] = None) -> None:
         super().__init__(actuated)
-        self.base = _geom_point(base, "base")
-        self.axis = _unit(axis, "axis")
-        self.platform = _geom_point(platform, "platform")
-        self.angle = _geom_number(angle, "angle")
-        cb, sb = _exact_cs(angle, "angle")
+        self.base = geometry_point(base, "base")
+        self.axis = unit_direction(axis, "axis")
+        self.platform = geometry_point(platform, "platform")
+        self.angle = geometry_number(angle, "angle")
+        cb, sb = exact_cos_sin(angle, "angle")
         if not sb.free_symbols and float(sb) == 0.0:
             raise DegenerateDesignError(f"angle (between the two sliders of PPR) must not be 0 or pi, got {angle}")
         u = self.axis
@@ -924,16 +870,16 @@ class PPR(Leg):
         cq, sq = ops.cs(q)
         return pp_quadric(cq, sq)
 
-    def _ik(self, x, y, phi, g):
+    def _ik(self, x, y, phi, g, tol):
         C, u, c, w = g["base"], g["axis"], g["platform"], g["second_axis"]
-        cw = _world(x, y, phi, c)
-        s1, t = _lines_meet(C, u, cw, w)
-        return np.stack([s1, -t, _wrap(phi)], -1)[..., None, :]
+        cw = world_point(x, y, phi, c)
+        s1, t = lines_meet(C, u, cw, w, tol.ik_parallel)
+        return np.stack([s1, -t, wrap_angle(phi)], -1)[..., None, :]
 
     def _points(self, pose, q, g):
         C, u = g["base"], g["axis"]
         S = (C[0] + q[0] * u[0], C[1] + q[0] * u[1])
-        return np.array([C, S, _world(*pose, g["platform"])], dtype=float)
+        return np.array([C, S, world_point(*pose, g["platform"])], dtype=float)
 
 
 LEG_TYPES = {cls.joints: cls for cls in (RPR, RRR, PRR, RRP, RPP, PRP, PPR)}

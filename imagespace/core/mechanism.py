@@ -33,6 +33,11 @@ FloatArray = npt.NDArray[np.float64]
 def check_mechanism(value, name="manipulator"):
     """Refuse anything but a :class:`Mechanism` (a :class:`~imagespace.PlanarParallel`) by name.
 
+    Raises
+    ------
+    TypeError
+        ``value`` is not a :class:`Mechanism` (a :class:`~imagespace.PlanarParallel`).
+
     Examples
     --------
     >>> import imagespace as isp
@@ -82,6 +87,14 @@ class Mechanism:
     legs : sequence of three Leg
     name : str, optional
     tolerances : Tolerances, optional
+
+    Raises
+    ------
+    TypeError
+        ``legs`` is not a sequence of Leg objects, ``name`` is not a string, or ``tolerances`` is
+        not a Tolerances.
+    InputError
+        ``legs`` does not hold three legs.
 
     Examples
     --------
@@ -178,6 +191,11 @@ class Mechanism:
         -------
         list of three Quadric
 
+        Raises
+        ------
+        InputError
+            ``q`` does not have three entries (or is not a valid joint vector).
+
         Examples
         --------
         >>> import imagespace as isp
@@ -260,6 +278,12 @@ class Mechanism:
         """``(P, elimination, case_a)`` for exact/symbolic ``q`` (None: general), cached by the
         exact value of ``q``: the kinematic polynomial, the sympy elimination it came from, and
         whether the Cramer denominator vanishes identically.
+
+        Raises
+        ------
+        DegenerateDesignError
+            the kinematic polynomial vanishes identically (an architecture singularity:
+            infinitely many assembly modes).
 
         Examples
         --------
@@ -404,7 +428,7 @@ class Mechanism:
         """
         p = as_float_array(pose, "pose", last=3)
         wm = (0, 0, 0) if working_modes is None else self.check_working_modes(working_modes)
-        cols = [leg.actuated_values(p)[..., b] for leg, b in zip(self.legs, wm)]
+        cols = [leg.actuated_values(p, self.tolerances)[..., b] for leg, b in zip(self.legs, wm)]
         q = np.stack(cols, axis=-1)
         if p.ndim == 1 and np.any(np.isnan(q)):
             bad = [i for i in range(3) if np.isnan(q[i])]
@@ -415,6 +439,13 @@ class Mechanism:
     def check_working_modes(self, working_modes: Sequence[int], name: str = "working_modes") -> tuple[int, int, int]:
         """Three branch indices, one per leg's inverse kinematics, checked by kind and range; the
         error names ``name``.
+
+        Raises
+        ------
+        TypeError
+            ``working_modes`` is not a sequence, or an entry is not a whole number.
+        InputError
+            it does not have three entries, or an entry is not a branch index of its leg.
 
         Examples
         --------
@@ -455,6 +486,12 @@ class Mechanism:
         -------
         float or (n,) float
 
+        Raises
+        ------
+        InputError
+            ``pose``, ``q`` or ``length`` has the wrong shape, or ``length`` is not
+            positive.
+
         Examples
         --------
         >>> import imagespace as isp
@@ -475,7 +512,7 @@ class Mechanism:
             length = length[..., None]
         errs = []
         for i, leg in enumerate(self.legs):
-            vals = leg.actuated_values(p)                  # (..., nb)
+            vals = leg.actuated_values(p, self.tolerances)  # (..., nb)
             qi = qa[..., i][..., None]
             d = leg.joint_distance(vals, qi)
             if not leg.actuated_is_angle:
@@ -491,6 +528,11 @@ class Mechanism:
     def enclosure(self) -> Any:
         """The kinematic polynomial general in q, expanded for rigorous batch evaluation (cached):
         a :class:`~imagespace.core.codegen.CoefficientEnclosure`.
+
+        Raises
+        ------
+        InputError
+            the design holds symbols (certified batches need a numeric design).
 
         Examples
         --------
@@ -529,8 +571,8 @@ class Mechanism:
         for i, leg in enumerate(self.legs):
             branch = 0
             if qv is not None:
-                branch = max(leg.nearest_branch(p, qv[i]), 0)
-            out.append(leg.joint_points(p, branch))
+                branch = max(int(leg.nearest_branch(p, qv[i], self.tolerances)), 0)
+            out.append(leg.joint_points(p, branch, self.tolerances))
         return out
 
 

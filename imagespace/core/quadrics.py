@@ -35,9 +35,10 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Optional, Sequence
 
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from .._validate import _short, as_sympy_entry
@@ -143,7 +144,7 @@ def _check_nonzero_pair(x, y, name):
         raise InputError(f"{name} must be non-zero, got (0, 0){where}")
 
 
-def image_symbols():
+def image_symbols() -> tuple[sp.Symbol, sp.Symbol, sp.Symbol, sp.Symbol]:
     """The sympy symbols ``(x0, x1, x2, x3)`` used by every symbolic expression of imagespace.
 
     Examples
@@ -207,7 +208,7 @@ class Quadric:
                     raise InputError(f"the Quadric coefficients must be numbers or arrays of one common "
                                      f"shape, got {shape[0]} of shape {shape[1]} and {name} of shape {v.shape}")
 
-    def coefficients(self):
+    def coefficients(self) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any]:
         """The eight coefficients ``(c, a0, a1, b0, b1, k0, k1, k2)`` as a tuple.
 
         Examples
@@ -218,8 +219,16 @@ class Quadric:
         """
         return (self.c, self.a0, self.a1, self.b0, self.b1, self.k0, self.k1, self.k2)
 
-    def expr(self, x=None):
+    def expr(self, x: Optional[Sequence[Any]] = None) -> sp.Expr:
         """The quadric as a sympy expression in ``x`` (default :func:`image_symbols`).
+
+        Raises
+        ------
+        TypeError
+            ``x`` is not four sympy symbols or expressions, or a coefficient is not a sympy-
+            convertible number.
+        InputError
+            the Quadric is a batch (a coefficient is an array).
 
         Examples
         --------
@@ -240,8 +249,15 @@ class Quadric:
         coeffs = [as_sympy_entry(v, n) for n, v in zip(_NAMES, self.coefficients())]
         return sp.expand(_dyad_value(coeffs, x0, x1, x2, x3))
 
-    def evaluate(self, points):
+    def evaluate(self, points: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """Value at image points ``(..., 4)`` (numeric coefficients only).
+
+        Raises
+        ------
+        InputError
+            ``points`` is not of shape ``(..., 4)`` or does not match the batch of quadrics.
+        TypeError
+            a coefficient holds sympy symbols.
 
         Examples
         --------
@@ -282,8 +298,15 @@ class Quadric:
                 return v
         return 0.0
 
-    def gradient(self, points):
+    def gradient(self, points: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """Gradient with respect to ``(x0, x1, x2, x3)`` at image points, shape ``(..., 4)``.
+
+        Raises
+        ------
+        InputError
+            ``points`` is not of shape ``(..., 4)`` or does not match the batch of quadrics.
+        TypeError
+            a coefficient holds sympy symbols.
 
         Examples
         --------
@@ -300,7 +323,8 @@ class Quadric:
 
 
 # -- the one numeric evaluator of the dyad quadrics (coefficient layout _NAMES) -------------------
-def dyad_value_and_gradient(coeffs, X):
+def dyad_value_and_gradient(coeffs: Sequence[Any], X: npt.NDArray[np.float64]
+                            ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """Value and gradient of dyad quadrics at image points: the one numeric home of the formula.
 
     Parameters
@@ -345,7 +369,7 @@ def _dyad_gradient(coeffs, x0, x1, x2, x3):
             2 * c * x3 + b0 * x0 + b1 * x1)
 
 
-def dk_system(C, X):
+def dk_system(C: npt.NDArray[np.float64], X: npt.NDArray[np.float64]) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """The direct-kinematics system ``[Q1, Q2, Q3, x0^2 + x1^2 - 1]`` and its Jacobian.
 
     Parameters
@@ -411,7 +435,7 @@ def dk_system_row(C, X, val, J):
     J[3, 3] = 0.0
 
 
-def rr_quadric(centre, radius_squared, point):
+def rr_quadric(centre: Any, radius_squared: Any, point: Any) -> Quadric:
     """RR dyad: the platform point ``point`` stays on the base circle (``centre``, radius**2).
 
     Parameters
@@ -442,7 +466,7 @@ def rr_quadric(centre, radius_squared, point):
                    r1 * r1 + i1 * i1 - radius_squared)
 
 
-def pr_quadric(point, line_point, line_direction):
+def pr_quadric(point: Any, line_point: Any, line_direction: Any) -> Quadric:
     """PR dyad: the platform point ``point`` stays on the base line through ``line_point``.
 
     The line is ``n . X = n . line_point`` with ``n`` the direction turned by +90 degrees (not
@@ -469,7 +493,7 @@ def pr_quadric(point, line_point, line_direction):
                    s - d, 2 * (px * ny - py * nx), -s - d)
 
 
-def rp_quadric(line_point, line_direction, base_point):
+def rp_quadric(line_point: Any, line_direction: Any, base_point: Any) -> Quadric:
     """RP dyad: the platform line through ``line_point`` along ``line_direction`` passes through ``base_point``.
 
     Returns
@@ -493,7 +517,7 @@ def rp_quadric(line_point, line_direction, base_point):
                    s - e, 2 * (by * mx - bx * my), -s - e)
 
 
-def pp_quadric(cos_phi, sin_phi):
+def pp_quadric(cos_phi: Any, sin_phi: Any) -> Quadric:
     """PP dyad: the platform orientation is ``phi_c`` (given by its cosine and sine).
 
     The quadric ``2 x0 x1 cos(phi_c) - (x0**2 - x1**2) sin(phi_c)`` is the pair of planes

@@ -202,6 +202,11 @@ def real_half_angles(F, tol=None):
     return theta, ok
 
 
+# polish_half_angles: the largest Newton step (radians of the half-angle), a safeguard of the
+# method (a step is kept only where it decreases |F|), not a decision
+_MAX_POLISH_STEP = 0.05
+
+
 def polish_half_angles(F, theta, steps=4):
     """A few safeguarded Newton steps on ``F(cos theta, sin theta) = 0`` (NaN entries stay NaN).
 
@@ -218,7 +223,7 @@ def polish_half_angles(F, theta, steps=4):
         fp = _bf_derivative_angle(F, theta)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = np.where(np.abs(fp) > 0, f / fp, 0.0)
-        step = np.clip(np.nan_to_num(step), -0.05, 0.05)
+        step = np.clip(np.nan_to_num(step), -_MAX_POLISH_STEP, _MAX_POLISH_STEP)
         trial = theta - step
         ft = bf_eval_angle(F, trial)
         # safeguard: a step is taken only where it decreases |F| (near a double root the

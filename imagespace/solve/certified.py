@@ -41,8 +41,8 @@ from ..core.kinematic_map import pose_of as _pose_of
 from ..core.elimination import form_coefficients
 from ..core.quadrics import dk_system as _system
 from ..exceptions import DegenerateDesignError, NearSingularWarning
-from .numpy_path import _finish, _row_quadrics, _scaled_quadrics, _solve, _solve_orientation, _store_modes
-from .results import AssemblyMode, CertifiedModes, _MAX_MODES
+from .numpy_path import finish_candidates, row_quadrics, scaled_quadrics, solve_batch, solve_orientation, store_modes
+from .results import AssemblyMode, CertifiedModes, MAX_MODES
 
 __all__ = ["RootPlan", "plan_roots"]
 
@@ -276,8 +276,12 @@ def _fast_exact_forms(m, q_exact):
     return P, D, X2, X3
 
 
-def _certified(m, q, qf):
-    """The certified per-call path: modes computed root by root from the exact certificate."""
+def certified_modes(m, q, qf):
+    """The certified per-call path: modes computed root by root from the exact certificate.
+
+    The certified stage of :func:`imagespace.solve.dispatch.direct_kinematics` (``certify=True``):
+    ``q`` is the joint vector as given (exact where it is), ``qf`` its float copy. Not public API
+    (out of ``__all__``)."""
     items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
     q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
     fast = _fast_exact_forms(m, q_exact)
@@ -291,14 +295,14 @@ def _certified(m, q, qf):
         D, X2, X3 = list(el.D), list(el.X2), list(el.X3)
         cert = certify_real_roots(Pp)
     if not cert.certified:
-        res = _solve(m, qf[None, :], raise_degenerate=True)
+        res = solve_batch(m, qf[None, :], raise_degenerate=True)
         warnings.warn(f"{m.name} at q = {qf.tolist()}: the real roots could not be "
                       f"certified ({cert.method}); the floating-point modes are returned",
                       NearSingularWarning, stacklevel=3)
         return CertifiedModes(res.modes(0), cert, (), ())
     plans = plan_roots(P, D, X2, X3, cert, case_a)
-    C, _, L = _scaled_quadrics(m, qf[None, :])
-    quads = _row_quadrics(m, C[0])
+    C, _, L = scaled_quadrics(m, qf[None, :])
+    quads = row_quadrics(m, C[0])
     tol = m.tolerances
     per_root = [[] for _ in plans]
     cramer = [p for p in plans if p.kind == "cramer"]
@@ -319,12 +323,12 @@ def _certified(m, q, qf):
     for plan in plans:
         if plan.kind == "cramer":
             continue
-        cand = _solve_orientation(m, qf, quads, plan.x0, plan.x1, L[0])
+        cand = solve_orientation(m, qf, quads, plan.x0, plan.x1, L[0])
         if not cand:
             continue
-        arr = np.full((1, max(len(cand), _MAX_MODES), 4), np.nan)
+        arr = np.full((1, max(len(cand), MAX_MODES), 4), np.nan)
         arr[0, :len(cand)] = cand
-        sub = _finish(m, qf[None, :], C, arr, np.array([True]), {}, np.array([True]), L)
+        sub = finish_candidates(m, qf[None, :], C, arr, np.array([True]), {}, np.array([True]), L)
         found = sub.modes(0)
         if plan.multiplicity > 1:       # a multiple orientation root: its modes are singular
             found = [AssemblyMode(mm.image_point, mm.pose, mm.residual, 0, True, plan.multiplicity)
@@ -336,8 +340,12 @@ def _certified(m, q, qf):
                           [k for _, k in tagged])
 
 
-def _certify_batch(m, Q, res):
-    """Certified counts per row on the exact input, and modes held to them (see DKBatchResult)."""
+def certify_batch(m, Q, res):
+    """Certified counts per row on the exact input, and modes held to them (see DKBatchResult).
+
+    The certification stage of :func:`imagespace.solve.dispatch.direct_kinematics_batch`
+    (``certify=True``): runs after the float batch solve and updates ``res`` in place. Not
+    public API (out of ``__all__``)."""
     n = Q.shape[0]
     enc = m.enclosure()
     Qs = np.where(res.row_ok[:, None], Q, 0.0)
@@ -381,11 +389,11 @@ def _certify_batch(m, Q, res):
             res.errors[int(i)] = str(e)
             counts[i] = -1
             path[i] = "continuum"
-            _store_modes(res, i, [])
+            store_modes(res, i, [])
             if res.solver is not None:
                 res.solver[i] = "invalid"
             continue
-        _store_modes(res, i, modes)
+        store_modes(res, i, modes)
         if res.solver is not None:
             res.solver[i] = "certified"
         cert = modes.certificate

@@ -13,9 +13,9 @@ import numpy.typing as npt
 from .._memory import check_memory
 from .._validate import as_count, as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
-from .certified import _certified, _certify_batch
-from .numpy_path import _complex_modes, _row_check, _solve
-from .results import AssemblyMode, DKBatchResult, _MAX_MODES
+from .certified import certified_modes, certify_batch
+from .numpy_path import complex_modes, check_rows, solve_batch
+from .results import AssemblyMode, DKBatchResult, MAX_MODES
 
 
 _KERNEL_MIN_ROWS = 2000
@@ -83,9 +83,9 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
     if qf.ndim != 1:
         raise InputError(f"q must have shape (3,), got {qf.shape}; use direct_kinematics_batch")
     if certify:
-        modes = _certified(m, q, qf)
+        modes = certified_modes(m, q, qf)
     else:
-        res = _solve(m, qf[None, :], raise_degenerate=True)
+        res = solve_batch(m, qf[None, :], raise_degenerate=True)
         modes = res.modes(0)
         if res.near_singular[0]:
             warnings.warn(
@@ -95,7 +95,7 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
                 "Use direct_kinematics(q, certify=True) for the proven answer.",
                 NearSingularWarning, stacklevel=2)
     if include_complex:
-        modes += _complex_modes(m, qf)
+        modes += complex_modes(m, qf)
     return modes
 
 
@@ -127,6 +127,15 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
     DKBatchResult
         ``solver`` says per row which path answered.
 
+    Raises
+    ------
+    InputError
+        ``Q`` is not of shape ``(3,)`` or ``(n, 3)``; ``method`` is not ``'auto'``, ``'kernel'``
+        or ``'numpy'``; ``method='kernel'`` is not available for this design (no numba, a PP
+        dyad, or a Cramer denominator vanishing identically).
+    TypeError
+        ``Q`` or ``certify`` has the wrong type.
+
     Examples
     --------
     >>> import imagespace as isp
@@ -156,9 +165,9 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
     check_memory(Q.shape[0] * per_row, f"direct_kinematics_batch of {Q.shape[0]:,} rows",
                  f"use direct_kinematics_chunks(Q, chunk_size=...) to solve it chunk by chunk "
                  f"(a chunk of 65,536 rows needs about {65536 * per_row / 1e9:.2g} GB)")
-    res = _solve_kernel(m, Q, kernel) if kernel is not None else _solve(m, Q, raise_degenerate=False)
+    res = _solve_kernel(m, Q, kernel) if kernel is not None else solve_batch(m, Q, raise_degenerate=False)
     if certify:
-        _certify_batch(m, Q, res)
+        certify_batch(m, Q, res)
     return res
 
 
@@ -178,6 +187,14 @@ def direct_kinematics_chunks(m: Any, Q: npt.ArrayLike, chunk_size: int = 65536, 
     ------
     (start, DKBatchResult)
         The rows ``start : start + len(result.count)`` of ``Q``.
+
+    Raises
+    ------
+    InputError
+        ``Q`` is not of shape ``(n, 3)``, ``chunk_size`` is not a positive count, or ``method``
+        is not one of ``'auto'``, ``'kernel'``, ``'numpy'``.
+    TypeError
+        ``Q`` is not a real float or integer array, or ``certify`` is not a bool.
 
     Examples
     --------
@@ -237,15 +254,15 @@ def _solve_kernel(m, Q, kernel):
     the numpy path (``special``) or to the certified per-row path (a root touching the axis)."""
     n = Q.shape[0]
     tol = m.tolerances
-    row_ok, errors = _row_check(m, Q)
+    row_ok, errors = check_rows(m, Q)
     ok = np.flatnonzero(row_ok)
     if ok.size == n:                       # the usual case: the kernel's arrays are the result
         X, P, R, A8, cnt, flag = kernel(Q)
     else:                                  # masked rows stay NaN / 0
-        X = np.full((n, _MAX_MODES, 4), np.nan)
-        P = np.full((n, _MAX_MODES, 3), np.nan)
-        R = np.full((n, _MAX_MODES), np.nan)
-        A8 = np.zeros((n, _MAX_MODES), dtype=np.int8)
+        X = np.full((n, MAX_MODES, 4), np.nan)
+        P = np.full((n, MAX_MODES, 3), np.nan)
+        R = np.full((n, MAX_MODES), np.nan)
+        A8 = np.zeros((n, MAX_MODES), dtype=np.int8)
         cnt = np.zeros(n, dtype=np.int64)
         flag = np.zeros(n, dtype=np.int8)
         if ok.size:
@@ -253,7 +270,7 @@ def _solve_kernel(m, Q, kernel):
     A = A8.astype(int)
     solver = np.where(row_ok, "kernel", "invalid").astype("<U9")
     special = row_ok & (flag != 0)
-    valid = np.arange(_MAX_MODES) < cnt[:, None]
+    valid = np.arange(MAX_MODES) < cnt[:, None]
     # cheap indicators of a count the kernel may have got wrong: a real root pair closer
     # than near_singular_gap (in the half-angle), or an odd count (the kinematic polynomial
     # has even degree and real coefficients: an odd number of distinct real roots means a
@@ -267,13 +284,13 @@ def _solve_kernel(m, Q, kernel):
     close |= (cnt > 1) & (wrap < tol.near_singular_gap)
     near = row_ok & ((cnt % 2 == 1) | close)
     res = DKBatchResult(X, P, valid, cnt, R, A, row_ok, errors, special,
-                        near_singular=near, multiplicity=np.ones((n, _MAX_MODES), dtype=np.int8))
+                        near_singular=near, multiplicity=np.ones((n, MAX_MODES), dtype=np.int8))
     # rows the kernel could not decide in floating point (flag 1: Cramer denominator small
     # at a root, Newton not converging; flag 2: a root touching the axis) take the numpy path,
     # which solves case (b) per row and computes its own near_singular mask
     careful = np.flatnonzero(row_ok & (flag != 0))
     if careful.size:
-        sub = _solve(m, Q[careful], raise_degenerate=False)
+        sub = solve_batch(m, Q[careful], raise_degenerate=False)
         for name in ("image_points", "poses", "valid", "count", "residual", "aspect", "row_ok",
                      "near_singular"):
             getattr(res, name)[careful] = getattr(sub, name)

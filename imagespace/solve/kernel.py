@@ -61,11 +61,16 @@ from ..tolerances import TOLERANCES
 
 __all__ = ["BatchKernel", "KernelCacheWarning", "build_kernel", "real_roots_cascade", "HAVE_NUMBA"]
 
-_KEEP = 1.0 + 1e-12          # chart roots kept up to this |t|; the overlap is deduplicated
 _REACH = 1.0 + 1.0 / 64      # each chart searches a little beyond 1
 _MAX = 6
+# root-finder constants of real_roots_cascade (numerical-method knobs, not read from Tolerances: the
+# cascade is called without a design, and its answers are checked by the row's later decisions)
 _CRITICAL_STEP = 1e-9        # critical points (roots of a derivative) are polished to this step
 _TOUCH_DUPLICATE = 1e-12     # a root touching the axis this close to a crossing root is that root
+_UNIT_ROUNDOFF = 2.2e-16     # the double precision unit roundoff the rounding bounds below scale
+_HORNER_ZERO = 4.5e-16       # |p(t)| below this * deg * sum|c_k||t|^k is zero within Horner's rounding
+_BISECT_WIDTH = 4e-16        # a bracket narrower than this (relative) has converged: stopping width
+_TOUCH_ZERO = 64 * _UNIT_ROUNDOFF  # a critical value below this * deg * scale touches the axis
 
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
 # into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
@@ -77,7 +82,8 @@ _WORK_SIZE = sum(_WORK_SIZES)
 
 # The kernel's decision thresholds arrive as one float array (from the design's Tolerances, see
 # kernel_tolerances); these name its entries.
-_T_CRAMER_SMALL, _T_PIVOT, _T_CHART_DUPLICATE, _T_NEWTON_STOP, _T_RESIDUAL, _T_DUPLICATE = range(6)
+(_T_CRAMER_SMALL, _T_PIVOT, _T_CHART_DUPLICATE, _T_NEWTON_STOP, _T_RESIDUAL, _T_DUPLICATE,
+ _T_CHART_OVERLAP) = range(7)
 
 
 def kernel_tolerances(tol):
@@ -89,10 +95,11 @@ def kernel_tolerances(tol):
     >>> import imagespace as isp
     >>> from imagespace.solve.kernel import kernel_tolerances
     >>> kernel_tolerances(isp.TOLERANCES).tolist()
-    [1e-07, 1e-14, 1e-10, 1e-09, 1e-09, 1e-09]
+    [1e-07, 1e-14, 1e-10, 1e-09, 1e-09, 1e-09, 1e-12]
     """
     return np.array([tol.cramer_small, tol.newton_stop, tol.kernel_chart_duplicate,
-                     tol.kernel_newton_stop, tol.kernel_residual, tol.kernel_duplicate], dtype=float)
+                     tol.kernel_newton_stop, tol.kernel_residual, tol.kernel_duplicate,
+                     tol.kernel_chart_overlap], dtype=float)
 
 
 # --------------------------------------------------------------------------- scalar numerics
@@ -145,13 +152,13 @@ def _monotone_root(c, deg, a, b, fa, fb, flat_a, flat_b, coarse):
             d = d * t + f
             f = f * t + c[k]
             e = e * at + abs(c[k])
-        if abs(f) <= 4.5e-16 * deg * e:
+        if abs(f) <= _HORNER_ZERO * deg * e:
             return t
         if (f < 0.0) == (fa < 0.0):
             a, fa = t, f
         else:
             b, fb = t, f
-        if b - a <= 4e-16 * max(1.0, abs(a), abs(b)):
+        if b - a <= _BISECT_WIDTH * max(1.0, abs(a), abs(b)):
             return t
         tn = t - f / d if d != 0.0 else 0.5 * (a + b)
         if it % 4 == 3:
@@ -219,7 +226,7 @@ def _interval_roots(p, deg, lo, hi, W, pts, vals, new, out):
                 # a root touching the axis at the critical point pts[i + 1]
                 t = pts[i + 1]
                 scale = _abs_horner(c, dg, max(abs(t), 1.0))
-                if abs(vals[i + 1]) <= 64 * 2.2e-16 * dg * scale:
+                if abs(vals[i + 1]) <= _TOUCH_ZERO * dg * scale:
                     dup = False
                     for m in range(nnew):
                         if abs(new[m] - t) <= _TOUCH_DUPLICATE * max(1.0, abs(t)):
@@ -435,7 +442,7 @@ def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
         suspect = suspect or sus
         for m in range(nr):
             t = rts[m]
-            if abs(t) > _KEEP:
+            if abs(t) > 1.0 + tol[_T_CHART_OVERLAP]:    # chart roots kept up to this; overlap deduplicated
                 continue
             h = 1.0 / math.sqrt(1.0 + t * t)
             x0 = h if chart == 0 else t * h

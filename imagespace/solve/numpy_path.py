@@ -2,7 +2,9 @@
 the balanced system, every mode checked by the legs' inverse kinematics, and the careful
 per-orientation solves of the Cramer cases (a)/(b).
 
-The functions take the mechanism ``m`` (a :class:`~imagespace.PlanarParallel`) first."""
+The functions take the mechanism ``m`` (a :class:`~imagespace.PlanarParallel`) first. The
+non-underscore functions are the stages :mod:`imagespace.solve.certified` and
+:mod:`imagespace.solve.dispatch` reuse; they are not public API (``__all__`` is empty)."""
 
 from __future__ import annotations
 
@@ -16,7 +18,9 @@ from ..core.elimination import form_coefficients
 from ..core.quadrics import Quadric, dk_system as _system
 from ..core.roots import real_half_angles
 from ..exceptions import DegenerateDesignError
-from .results import AssemblyMode, DKBatchResult, _MAX_MODES
+from .results import AssemblyMode, DKBatchResult, MAX_MODES
+
+__all__: list[str] = []
 
 
 def _coef_array(quadrics, n):
@@ -174,8 +178,11 @@ def _distinct_orientations_batch(half, valid, tol):
     return np.where(cnt > 0, np.maximum(1, np.sum(gaps > tol, axis=1)), 0)
 
 
-def _row_check(m, Q):
-    """Rows with finite joint values inside every actuated joint's domain, and messages."""
+def check_rows(m, Q):
+    """Input stage of the batch direct kinematics: which rows of ``Q`` (n, 3) hold finite joint
+    values inside every actuated joint's domain, as ``(row_ok, errors)`` with ``errors`` mapping
+    a refused row to its message. Shared by the numpy path (:func:`solve_batch`) and the kernel
+    dispatch (:mod:`imagespace.solve.dispatch`), which never raise on a bad row."""
     errors = {}
     row_ok = np.all(np.isfinite(Q), axis=1)
     for i in np.flatnonzero(~row_ok):
@@ -189,8 +196,11 @@ def _row_check(m, Q):
     return row_ok, errors
 
 
-def _store_modes(res, i, modes):
-    """Write a list of AssemblyMode into row ``i`` of a DKBatchResult."""
+def store_modes(res, i, modes):
+    """Output stage: overwrite row ``i`` of a :class:`~imagespace.solve.results.DKBatchResult`
+    with a list of :class:`~imagespace.solve.results.AssemblyMode` (at most the row's width).
+    Used by the numpy path for rows solved one by one and by the certified batch
+    (:func:`imagespace.solve.certified.certify_batch`) for rows held to their certified count."""
     k = min(len(modes), res.valid.shape[1])
     res.image_points[i], res.poses[i], res.residual[i] = np.nan, np.nan, np.nan
     res.valid[i], res.aspect[i] = False, 0
@@ -204,16 +214,21 @@ def _store_modes(res, i, modes):
     res.count[i] = k
 
 
-def _solve(m, Q, raise_degenerate):
+def solve_batch(m, Q, raise_degenerate):
     """The numpy path for a batch ``Q`` (n, 3): balanced quadrics, the kinematic polynomial's
     coefficients, companion eigenvalues in the well-conditioned chart, back-substitution,
     Newton, the legs' check; Cramer cases go row by row to :func:`_special_candidates`; returns
-    a :class:`~imagespace.solve.results.DKBatchResult`."""
+    a :class:`~imagespace.solve.results.DKBatchResult`.
+
+    The whole numpy stage of the batch direct kinematics, called by the dispatch (method
+    ``"numpy"``, the kernel's careful rows) and by the certified per-call path as its float first
+    guess. With ``raise_degenerate`` a degenerate design raises
+    :class:`~imagespace.exceptions.DegenerateDesignError` instead of being recorded per row."""
     n = Q.shape[0]
     tol = m.tolerances
-    row_ok, errors = _row_check(m, Q)
+    row_ok, errors = check_rows(m, Q)
     Qs = np.where(row_ok[:, None], Q, 0.0)
-    C, cq, L = _scaled_quadrics(m, Qs)
+    C, cq, L = scaled_quadrics(m, Qs)
     el = eliminate(cq, m.elimination_plan)
     Darr = np.stack(np.broadcast_arrays(*el.D), axis=1)
     Farr = np.stack(np.broadcast_arrays(*el.F), axis=1)
@@ -234,7 +249,7 @@ def _solve(m, Q, raise_degenerate):
         x3 = bf_eval([c[:, None] for c in X3.T], x0, x1) / Dv
     cand = np.stack([x0, x1, x2, x3], axis=-1)
     cand[~(row_ok & ~special)] = np.nan
-    width = max(cand.shape[1], _MAX_MODES)
+    width = max(cand.shape[1], MAX_MODES)
     if cand.shape[1] < width:
         pad = np.full((n, width - cand.shape[1], 4), np.nan)
         cand = np.concatenate([cand, pad], axis=1)
@@ -260,7 +275,7 @@ def _solve(m, Q, raise_degenerate):
             cand[i] = np.nan
             for j, x in enumerate(lst):
                 cand[i, j] = x
-    res = _finish(m, Q, C, cand, row_ok, errors, special, L)
+    res = finish_candidates(m, Q, C, cand, row_ok, errors, special, L)
     half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])
     distinct = _distinct_orientations_batch(half, res.valid, tol.duplicate)
     # the spurious orientation phi_c + pi of a PP dyad is a root that carries no mode
@@ -283,7 +298,7 @@ def _solve(m, Q, raise_degenerate):
                     raise
                 row_ok[i] = False
                 errors[int(i)] = str(e)
-                _store_modes(res, i, [])
+                store_modes(res, i, [])
                 res.solver[i] = "invalid"
                 near[i] = False
     res.near_singular = near
@@ -306,9 +321,16 @@ def _spurious_roots(m, C, theta):
     return out
 
 
-def _finish(m, Q, C, cand, row_ok, errors, special, L):
+def finish_candidates(m, Q, C, cand, row_ok, errors, special, L):
     """Polish candidates (balanced coordinates), check them with the legs, sort; ``L`` (n,)
-    is the length scale the candidates' ``x2, x3`` are divided by (see :func:`_balance`)."""
+    is the length scale the candidates' ``x2, x3`` are divided by (see :func:`_balance`).
+
+    The polishing and checking stage after the candidates are found (Newton, duplicates, the
+    legs' inverse kinematics, sorting) that turns (n, k, 4) candidates into a
+    :class:`~imagespace.solve.results.DKBatchResult`; shared by :func:`solve_batch` and the
+    certified path's orientation-by-orientation solve. Raises
+    :class:`~imagespace.exceptions.DegenerateDesignError` when a row has more than
+    ``MAX_MODES`` modes."""
     tol = m.tolerances
     n, k, _ = cand.shape
     X = _newton(C, _normalize_rows(cand), tol)
@@ -342,9 +364,9 @@ def _finish(m, Q, C, cand, row_ok, errors, special, L):
     X, poses, valid, resid, aspect = take(X), take(poses), take(valid), take(resid), take(aspect)
     ill = np.any(valid & ~(take(ratio) > tol.near_singular_condition), axis=1)
     count = valid.sum(axis=1)
-    if np.any(count > _MAX_MODES):
-        raise DegenerateDesignError(f"more than {_MAX_MODES} assembly modes found; the design is degenerate")
-    w = _MAX_MODES
+    if np.any(count > MAX_MODES):
+        raise DegenerateDesignError(f"more than {MAX_MODES} assembly modes found; the design is degenerate")
+    w = MAX_MODES
     X, poses, valid, resid, aspect = X[:, :w], poses[:, :w], valid[:, :w], resid[:, :w], aspect[:, :w]
     X = np.where(valid[..., None], X, np.nan)
     poses = np.where(valid[..., None], poses, np.nan)
@@ -356,19 +378,24 @@ def _finish(m, Q, C, cand, row_ok, errors, special, L):
                          multiplicity=np.ones((n, w), dtype=np.int8))
 
 
-def _scaled_quadrics(m, Q):
+def scaled_quadrics(m, Q):
     """Balanced float quadrics for joint vectors Q (n, 3): see :func:`_balance`.
 
     Returns the (n, 3, 8) coefficient array in the balanced coordinates, the matching list of
     three Quadric (rows as arrays) and the length scale ``L`` (n,) of each row.
+
+    The set-up stage of every float solve (numpy path and certified path's float steps): the
+    legs' dyads at ``Q``, balanced to the design's length scale so that all tolerances are
+    relative.
     """
     quads = [leg.dyad(Q[:, j]) for j, leg in enumerate(m.legs)]
     C, L = _balance(_coef_array(quads, Q.shape[0]))
     return C, [Quadric(m.kinds[j], *(C[:, j, k] for k in range(8))) for j in range(3)], L
 
 
-def _row_quadrics(m, c_row):
-    """The three scalar quadrics of one row of a (n, 3, 8) coefficient array."""
+def row_quadrics(m, c_row):
+    """The three scalar quadrics of one row of a (n, 3, 8) coefficient array: the per-row
+    stage shared by the Cramer cases of the numpy path and the certified path."""
     return [Quadric(m.kinds[j], *(c_row[j, k] for k in range(8))) for j in range(3)]
 
 
@@ -376,7 +403,7 @@ def _special_candidates(m, q, C, L):
     """Candidates (balanced coordinates) for one row whose Cramer denominator vanishes
     (identically or at a root), and whether the orientations could not be separated."""
     tol = m.tolerances
-    quads = _row_quadrics(m, C)
+    quads = row_quadrics(m, C)
     el = eliminate(quads, m.elimination_plan)
     D = np.array(el.D, dtype=float)
     F = np.array(el.F, dtype=float)
@@ -410,7 +437,7 @@ def _special_candidates(m, q, C, L):
     out = []
     flags = []
     for t in thetas:
-        out += _solve_orientation(m, q, quads, np.cos(t), np.sin(t), L, flags)
+        out += solve_orientation(m, q, quads, np.cos(t), np.sin(t), L, flags)
     return out, (bool(flags), clusters)
 
 
@@ -428,10 +455,13 @@ def _confirm_degenerate(m, q):
         "assembly modes (architecture singularity)")
 
 
-def _solve_orientation(m, q, quads, x0, x1, L, flags=None):
+def solve_orientation(m, q, quads, x0, x1, L, flags=None):
     """Positions (x2, x3) for a fixed orientation (x0, x1): candidate image points in the
     balanced coordinates of ``quads`` (length scale ``L``). ``flags`` (a list) receives an
-    entry when two positions are about to merge (a near-zero discriminant)."""
+    entry when two positions are about to merge (a near-zero discriminant).
+
+    The fixed-orientation stage: used for the Cramer cases (a)/(b) of the numpy path and for
+    each certified orientation of the certified path."""
     tol = m.tolerances
     rows = []
     for qd in quads:
@@ -505,9 +535,12 @@ def _continuum(m, q, X, L):
     return []
 
 
-def _complex_modes(m, q):
+def complex_modes(m, q):
     """The complex solutions at ``q`` (for ``include_complex``): non-real roots of the kinematic
-    polynomial with their back-substituted positions."""
+    polynomial with their back-substituted positions.
+
+    The complex stage of the per-call direct kinematics (``include_complex=True`` in
+    :func:`imagespace.solve.dispatch.direct_kinematics`)."""
     poly = m.kinematic_polynomial([sp.Rational(float(v)) for v in q])
     coeffs = np.array([complex(c) for c in form_coefficients(poly)])
     d = len(coeffs) - 1

@@ -6,10 +6,13 @@ import numpy as np
 from dataclasses import dataclass, field
 from typing import Optional
 
+__all__ = ["AssemblyMode", "CertifiedModes", "DKBatchResult"]
 
-
-
-_MAX_MODES = 6
+#: Width of a :class:`DKBatchResult` row: a non-degenerate planar 3-leg design has at most six
+#: assembly modes (the kinematic polynomial has degree <= 6). The numpy path, the kernel and the
+#: certified path size their result arrays with it and refuse more modes as a degenerate design.
+#: A shared structural constant of the solve stage, not public API (out of ``__all__``).
+MAX_MODES = 6
 
 
 @dataclass(frozen=True)

@@ -153,3 +153,20 @@ def test_joint_distance_and_nearest_branch_against_a_direct_computation():
         dist = [abs((v - q[k] + np.pi) % (2 * np.pi) - np.pi) if np.isfinite(v) else np.inf for v in vals]
         expect = int(np.argmin(dist)) if np.isfinite(min(dist)) else -1
         assert got[k] == expect
+
+
+def test_leg_ik_tangency_threshold_is_the_tolerances_field():
+    """A pose a hair beyond the RRR leg's reach is the stretched elbow (one tangent branch) within
+    ``ik_tangent``, out of reach with a tighter one; the default reproduces the old literal."""
+    leg = isp.RRR(base=(0, 0), lengths=(1, 1), platform=(0, 0))
+    pose = [2.0 * (1 + 1e-14), 0.0, 0.0]
+    assert np.all(np.isfinite(leg.inverse_kinematics(pose)))
+    assert np.all(np.isfinite(leg.inverse_kinematics(pose, tolerances=isp.Tolerances())))
+    assert np.all(np.isnan(leg.inverse_kinematics(pose, tolerances=isp.Tolerances(ik_tangent=1e-17))))
+    assert isp.Tolerances().ik_tangent == 1e-12 and isp.Tolerances().ik_parallel == 1e-14
+
+
+def test_leg_ik_refuses_a_non_tolerances_object():
+    leg = isp.RPR(base=(0, 0), platform=(1, 0))
+    with pytest.raises(TypeError, match="tolerances must be an imagespace.Tolerances"):
+        leg.inverse_kinematics([0.0, 0.0, 0.0], tolerances=1e-12)

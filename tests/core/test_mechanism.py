@@ -48,3 +48,15 @@ def test_form_coefficients_against_a_hand_expansion():
     x0, x1 = sp.symbols("x0 x1")
     P = sp.Poly(sp.expand((2 * x0 - x1) ** 3), x0, x1)       # 8 x0^3 - 12 x0^2 x1 + 6 x0 x1^2 - x1^3
     assert form_coefficients(P) == [8, -12, 6, -1]
+
+
+def test_the_mechanisms_tolerances_reach_the_legs_inverse_kinematics():
+    """``ik_tangent`` of the design's Tolerances decides whether a pose a hair beyond an RRR leg's
+    reach is the stretched elbow or out of reach."""
+    legs = [isp.RRR(base=(0, 0), lengths=(1, 1), platform=(0, 0)), isp.RPR(base=(5, 0), platform=(1, 0)),
+            isp.RPR(base=(0, 5), platform=(0, 1))]
+    pose = [2 * (1 + 1e-14), 0.0, 0.0]
+    assert isp.PlanarParallel(legs).inverse_kinematics(pose)[0] == 0.0
+    tight = isp.PlanarParallel(legs, tolerances=isp.Tolerances(ik_tangent=1e-17))
+    with pytest.raises(isp.InputError, match="out of reach of leg"):
+        tight.inverse_kinematics(pose)
