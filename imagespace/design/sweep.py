@@ -384,7 +384,7 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
         errors[i], causes[i] = message, cause
         return on_error == "raise"
 
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
 
     bar = tqdm(total=n, delay=1.0, desc="design sweep", leave=False, disable=progress is False)
     chunks = [list(range(s, min(s + chunksize, n))) for s in range(0, n, chunksize)]
