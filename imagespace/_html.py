@@ -297,3 +297,29 @@ def latex_collected(poly: Any, by: Sequence[str] = ("x0", "x1"), digits: int = 6
 
     text = render(False)
     return render(True) if len(text) > long else text
+
+
+def modes_table(modes: Sequence[Any], title: Optional[str] = None, roots: Sequence[int] = ()) -> str:
+    """An HTML table of assembly modes, one row each (pose, aspect, residual, multiplicity).
+
+    Works on any sequence of :class:`imagespace.AssemblyMode` (the plain list that
+    ``direct_kinematics`` returns included); ``roots`` adds the certificate's root of each mode.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace._html import modes_table
+    >>> m = isp.examples.general_3rpr()
+    >>> modes_table(m.direct_kinematics(m.q_example)).count("<tr>")
+    7
+    """
+    header = ["#", "x", "y", "phi", "aspect", "residual", "multiplicity"] + (["root"] if roots else [])
+    rows = []
+    for k, mode in enumerate(modes):
+        if mode.is_real:
+            x, y, phi = (fmt(v) for v in mode.pose)
+        else:
+            x, y, phi = "complex", "", ""
+        row = [k, x, y, phi, f"{int(mode.aspect):+d}", f"{float(mode.residual):.1e}", int(mode.multiplicity)]
+        rows.append(row + ([roots[k]] if k < len(roots) else []))
+    return html_table(rows, title=title, header=header)
