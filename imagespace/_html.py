@@ -27,7 +27,7 @@ INLINE = 80
 def fmt(value: Any, digits: int = 6) -> str:
     """Compact text of one value: numbers to ``digits`` significant digits, arrays as shape and dtype.
 
-    Small numeric vectors (at most 4 entries) and short containers are shown inline; longer
+    Small numeric vectors (at most 6 entries) and short containers are shown inline; longer
     containers as their length and item type; other objects by their own ``repr`` when it is a
     single short line, else by their type name.
 
@@ -64,8 +64,10 @@ def fmt(value: Any, digits: int = 6) -> str:
 
 def _fmt_array(a: np.ndarray, digits: int) -> str:
     shape = ", ".join(str(s) for s in a.shape)
-    if a.ndim <= 1 and a.size <= 4 and a.dtype.kind in "biufc":
-        return "[" + ", ".join(fmt(v, digits) for v in a.tolist()) + "]"
+    if a.ndim <= 1 and a.size <= 6 and a.dtype.kind in "biufc":
+        text = "[" + ", ".join(fmt(v, digits) for v in a.tolist()) + "]"
+        if len(text) <= INLINE:
+            return text
     if a.dtype.kind == "b":
         return f"bool array({shape}), {int(np.count_nonzero(a))} True"
     return f"array({shape}) {a.dtype}"
@@ -228,30 +230,27 @@ digits by :func:`latex_collected` (readability only, decides nothing about the m
 def collected_terms(poly: Any, by: Sequence[str] = ("x0", "x1")) -> dict:
     """The polynomial collected by the monomials in the variables named ``by``: ``{monomial: coefficient}``.
 
-    The order is by descending total degree in ``by``, then by descending powers (``x0`` first).
-    ``poly`` is a sympy ``Poly`` or expression; variables are matched by name.
+    One group per monomial ``x0**a * x1**b`` (every power of every variable in ``by`` together,
+    the other variables in the coefficients), in order of descending total degree, then of
+    descending powers (``x0`` first). ``poly`` is a sympy ``Poly`` or expression; variables are
+    matched by name.
 
     Examples
     --------
     >>> import sympy as sp
     >>> from imagespace._html import collected_terms
     >>> x0, x1, x2 = sp.symbols("x0 x1 x2")
-    >>> collected_terms(x0**2*x2 + 3*x0**2 + x1*x2 - 1)
-    {x0**2: x2 + 3, x1: x2, 1: -1}
+    >>> collected_terms(x0**2*x2 + 3*x0**2 + x0*x1*x2 + x1*x2 - 1)
+    {x0**2: x2 + 3, x0*x1: x2, x1: x2, 1: -1}
     """
     import sympy as sp
 
     expr = poly.as_expr() if isinstance(poly, sp.Poly) else sp.sympify(poly)
-    expr = sp.expand(expr)
     named = {s.name: s for s in expr.free_symbols if isinstance(s, sp.Symbol)}
     syms = [named.get(str(b), sp.Symbol(str(b))) for b in by]
-    groups = sp.collect(expr, syms, evaluate=False)
-
-    def key(mono):
-        powers = [sp.degree(mono, s) for s in syms]
-        return (-sum(powers), [-p for p in powers])
-
-    return {mono: groups[mono] for mono in sorted(groups, key=key)}
+    groups = sp.Poly(expr, *syms).as_dict()
+    order = sorted(groups, key=lambda powers: (-sum(powers), [-p for p in powers]))
+    return {sp.Mul(*(s**p for s, p in zip(syms, powers))): groups[powers] for powers in order}
 
 
 def latex_collected(poly: Any, by: Sequence[str] = ("x0", "x1"), digits: int = 6,
@@ -281,14 +280,10 @@ def latex_collected(poly: Any, by: Sequence[str] = ("x0", "x1"), digits: int = 6
             negative = c.could_extract_minus_sign()
             c = -c if negative else c
             m = "" if mono == 1 else sp.latex(mono)
-            if c == 1:
-                term = m or "1"
-            elif isinstance(c, sp.Add):
+            if isinstance(c, sp.Add):
                 term = (m + rf" \left({sp.latex(c)}\right)").lstrip()
-            elif c.is_number:
-                term = (sp.latex(c) + " " + m).rstrip()
             else:
-                term = (m + " " + sp.latex(c)).lstrip()
+                term = sp.latex(c * mono)
             if not out:
                 out.append(("-" if negative else "") + term)
             else:
