@@ -137,8 +137,10 @@ def summary(name: str, items: Iterable[tuple[Optional[str], str]], width: int = 
     return "\n".join(lines)
 
 
-def dataclass_items(obj: Any, skip: Iterable[str] = ()) -> list[tuple[Optional[str], str]]:
+def dataclass_items(obj: Any, skip: Iterable[str] = (), quote: bool = True) -> list[tuple[Optional[str], str]]:
     """``(field name, formatted value)`` of every field of a dataclass shown by its repr.
+
+    ``quote=False`` leaves string values as they are (for HTML) instead of their ``repr``.
 
     Examples
     --------
@@ -149,8 +151,8 @@ def dataclass_items(obj: Any, skip: Iterable[str] = ()) -> list[tuple[Optional[s
     [('piece', '0'), ('t', '(0.25, 0.25)'), ('multiplicity', '1')]
     """
     skip = set(skip)
-    return [(f.name, fmt(getattr(obj, f.name))) for f in dataclasses.fields(obj)
-            if f.repr and f.name not in skip]
+    values = [(f.name, getattr(obj, f.name)) for f in dataclasses.fields(obj) if f.repr and f.name not in skip]
+    return [(k, v if isinstance(v, str) and not quote else fmt(v)) for k, v in values]
 
 
 def dataclass_repr(obj: Any, skip: Iterable[str] = ()) -> str:
@@ -181,7 +183,7 @@ def dataclass_html(obj: Any, skip: Iterable[str] = ()) -> str:
     ...
     </table>
     """
-    return html_table(dataclass_items(obj, skip), title=type(obj).__name__)
+    return html_table(dataclass_items(obj, skip, quote=False), title=type(obj).__name__)
 
 
 _CELL = ' style="text-align:left"'
@@ -277,6 +279,9 @@ def latex_collected(poly: Any, by: Sequence[str] = ("x0", "x1"), digits: int = 6
         out = []
         for mono, coeff in groups.items():
             c = sp.N(coeff, digits) if shorten else coeff
+            if shorten:         # whole numbers that fit the digits stay whole (256, not 256.0)
+                c = c.xreplace({f: sp.Integer(int(f)) for f in c.atoms(sp.Float)
+                                if float(f).is_integer() and abs(float(f)) < 10**digits})
             negative = c.could_extract_minus_sign()
             c = -c if negative else c
             m = "" if mono == 1 else sp.latex(mono)

@@ -323,8 +323,8 @@ class PathCheck:
     method: str
     polynomials: tuple = field(repr=False, default=())
 
-    def _summary_items(self):
-        items = dataclass_items(self, skip=("crossings", "domain_exits"))
+    def _summary_items(self, quote=True):
+        items = dataclass_items(self, skip=("crossings", "domain_exits"), quote=quote)
         mult = counts_text(c.multiplicity for c in self.crossings)
         items[3:3] = [("crossings", f"{len(self.crossings)}" + (f" (multiplicity {mult})" if mult else "")),
                       ("domain_exits", str(len(self.domain_exits)))]
@@ -355,7 +355,7 @@ class PathCheck:
         >>> check_path(m, segment([1, -0.1, 0, 1.5], [1, 0.1, 0, 1.5]))._repr_html_().count("<table")
         2
         """
-        out = html_table(self._summary_items(), title="PathCheck")
+        out = html_table(self._summary_items(quote=False), title="PathCheck")
         if self.crossings:
             rows = [(c.piece, f"[{c.t[0]:.12g}, {c.t[1]:.12g}]", c.multiplicity,
                      "crosses" if c.crosses else "touches") for c in self.crossings[:20]]

@@ -72,7 +72,7 @@ class ModeChangePlan:
     candidates: int = 0
 
     def _summary_items(self):
-        items = [("found", fmt(self.found)), ("reason", fmt(self.reason))]
+        items = [("found", fmt(self.found)), ("reason", self.reason)]
         if self.path is not None:
             items.append(("path", f"{len(self.path)} {self.path.kind} piece(s)"))
         if self.check is not None:
@@ -93,7 +93,7 @@ class ModeChangePlan:
         >>> ModeChangePlan(False, "the modes have different aspects")
         ModeChangePlan(found=False, reason='the modes have different aspects', candidates=0)
         """
-        return summary("ModeChangePlan", self._summary_items())
+        return summary("ModeChangePlan", [(k, fmt(v) if k == "reason" else v) for k, v in self._summary_items()])
 
     def _repr_html_(self):
         """The summary as an HTML table.
