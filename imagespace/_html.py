@@ -27,9 +27,9 @@ INLINE = 80
 def fmt(value: Any, digits: int = 6) -> str:
     """Compact text of one value: numbers to ``digits`` significant digits, arrays as shape and dtype.
 
-    Small numeric vectors (at most 6 entries) and short containers are shown inline; longer
-    containers as their length and item type; other objects by their own ``repr`` when it is a
-    single short line, else by their type name.
+    Small numeric vectors (at most 6 entries) and short containers are shown inline, string
+    arrays as the count of each value, longer containers as their length and item type; other
+    objects by their own ``repr`` when it is a single short line, else by their type name.
 
     Examples
     --------
@@ -39,6 +39,8 @@ def fmt(value: Any, digits: int = 6) -> str:
     ('3.14159', 'array(1000, 6, 4) float64', '[True, False, True]')
     >>> fmt(np.ones(10, dtype=bool)), fmt([1.0, 2.5]), fmt(tuple(range(30)))
     ('bool array(10), 10 True', '[1, 2.5]', '(30 × int)')
+    >>> fmt(np.array(["regular"] * 9 + ["both"]))
+    'str array(10) {both: 1, regular: 9}'
     """
     if value is None or isinstance(value, (bool, np.bool_)):
         return str(bool(value)) if value is not None else "None"
@@ -70,6 +72,10 @@ def _fmt_array(a: np.ndarray, digits: int) -> str:
             return text
     if a.dtype.kind == "b":
         return f"bool array({shape}), {int(np.count_nonzero(a))} True"
+    if a.dtype.kind in "US" and a.size:
+        hist = counts_text(a.ravel().tolist())
+        if len(hist) <= INLINE:
+            return f"str array({shape}) {{{hist}}}"
     return f"array({shape}) {a.dtype}"
 
 
