@@ -15,6 +15,7 @@ import lazy_loader as _lazy
 _SUBMODULES = [
     "core", "solve", "singular", "paths", "design", "spatial", "dynamics",
     "examples", "manipulator", "plotting", "widgets", "drawing", "cli", "tolerances", "exceptions",
+    "display",
 ]
 # short names of modules that live in the layered packages (ARCHITECTURE.md), e.g. isp.screws
 _MODULE_ALIASES = {

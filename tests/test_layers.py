@@ -10,7 +10,7 @@ ROOT = Path(__file__).resolve().parents[1] / "imagespace"
 
 # rank of each layer: a module may import modules of its own or a lower rank; spatial and dynamics
 # stand beside solve and use core only
-BASE = {"exceptions", "tolerances", "_validate", "_memory", "_files"}
+BASE = {"exceptions", "tolerances", "_validate", "_memory", "_files", "_html"}
 RANK = {"base": 0, "core": 1, "solve": 2, "spatial": 2, "dynamics": 2, "singular": 3, "paths": 4,
         "design": 5, "top": 9}
 SIDE = {"spatial", "dynamics"}           # may use base and core only

@@ -35,6 +35,7 @@ import numpy as np
 from .._validate import _short, as_count, as_flag
 from ..exceptions import ImageSpaceError, InputError
 from .workspace import check_tolerances
+from .._html import dataclass_html, dataclass_repr, fmt, html_table, summary
 
 __all__ = ["DesignTable", "DesignEvaluationError", "sweep", "fuzzy_minmax", "FuzzyResult"]
 
@@ -109,6 +110,51 @@ class DesignTable:
                 and self.values.keys() == other.values.keys()
                 and all(np.array_equal(self.values[k], other.values[k], equal_nan=True) for k in self.values)
                 and np.array_equal(self.errors, other.errors))
+
+    def _summary_rows(self):
+        def span(a):
+            a = np.asarray(a)
+            if a.size == 0 or a.dtype.kind not in "biuf" or not np.isfinite(a.astype(float)).any():
+                return f"{a.size} values"
+            return f"[{fmt(np.nanmin(a))}, {fmt(np.nanmax(a))}]"
+
+        rows = [("rows", int(np.prod(self.shape))), ("shape", str(tuple(self.shape))), ("how", self.how),
+                ("failed rows", len(self.failed))]
+        rows += [(f"param {k}", span(v)) for k, v in self.params.items()]
+        rows += [(f"value {k}", span(v)) for k, v in self.values.items()]
+        return rows
+
+    def __repr__(self):
+        """Rows, grid shape, how it ran, failures and the range of every parameter and value.
+
+        Examples
+        --------
+        >>> from imagespace.design.sweep import sweep, _demo_index
+        >>> sweep(_demo_index, {"a": [1, 2], "b": [0, 1, 2]}, processes=0)
+        DesignTable(rows=6, shape=(2, 3), how='serial', failed=0, params={'a': [1, 2], 'b': [0, 2]},
+                    values={'sum': [1, 4], 'product': [0, 4]})
+        """
+        rows = self._summary_rows()
+        params = ", ".join(f"{k[6:]!r}: {v}" for k, v in rows[4:4 + len(self.params)])
+        values = ", ".join(f"{k[6:]!r}: {v}" for k, v in rows[4 + len(self.params):])
+        if len(params) > 2 * 80:
+            params = f"{len(self.params)} names"
+        if len(values) > 2 * 80:
+            values = f"{len(self.values)} names"
+        return summary("DesignTable", [("rows", str(rows[0][1])), ("shape", rows[1][1]), ("how", repr(self.how)),
+                                       ("failed", str(rows[3][1])), ("params", "{" + params + "}"),
+                                       ("values", "{" + values + "}")])
+
+    def _repr_html_(self):
+        """The summary as an HTML table (the range ``[min, max]`` of every parameter and value).
+
+        Examples
+        --------
+        >>> from imagespace.design.sweep import sweep, _demo_index
+        >>> "value sum" in sweep(_demo_index, {"a": [1, 2], "b": [0, 1]}, processes=0)._repr_html_()
+        True
+        """
+        return html_table(self._summary_rows(), title="DesignTable")
 
 
 class DesignEvaluationError(ImageSpaceError, RuntimeError):
@@ -394,7 +440,7 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
         errors[i], causes[i] = message, cause
         return on_error == "raise"
 
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
 
     bar = tqdm(total=n, delay=1.0, desc="design sweep", leave=False, disable=progress is False)
     chunks = [list(range(s, min(s + chunksize, n))) for s in range(0, n, chunksize)]
@@ -486,6 +532,10 @@ class FuzzyResult:
     composite: np.ndarray
     memberships: dict
     best: list
+
+    # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
+    __repr__ = dataclass_repr
+    _repr_html_ = dataclass_html
 
 
 def fuzzy_minmax(table, criteria, tolerances=None):

@@ -25,6 +25,7 @@ from .._validate import _short, as_box, as_count, as_float_array, as_scalar
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
 from ..tolerances import TOLERANCES, Tolerances
+from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["Workspace", "halfplane_polygon", "polygon_area", "constant_orientation_workspace",
            "reachable_workspace", "dexterous_workspace", "sampled_workspace", "MAX_MEMORY"]
@@ -126,6 +127,10 @@ class Workspace:
         i = np.clip(np.round((pts[:, 0] - xs[0]) / (xs[1] - xs[0])).astype(int), 0, len(xs) - 1)
         j = np.clip(np.round((pts[:, 1] - ys[0]) / (ys[1] - ys[0])).astype(int), 0, len(ys) - 1)
         return self.mask[i, j]
+
+    # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
+    __repr__ = dataclass_repr
+    _repr_html_ = dataclass_html
 
 
 def halfplane_polygon(A, b, box=1e6):

@@ -15,6 +15,7 @@ from ..tolerances import TOLERANCES
 from . import checks
 from .model import OpenTreeModel
 from .timelaw import TimeLaw, sextic_through
+from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["LinePath", "TrajectoryState", "state", "drive_singularity", "DriveSingularity",
            "consistent_acceleration", "plan_consistent_law", "InverseDynamicsResult", "inverse_dynamics",
@@ -85,6 +86,10 @@ class TrajectoryState:
     d1: np.ndarray
     d2: np.ndarray
     d3: np.ndarray
+
+    # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
+    __repr__ = dataclass_repr
+    _repr_html_ = dataclass_html
 
 
 def _newton(model, x, guess):
@@ -385,6 +390,10 @@ class InverseDynamicsResult:
     consistent: bool
     consistency_residual: float
     crossings: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
+    __repr__ = dataclass_repr
+    _repr_html_ = dataclass_html
 
 
 def _measure(AT):

@@ -28,6 +28,7 @@ import numbers
 from .._validate import _short, as_count, as_float_array, as_joint_vector
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
+from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["BacklashAnalysis", "backlash", "released_curve", "MAX_MEMORY"]
 
@@ -194,6 +195,10 @@ class BacklashAnalysis:
     theta: np.ndarray
     points: np.ndarray
     deviation: np.ndarray
+
+    # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
+    __repr__ = dataclass_repr
+    _repr_html_ = dataclass_html
 
 
 class _DSU:

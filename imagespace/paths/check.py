@@ -47,6 +47,7 @@ from .curves import ImagePath, pose_segment, polyline, polynomial_curve, rationa
 from ..core.certify import ISOLATION_WIDTH, float_down, float_up, fmpq_of, roots_in_unit_interval
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
+from .._html import counts_text, dataclass_html, dataclass_items, html_table, summary
 
 __all__ = ["ImagePath", "PathCheck", "Crossing", "check_path", "segments_free", "segment", "polyline",
            "polynomial_curve", "rational_curve", "pose_segment"]
@@ -251,6 +252,17 @@ class Crossing:
         piece lying in the surface (multiplicity 0)."""
         return self.multiplicity % 2 == 0
 
+    def _repr_html_(self):
+        """A one-row table for Jupyter.
+
+        Examples
+        --------
+        >>> from imagespace.paths.check import Crossing
+        >>> "multiplicity" in Crossing(0, (0.25, 0.25), 1)._repr_html_()
+        True
+        """
+        return dataclass_html(self)
+
 
 @dataclass(frozen=True)
 class PathCheck:
@@ -310,6 +322,46 @@ class PathCheck:
     certified: bool
     method: str
     polynomials: tuple = field(repr=False, default=())
+
+    def _summary_items(self, quote=True):
+        items = dataclass_items(self, skip=("crossings", "domain_exits"), quote=quote)
+        mult = counts_text(c.multiplicity for c in self.crossings)
+        items[3:3] = [("crossings", f"{len(self.crossings)}" + (f" (multiplicity {mult})" if mult else "")),
+                      ("domain_exits", str(len(self.domain_exits)))]
+        return items
+
+    def __repr__(self):
+        """The flags, how many crossings (by multiplicity) and domain exits, never the polynomials.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.paths.check import check_path, segment
+        >>> m = isp.examples.stigger_husty()
+        >>> print(check_path(m, segment([1, -0.1, 0, 1.5], [1, 0.1, 0, 1.5])))  # doctest: +ELLIPSIS
+        PathCheck(singularity_free=False, crosses=True, touches=False, crossings=1 (multiplicity 1: 1),
+                  domain_exits=0, min_distance=..., certified=True, method=...)
+        """
+        return summary("PathCheck", self._summary_items())
+
+    def _repr_html_(self):
+        """The summary as an HTML table, then one row per crossing (at most 20).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.paths.check import check_path, segment
+        >>> m = isp.examples.stigger_husty()
+        >>> check_path(m, segment([1, -0.1, 0, 1.5], [1, 0.1, 0, 1.5]))._repr_html_().count("<table")
+        2
+        """
+        out = html_table(self._summary_items(quote=False), title="PathCheck")
+        if self.crossings:
+            rows = [(c.piece, f"[{c.t[0]:.12g}, {c.t[1]:.12g}]", c.multiplicity,
+                     "crosses" if c.crosses else "touches") for c in self.crossings[:20]]
+            more = f" (first 20 of {len(self.crossings)})" if len(self.crossings) > 20 else ""
+            out += "\n" + html_table(rows, title="crossings" + more, header=("piece", "t", "multiplicity", ""))
+        return out
 
 
 def check_path(target, path, joint_limits=None, manipulator=None):

@@ -15,6 +15,7 @@ import sympy as sp
 from .._validate import as_float_array
 from ..core.certify import fmpq_of, roots_in_unit_interval
 from ..exceptions import InputError
+from .._html import html_table, summary
 
 __all__ = ["ImagePath", "segment", "polyline", "polynomial_curve", "rational_curve", "pose_segment"]
 
@@ -126,6 +127,35 @@ class ImagePath:
         P = pose_of(X)
         P[:, 2] = np.unwrap(P[:, 2])
         return P
+
+    def _summary_items(self):
+        items = [("kind", repr(self.kind)), ("pieces", str(len(self.pieces)))]
+        if self.kind == "polynomial":
+            items.append(("degrees", str(tuple(int(np.shape(p)[0]) - 1 for p in self.pieces[:8]))
+                          .replace(")", ", ...)" if len(self.pieces) > 8 else ")")))
+        return items
+
+    def __repr__(self):
+        """The kind, the number of pieces and their degrees, never the exact coefficients.
+
+        Examples
+        --------
+        >>> from imagespace.paths.check import polyline
+        >>> polyline([[1, 0, 0, 0], [1, 0, 1, 0], [1, 0, 1, 1]])
+        ImagePath(kind='polynomial', pieces=2, degrees=(1, 1))
+        """
+        return summary("ImagePath", self._summary_items())
+
+    def _repr_html_(self):
+        """The summary as an HTML table.
+
+        Examples
+        --------
+        >>> from imagespace.paths.check import segment
+        >>> "polynomial" in segment([1, 0, 0, 0], [1, 0, 1, 0])._repr_html_()
+        True
+        """
+        return html_table(self._summary_items(), title="ImagePath")
 
 
 def _bernstein_floats(C):

@@ -14,6 +14,7 @@ from .._validate import _short, as_count, as_scalar
 from ..core.mechanism import check_mechanism
 from ..exceptions import InputError
 from ..singular.cusps import Cusp, free_joints, half_angle_gap
+from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["CuspLoop", "cusp_loop", "MAX_STEPS"]
 
@@ -99,6 +100,10 @@ class CuspLoop:
             if chk.singularity_free or every == 1:
                 return path, chk
             every = max(1, every // 2)          # chords cut corners near the surface: refine
+
+    # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
+    __repr__ = dataclass_repr
+    _repr_html_ = dataclass_html
 
 
 def cusp_loop(manipulator, cusp, fixed, radius, steps=720):

@@ -36,6 +36,7 @@ from ..exceptions import InputError
 from ..core.kinematic_map import image_point, normalize
 from ..core.mechanism import check_mechanism
 from .check import ImagePath, PathCheck, check_path, polyline, segments_free
+from .._html import fmt, html_table, summary
 
 __all__ = ["ModeChangePlan", "plan_mode_change", "joint_trajectory"]
 
@@ -69,6 +70,41 @@ class ModeChangePlan:
     poses: np.ndarray | None = None
     joint_loop: np.ndarray | None = None
     candidates: int = 0
+
+    def _summary_items(self):
+        items = [("found", fmt(self.found)), ("reason", self.reason)]
+        if self.path is not None:
+            items.append(("path", f"{len(self.path)} {self.path.kind} piece(s)"))
+        if self.check is not None:
+            items.append(("check", "singularity-free" if self.check.singularity_free else "meets the surface"))
+        for name in ("poses", "joint_loop"):
+            value = getattr(self, name)
+            if value is not None:
+                items.append((name, fmt(value)))
+        items.append(("candidates", fmt(self.candidates)))
+        return items
+
+    def __repr__(self):
+        """Whether and how a path was found, its size, never the sampled poses.
+
+        Examples
+        --------
+        >>> from imagespace.paths.modechange import ModeChangePlan
+        >>> ModeChangePlan(False, "the modes have different aspects")
+        ModeChangePlan(found=False, reason='the modes have different aspects', candidates=0)
+        """
+        return summary("ModeChangePlan", [(k, fmt(v) if k == "reason" else v) for k, v in self._summary_items()])
+
+    def _repr_html_(self):
+        """The summary as an HTML table.
+
+        Examples
+        --------
+        >>> from imagespace.paths.modechange import ModeChangePlan
+        >>> "different aspects" in ModeChangePlan(False, "different aspects")._repr_html_()
+        True
+        """
+        return html_table(self._summary_items(), title="ModeChangePlan")
 
 
 MAX_SAMPLES = 1_000_000

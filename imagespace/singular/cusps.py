@@ -38,6 +38,7 @@ from ..core.elimination import form_coefficients
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
 from .implicit import as_tolerances
+from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "free_joints", "half_angle_gap",
            "linking_number"]
@@ -84,6 +85,10 @@ class ModeCountMap:
         edge[:, :-1] |= C[:, :-1] != C[:, 1:]
         edge[:, 1:] |= C[:, :-1] != C[:, 1:]
         return np.argwhere(edge & (C >= 0))
+
+    # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
+    __repr__ = dataclass_repr
+    _repr_html_ = dataclass_html
 
 
 def free_joints(fixed):

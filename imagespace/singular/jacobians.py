@@ -13,6 +13,7 @@ from ..core.quadrics import image_symbols
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
 from .surface import constraint_values, pose_chart_point
+from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["PoseJacobians", "jacobians", "symbolic_jacobians"]
 
@@ -132,6 +133,10 @@ class PoseJacobians:
         """
         t = np.broadcast_to(as_float_array(tau, "tau", last=3), (len(self.J), 3))
         return np.einsum("nji,nj->ni", self.J, t)
+
+    # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
+    __repr__ = dataclass_repr
+    _repr_html_ = dataclass_html
 
 
 def jacobians(manipulator, pose, q=None, working_modes=None):

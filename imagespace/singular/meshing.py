@@ -154,7 +154,7 @@ class _Progress:
         if enabled is not None:
             enabled = as_flag(enabled, "progress")
         if enabled is not False:
-            from tqdm import tqdm
+            from tqdm.auto import tqdm
 
             self.bar = tqdm(total=total, delay=1.0, desc="meshing", leave=False)
 

@@ -48,6 +48,7 @@ from ..core.quadrics import image_symbols
 from ..exceptions import InputError
 from ..core.kinematic_map import pose_of
 from ..core.mechanism import check_mechanism
+from .._html import latex_collected
 
 __all__ = ["SingularitySurface", "ConicSection", "singularity_surface", "singularity_surfaces",
            "pose_chart_point", "image_chart_point"]
@@ -587,6 +588,22 @@ class SingularitySurface:
         else:
             raise InputError(f"chart must be 'image' or 'pose', got {chart!r}")
         return sp.expand(self.expr().xreplace(sub)), (u, v, w)
+
+    def _repr_latex_(self):
+        """The quartic ``S = 0`` collected by powers of ``x0, x1``, for Jupyter.
+
+        Coefficients are rounded to 6 significant digits when the LaTeX would be longer than
+        2,000 characters; :func:`imagespace.display.latex_form` gives the same form of any
+        polynomial (e.g. :meth:`PlanarParallel.kinematic_polynomial`).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> text = isp.examples.stigger_husty().singularity_surface()._repr_latex_()
+        >>> text.startswith("$") and text.endswith(" = 0$"), "x_{0}^{3}" in text
+        (True, True)
+        """
+        return rf"$\displaystyle {latex_collected(self.polynomial, by=('x0', 'x1'))} = 0$"
 
 
 def _dependent_legs(manipulator):

@@ -6,6 +6,8 @@ import numpy as np
 from dataclasses import dataclass, field
 from typing import Optional
 
+from .._html import counts_text, html_table, modes_table, summary
+
 __all__ = ["AssemblyMode", "CertifiedModes", "DKBatchResult"]
 
 #: Width of a :class:`DKBatchResult` row: a non-degenerate planar 3-leg design has at most six
@@ -63,6 +65,18 @@ class AssemblyMode:
         return (f"AssemblyMode(x={x:.6g}, y={y:.6g}, phi={phi:.6g}, aspect={self.aspect:+d}, "
                 f"residual={self.residual:.1e}{mult})")
 
+    def _repr_html_(self):
+        """A one-mode table for Jupyter.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> "aspect" in m.direct_kinematics(m.q_example)[0]._repr_html_()
+        True
+        """
+        return modes_table([self], title="AssemblyMode")
+
 
 class CertifiedModes(list):
     """The list of assembly modes with the certificate of the real-root count.
@@ -102,6 +116,21 @@ class CertifiedModes(list):
     def __repr__(self):
         return (f"CertifiedModes({list.__repr__(self)}, real roots={self.certificate.count}, "
                 f"method={self.certificate.method!r})")
+
+    def _repr_html_(self):
+        """The modes as a table (one row each) under the certificate's count and method.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> "6 real roots" in m.direct_kinematics(m.q_example, certify=True)._repr_html_()
+        True
+        """
+        cert = self.certificate
+        title = (f"CertifiedModes: {len(self)} modes, {cert.count} real roots "
+                 f"(method {cert.method})")
+        return modes_table(list(self), title=title, roots=self.root_of_mode)
 
 
 @dataclass
@@ -186,3 +215,47 @@ class DKBatchResult:
         return [AssemblyMode(self.image_points[i, j], self.poses[i, j], float(self.residual[i, j]),
                              int(self.aspect[i, j]), True, 1 if mult is None else int(mult[i, j]))
                 for j in np.flatnonzero(self.valid[i])]
+
+    def _summary_rows(self):
+        n = len(self.count)
+        rows = [("rows", n), ("solved rows", int(np.count_nonzero(self.row_ok))),
+                ("failed rows", len(self.errors))]
+        if self.solver is not None:
+            rows.append(("solver", counts_text(self.solver)))
+        for name in ("special", "near_singular", "consistent"):
+            flags = getattr(self, name)
+            if flags is not None:
+                rows.append((f"{name} rows", int(np.count_nonzero(flags))))
+        if self.certificate_path is not None:
+            rows.append(("certificate path", counts_text(self.certificate_path)))
+        rows.append(("modes per row", counts_text(self.count)))
+        return rows
+
+    def __repr__(self):
+        """A summary (rows, the histogram of the mode counts, solvers, flags), never the arrays.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> print(m.direct_kinematics_batch([m.q_example_float] * 3))  # doctest: +ELLIPSIS
+        DKBatchResult(rows=3, solved_rows=3, failed_rows=0, solver={...: 3}, special_rows=0,
+                      near_singular_rows=0, modes_per_row={6: 3})
+        """
+        return summary("DKBatchResult", [(k.replace(" ", "_"), "{" + v + "}" if isinstance(v, str) else str(v))
+                                         for k, v in self._summary_rows()])
+
+    def _repr_html_(self):
+        """A summary table and the histogram of the number of real modes per row.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> "<table" in m.direct_kinematics_batch([m.q_example_float])._repr_html_()
+        True
+        """
+        values, rows = np.unique(np.asarray(self.count), return_counts=True)
+        return (html_table(self._summary_rows()[:-1], title=f"DKBatchResult: {len(self.count)} rows")
+                + "\n" + html_table(zip(values.tolist(), rows.tolist()), title="real modes per row",
+                                    header=("modes", "rows")))
