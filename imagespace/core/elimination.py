@@ -323,7 +323,7 @@ def orientation_form(rows):
 
 
 def form_coefficients(poly):
-    """Coefficients ``[f_0 .. f_d]`` (of ``x0^(d-k) x1^k``) of a homogeneous Poly in ``(x0, x1)``.
+    """Coefficients ``[f_0, ..., f_d]`` (of ``x0^(d-k) x1^k``) of a homogeneous Poly in ``(x0, x1)``.
 
     Examples
     --------

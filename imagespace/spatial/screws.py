@@ -227,7 +227,7 @@ def transfer(screw, point, kind="twist"):
 
 
 def reciprocal_product(twist, wrench):
-    """The power ``omega . m + v . f`` of a wrench on a twist (not the plain dot product).
+    """The power ``dot(omega, m) + dot(v, f)`` of a wrench on a twist (not the plain dot product).
 
     Raises
     ------

@@ -1,0 +1,42 @@
+"""The documentation site builds with warnings as errors (docs/build.sh), executes the notebooks
+and holds the API pages generated from the docstrings."""
+
+import importlib.util
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS_PACKAGES = ("sphinx", "myst_nb", "numpydoc", "pydata_sphinx_theme", "ipykernel")
+
+
+@pytest.mark.slow
+@pytest.mark.docs
+def test_docs_build_with_warnings_as_errors(tmp_path):
+    missing = [name for name in DOCS_PACKAGES if importlib.util.find_spec(name) is None]
+    if missing:
+        pytest.skip(f"the docs extra is not installed (missing {', '.join(missing)}): "
+                    'python -m pip install -e ".[docs]"')
+    out = tmp_path / "html"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
+    env.pop("IMAGESPACE_DOCS_EXECUTE", None)  # the notebooks are executed
+    proc = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-b", "html",
+         "-d", str(tmp_path / "doctrees"), str(ROOT / "docs"), str(out)],
+        cwd=ROOT, env=env, capture_output=True, text=True, timeout=3600)
+    assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-8000:]
+
+    api = out / "api" / "generated" / "imagespace.solve.dispatch.direct_kinematics.html"
+    assert api.is_file()
+    assert 'id="imagespace.solve.dispatch.direct_kinematics"' in api.read_text(encoding="utf-8")
+
+    # an executed notebook: its page shows a figure the build produced
+    page = out / "notebooks" / "01_direct_kinematics.html"
+    assert page.is_file()
+    images = re.findall(r'<img[^>]+src="([^"]+\.png)"', page.read_text(encoding="utf-8"))
+    assert images, "no output image on the executed notebook page"
+    assert all((page.parent / src).resolve().is_file() for src in images)
