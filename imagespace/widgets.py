@@ -52,7 +52,7 @@ DRAG_RESOLUTION = 20
 """Grid points per axis of a joint-dependent surface re-meshed while a slider moves."""
 REST_RESOLUTION = 48
 """Grid points per axis of the surface mesh at rest (and of a joint-free surface, meshed once)."""
-SECTION_GRID = 160
+SECTION_GRID = 100
 """Grid points per axis of the section view's aspect regions."""
 _PHI_CHART = 3.0                 # default |x1/x0| = |tan(phi/2)| range of the image-space view
 
@@ -216,7 +216,9 @@ class Explorer(W.VBox):
         ``error`` (a message, or None).
     plan : ModeChangePlan or None
         The last mode change planned.
-    pose_view, space_view, section_view, loop_view : plotly.graph_objects.FigureWidget
+    figure : plotly.graph_objects.FigureWidget
+        The four panels (pose view, image space, section view, joint loop); :meth:`trace` finds a
+        trace by name.
     sliders : list of ipywidgets.FloatSlider
     exact_boxes : list of ipywidgets.Text
     """
@@ -272,87 +274,116 @@ class Explorer(W.VBox):
         W.jslink((self.play, "value"), (self.frame, "value"))
         self.frame.observe(lambda ch: self._draw_frame(ch["new"]), "value")
 
-        self.pose_view = self._pose_figure()
-        self.space_view = self._space_figure()
-        self.section_view = self._section_figure()
-        self.loop_view = self._loop_figure()
+        self.figure = self._build_figure()
         self._solve(self.q)
         self._box = self._initial_box(box)
-        self.space_view.layout.scene = self._scene()
+        self.figure.layout.scene.update(self._scene())
         self._remesh(self.resolution)
         self._draw_all()
         # a FigureWidget's front end starts from the figure it was constructed with (later edits
         # travel as messages to a live view), so the first state is drawn into plain figures
-        self.pose_view, self.space_view, self.section_view, self.loop_view = (
-            go.FigureWidget(f) for f in (self.pose_view, self.space_view, self.section_view, self.loop_view))
-        controls = W.VBox([W.HBox([self.mode_a, self.mode_b, self.change_button]), self.plan_message,
-                           W.HBox([self.play, self.frame]), self.loop_view])
-        super().__init__([W.VBox(rows), self.status_line, W.HBox([self.pose_view, self.space_view]),
-                          W.HBox([W.VBox([self.section_mode, self.section_view]), controls])])
+        self.figure = go.FigureWidget(self.figure)
+        controls = W.HBox([self.section_mode, self.mode_a, self.mode_b, self.change_button, self.play, self.frame])
+        super().__init__([W.VBox(rows), self.status_line, controls, self.plan_message, self.figure])
 
     # -- figures --------------------------------------------------------------------------------
-    @staticmethod
-    def _pose_figure():
-        fig = go.Figure()
-        for name, colour, dash in (("guides", "#999999", "dash"), ("legs, aspect +1", ASPECT_COLOURS[1], None),
-                                   ("legs, aspect -1", ASPECT_COLOURS[-1], None)):
-            fig.add_scatter(x=[], y=[], mode="lines", name=name, line=dict(color=colour, dash=dash, width=2),
-                            hoverinfo="skip")
-        for a in (1, -1):
-            fig.add_scatter(x=[], y=[], mode="lines", fill="toself", name=f"platform, aspect {a:+d}",
-                            line=dict(color=ASPECT_COLOURS[a], width=1), opacity=0.35, hoverinfo="skip")
-        fig.add_scatter(x=[], y=[], mode="markers", name="base joints", marker=dict(symbol="square", color="black",
-                                                                                     size=8))
-        fig.add_scatter(x=[], y=[], mode="text", name="mode numbers", textfont=dict(size=14), showlegend=False)
-        fig.add_scatter(x=[], y=[], mode="lines+markers", name="moving along the path",
-                        line=dict(color="#2ca02c", width=4))
-        fig.update_layout(width=520, height=480, margin=dict(l=50, r=10, t=40, b=40),
-                          title="pose view: every real assembly mode", legend=dict(font=dict(size=10)),
-                          xaxis_title="x [length units]", yaxis_title="y [length units]",
-                          yaxis=dict(scaleanchor="x", scaleratio=1))
-        return fig
+    def _build_figure(self):
+        """One plotly figure with four panels (pose, image space, section, joint loop).
 
-    @staticmethod
-    def _space_figure():
-        fig = go.Figure()
-        fig.add_mesh3d(x=[], y=[], z=[], i=[], j=[], k=[], color="#bbbbbb", opacity=0.5, name="singularity surface",
-                       flatshading=True, showlegend=True, hoverinfo="skip")
-        for a in (1, -1):
-            fig.add_scatter3d(x=[], y=[], z=[], mode="markers+text", name=f"modes, aspect {a:+d}",
-                              marker=dict(color=ASPECT_COLOURS[a], size=6), textposition="top center")
-        fig.add_scatter3d(x=[], y=[], z=[], mode="lines", name="certified path", line=dict(color="#2ca02c", width=6))
-        fig.add_scatter3d(x=[], y=[], z=[], mode="markers", name="path position",
-                          marker=dict(color="#2ca02c", size=8, symbol="diamond"))
-        fig.update_layout(width=560, height=480, margin=dict(l=0, r=0, t=40, b=0), title="image space",
-                          legend=dict(font=dict(size=10)))
-        return fig
+        One figure, not four: each plotly ``FigureWidget`` is an anywidget model that loads the
+        5 MB plotly.js bundle, and anywidget gives a model 2 s to start.
+        """
+        from plotly.subplots import make_subplots
 
-    @staticmethod
-    def _section_figure():
-        fig = go.Figure()
-        fig.add_heatmap(x=[], y=[], z=[], showscale=False, zmin=-1, zmax=1, opacity=0.35, hoverinfo="skip",
-                        colorscale=[[0, ASPECT_COLOURS[-1]], [0.5, "#ffffff"], [1, ASPECT_COLOURS[1]]],
-                        name="aspect regions")
-        fig.add_contour(x=[], y=[], z=[], showscale=False, contours=dict(start=0, end=0, size=1, coloring="lines"),
-                        line=dict(color="black", width=2), name="singular conic", hoverinfo="skip", showlegend=True)
-        for a in (1, -1):
-            fig.add_scatter(x=[], y=[], mode="markers+text", name=f"modes, aspect {a:+d}", textposition="top center",
-                            marker=dict(color=ASPECT_COLOURS[a], size=10, line=dict(color="black", width=1)))
-        fig.update_layout(width=520, height=460, margin=dict(l=50, r=10, t=40, b=40),
-                          xaxis_title="x [length units]", yaxis_title="y [length units]",
-                          yaxis=dict(scaleanchor="x", scaleratio=1), legend=dict(font=dict(size=10)))
-        return fig
+        fig = make_subplots(rows=2, cols=2, specs=[[{"type": "xy"}, {"type": "scene"}], [{"type": "xy"}, {"type": "xy"}]],
+                            column_widths=[0.47, 0.53], row_heights=[0.58, 0.42], horizontal_spacing=0.08,
+                            vertical_spacing=0.09,
+                            subplot_titles=("pose view", "image space", "section view", "joint loop"))
+        self._trace = {}
 
-    @staticmethod
-    def _loop_figure():
-        fig = go.Figure()
+        def add(name, trace, row, col):
+            self._trace[name] = len(fig.data)
+            fig.add_trace(trace, row=row, col=col)
+
+        # pose view
+        add("guides", go.Scatter(x=[], y=[], mode="lines", name="prismatic guides", hoverinfo="skip",
+                                 line=dict(color="#999999", dash="dash", width=2)), 1, 1)
+        for a in (1, -1):
+            add(f"legs{a:+d}", go.Scatter(x=[], y=[], mode="lines", name=f"legs, aspect {a:+d}", hoverinfo="skip",
+                                          legendgroup=f"aspect{a:+d}", line=dict(color=ASPECT_COLOURS[a], width=2)), 1, 1)
+            add(f"platform{a:+d}", go.Scatter(x=[], y=[], mode="lines", fill="toself", name=f"platform, aspect {a:+d}",
+                                              legendgroup=f"aspect{a:+d}", hoverinfo="skip", opacity=0.35,
+                                              line=dict(color=ASPECT_COLOURS[a], width=1)), 1, 1)
+        add("base", go.Scatter(x=[], y=[], mode="markers", name="base joints",
+                               marker=dict(symbol="square", color="black", size=8)), 1, 1)
+        add("numbers", go.Scatter(x=[], y=[], mode="text", name="mode numbers", textfont=dict(size=14),
+                                  showlegend=False), 1, 1)
+        add("moving", go.Scatter(x=[], y=[], mode="lines+markers", name="along the planned path",
+                                 line=dict(color="#2ca02c", width=4)), 1, 1)
+        # image space
+        add("surface", go.Mesh3d(x=[], y=[], z=[], i=[], j=[], k=[], color="#bbbbbb", opacity=0.5,
+                                 name="singularity surface", flatshading=True, showlegend=True, hoverinfo="skip"), 1, 2)
+        for a in (1, -1):
+            add(f"points{a:+d}", go.Scatter3d(x=[], y=[], z=[], mode="markers+text", name=f"modes, aspect {a:+d}",
+                                              legendgroup=f"aspect{a:+d}", showlegend=False, textposition="top center",
+                                              marker=dict(color=ASPECT_COLOURS[a], size=6)), 1, 2)
+        add("path", go.Scatter3d(x=[], y=[], z=[], mode="lines", name="certified path",
+                                 line=dict(color="#2ca02c", width=6)), 1, 2)
+        add("position", go.Scatter3d(x=[], y=[], z=[], mode="markers", name="position on the path", showlegend=False,
+                                     marker=dict(color="#2ca02c", size=8, symbol="diamond")), 1, 2)
+        # section view
+        # one contour trace draws both the conic (its zero line) and the two aspect regions (fills):
+        # its values are the conic's, signed so that positive means aspect +1
+        add("regions", go.Contour(x=[], y=[], z=[], showscale=False, name="singular conic (det J = 0)",
+                                  hoverinfo="skip", contours=dict(start=0, end=0, size=1, coloring="fill"),
+                                  showlegend=True, opacity=0.45, line=dict(color="black", width=2),
+                                  colorscale=[[0, ASPECT_COLOURS[-1]], [1, ASPECT_COLOURS[1]]]), 2, 1)
+        for a in (1, -1):
+            add(f"section{a:+d}", go.Scatter(x=[], y=[], mode="markers+text", name=f"modes, aspect {a:+d}",
+                                             legendgroup=f"aspect{a:+d}", showlegend=False, textposition="top center",
+                                             marker=dict(color=ASPECT_COLOURS[a], size=10,
+                                                         line=dict(color="black", width=1))), 2, 1)
+        # joint loop
         for i in range(3):
-            fig.add_scatter(x=[], y=[], mode="lines", name=f"q{i + 1}")
-        fig.add_scatter(x=[], y=[], mode="markers", name="now", marker=dict(color="black", size=8))
-        fig.update_layout(width=520, height=300, margin=dict(l=50, r=10, t=40, b=40), title="joint loop",
-                          xaxis_title="path sample", yaxis_title="q - q_start [rad or length units]",
-                          legend=dict(font=dict(size=10)))
+            add(f"loop{i + 1}", go.Scatter(x=[], y=[], mode="lines", name=f"q{i + 1} - q{i + 1} at the start"), 2, 2)
+        add("now", go.Scatter(x=[], y=[], mode="markers", name="now", showlegend=False,
+                              marker=dict(color="black", size=8)), 2, 2)
+        fig.update_layout(width=1150, height=1000, margin=dict(l=50, r=10, t=60, b=40),
+                          legend=dict(font=dict(size=10), orientation="h", y=-0.06))
+        fig.update_xaxes(title_text="x [length units]", row=1, col=1)
+        fig.update_yaxes(title_text="y [length units]", scaleanchor="x", scaleratio=1, row=1, col=1)
+        fig.update_xaxes(title_text="x [length units]", row=2, col=1)
+        fig.update_yaxes(title_text="y [length units]", scaleanchor="x3", scaleratio=1, row=2, col=1)
+        fig.update_xaxes(title_text="path sample", row=2, col=2)
+        fig.update_yaxes(title_text="joint change [rad or length units]", row=2, col=2)
         return fig
+
+    def trace(self, name):
+        """The plotly trace called ``name`` in the explorer's figure.
+
+        Names: ``guides``, ``legs+1``, ``legs-1``, ``platform+1``, ``platform-1``, ``base``, ``numbers``,
+        ``moving`` (pose view); ``surface``, ``points+1``, ``points-1``, ``path``, ``position``
+        (image space); ``regions`` (the conic and its aspect regions), ``section+1``, ``section-1`` (section view);
+        ``loop1``..``loop3``, ``now`` (joint loop).
+
+        Raises
+        ------
+        InputError
+            An unknown name.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> ex = isp.widgets.explore(isp.examples.stigger_husty())
+        >>> len(ex.trace("numbers").text)
+        6
+        """
+        if name not in self._trace:
+            raise InputError(f"name must be one of {sorted(self._trace)}, got {name!r}")
+        return self.figure.data[self._trace[name]]
+
+    def _title(self, panel, text):
+        self.figure.layout.annotations[panel].text = text
 
     def _initial_box(self, box):
         if box is not None:
@@ -422,11 +453,10 @@ class Explorer(W.VBox):
                 return
         self._surface, self._surface_q, self._mesh_resolution = S, self.q.copy(), resolution
         V, F = np.asarray(mesh.vertices), np.asarray(mesh.faces)
-        with self.space_view.batch_update():
-            tr = self.space_view.data[0]
-            tr.x, tr.y, tr.z = V[:, 0], V[:, 1], V[:, 2]
-            tr.i, tr.j, tr.k = (F[:, 0], F[:, 1], F[:, 2]) if len(F) else ([], [], [])
-            tr.name = f"singularity surface ({S.kind}, {resolution}^3 grid)"
+        F = F.astype(np.int32)
+        with self.figure.batch_update():
+            self.trace("surface").update(x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
+                                         name=f"singularity surface ({S.kind}, {resolution}^3 grid)")
 
     # -- drawing --------------------------------------------------------------------------------
     def _draw_all(self):
@@ -461,39 +491,36 @@ class Explorer(W.VBox):
             text[1].append(c[1])
             text[2].append(str(k + 1))
 
-        d = self.pose_view.data
         B = np.array(base) if base else np.zeros((0, 2))
-        with self.pose_view.batch_update():
-            for idx, polys in ((0, guides), (1, legs[1]), (2, legs[-1]), (3, plats[1]), (4, plats[-1])):
+        with self.figure.batch_update():
+            for name, polys in (("guides", guides), ("legs+1", legs[1]), ("legs-1", legs[-1]),
+                                ("platform+1", plats[1]), ("platform-1", plats[-1])):
                 xy = _joined(polys)
-                d[idx].update(x=xy[:, 0], y=xy[:, 1])
-            d[5].update(x=B[:, 0], y=B[:, 1])
-            d[6].update(x=np.array(text[0]), y=np.array(text[1]), text=text[2])
-            d[7].update(x=[], y=[])
-            self.pose_view.layout.title = (f"pose view: {len(self.modes)} real assembly mode"
-                                           f"{'' if len(self.modes) == 1 else 's'} at q = "
-                                           f"({', '.join(f'{v:.4g}' for v in self.q)})")
+                self.trace(name).update(x=xy[:, 0], y=xy[:, 1])
+            self.trace("base").update(x=B[:, 0], y=B[:, 1])
+            self.trace("numbers").update(x=np.array(text[0]), y=np.array(text[1]), text=text[2])
+            self.trace("moving").update(x=[], y=[])
+            self._title(0, f"pose view: {len(self.modes)} real assembly mode{'' if len(self.modes) == 1 else 's'} "
+                           f"at q = ({', '.join(f'{v:.4g}' for v in self.q)})")
 
     def _draw_space(self):
-        d = self.space_view.data
-        with self.space_view.batch_update():
-            for idx, a in ((1, 1), (2, -1)):
+        with self.figure.batch_update():
+            for a in (1, -1):
                 ks = [k for k, mm in enumerate(self.modes) if (1 if mm.aspect >= 0 else -1) == a]
                 C = chart_coordinates(np.array([self.modes[k].image_point for k in ks])) if ks else np.zeros((0, 3))
-                d[idx].x, d[idx].y, d[idx].z = C[:, 0], C[:, 1], C[:, 2]
-                d[idx].text = [str(k + 1) for k in ks]
+                self.trace(f"points{a:+d}").update(x=C[:, 0], y=C[:, 1], z=C[:, 2], text=[str(k + 1) for k in ks])
             if self.plan is None:
-                for idx in (3, 4):
-                    d[idx].x, d[idx].y, d[idx].z = [], [], []
+                for name in ("path", "position"):
+                    self.trace(name).update(x=[], y=[], z=[])
 
     def _draw_section(self):
-        fig = self.section_view
+        fig = self.figure
         if not self.modes or self._surface is None or self.section_mode.value is None:
             with fig.batch_update():
-                for tr in fig.data:
-                    tr.x, tr.y = [], []
-                fig.data[0].z = fig.data[1].z = []
-                fig.layout.title = "section view (no mode)"
+                self.trace("regions").update(x=[], y=[], z=[])
+                for a in (1, -1):
+                    self.trace(f"section{a:+d}").update(x=[], y=[], text=[])
+                self._title(2, "section view (no mode)")
             return
         k = int(self.section_mode.value)
         mode = self.modes[k]
@@ -514,15 +541,14 @@ class Explorer(W.VBox):
         same = [j for j, mm in enumerate(self.modes) if abs(np.remainder(mm.pose[2] - phi + np.pi, 2 * np.pi) - np.pi)
                 <= self.manipulator.tolerances.duplicate * (1 + abs(phi))]
         with fig.batch_update():
-            fig.data[0].x, fig.data[0].y, fig.data[0].z = xs, ys, flip * np.sign(Z)
-            fig.data[1].x, fig.data[1].y, fig.data[1].z = xs, ys, Z
-            for idx, a in ((2, 1), (3, -1)):
+            self.trace("regions").update(x=xs, y=ys, z=flip * Z)
+            for a in (1, -1):
                 js = [j for j in same if (1 if self.modes[j].aspect >= 0 else -1) == a]
-                fig.data[idx].x = [self.modes[j].pose[0] for j in js]
-                fig.data[idx].y = [self.modes[j].pose[1] for j in js]
-                fig.data[idx].text = [str(j + 1) for j in js]
-            fig.layout.title = (f"section at phi = {np.degrees(phi):.3f} deg (mode {k + 1}): red det J > 0, "
-                                f"blue det J < 0")
+                self.trace(f"section{a:+d}").update(x=[self.modes[j].pose[0] for j in js],
+                                                    y=[self.modes[j].pose[1] for j in js],
+                                                    text=[str(j + 1) for j in js])
+            self._title(2, f"section at phi = {np.degrees(phi):.3f} deg (mode {k + 1}): "
+                           "red det J > 0, blue det J < 0")
 
     def _draw_status(self):
         st = self.status
@@ -637,9 +663,12 @@ class Explorer(W.VBox):
         self.play.disabled = self.frame.disabled = True
         self.play.max = self.frame.max = 0
         self.plan_message.value = ""
-        with self.loop_view.batch_update():
-            for tr in self.loop_view.data:
-                tr.x, tr.y = [], []
+        with self.figure.batch_update():
+            for name in ("loop1", "loop2", "loop3", "now", "moving"):
+                self.trace(name).update(x=[], y=[])
+            for name in ("path", "position"):
+                self.trace(name).update(x=[], y=[], z=[])
+            self._title(3, "joint loop")
 
     # -- mode change ----------------------------------------------------------------------------
     def change_mode(self, a=None, b=None):
@@ -689,24 +718,21 @@ class Explorer(W.VBox):
         from .core.kinematic_map import image_point
 
         C = chart_coordinates(image_point(plan.poses))
-        with self.space_view.batch_update():
-            d = self.space_view.data
-            d[3].x, d[3].y, d[3].z = C[:, 0], C[:, 1], C[:, 2]
         J = plan.joint_loop - plan.joint_loop[0]
-        with self.loop_view.batch_update():
+        with self.figure.batch_update():
+            self.trace("path").update(x=C[:, 0], y=C[:, 1], z=C[:, 2])
             for i in range(3):
-                self.loop_view.data[i].x, self.loop_view.data[i].y = np.arange(n), J[:, i]
-            self.loop_view.layout.title = (f"joint loop of the mode change {a + 1} -> {b + 1} "
-                                           f"(starts and ends at q)")
+                self.trace(f"loop{i + 1}").update(x=np.arange(n), y=J[:, i])
+            self._title(3, f"joint loop of the mode change {a + 1} -> {b + 1} (starts and ends at q)")
         self.play.max = self.frame.max = n - 1
         self.play.disabled = self.frame.disabled = False
         self._draw_frame(0)
         return plan
 
     def _hide_plan_traces(self):
-        with self.space_view.batch_update():
-            for idx in (3, 4):
-                self.space_view.data[idx].x = self.space_view.data[idx].y = self.space_view.data[idx].z = []
+        with self.figure.batch_update():
+            for name in ("path", "position"):
+                self.trace(name).update(x=[], y=[], z=[])
 
     def _draw_frame(self, k):
         plan = self.plan
@@ -718,15 +744,11 @@ class Explorer(W.VBox):
         lines = mechanism_lines(self.manipulator, plan.poses[k], plan.joint_loop[k])
         xy = _joined(lines.legs + [lines.platform])
         C = chart_coordinates(image_point(plan.poses[k]))
-        with self.pose_view.batch_update():
-            self.pose_view.data[7].update(x=xy[:, 0], y=xy[:, 1])
-        with self.space_view.batch_update():
-            d = self.space_view.data[4]
-            d.x, d.y, d.z = C[:, 0], C[:, 1], C[:, 2]
         J = plan.joint_loop - plan.joint_loop[0]
-        with self.loop_view.batch_update():
-            self.loop_view.data[3].x = [k, k, k]
-            self.loop_view.data[3].y = J[k].tolist()
+        with self.figure.batch_update():
+            self.trace("moving").update(x=xy[:, 0], y=xy[:, 1])
+            self.trace("position").update(x=C[:, 0], y=C[:, 1], z=C[:, 2])
+            self.trace("now").update(x=[k, k, k], y=J[k].tolist())
 
     # -- export ---------------------------------------------------------------------------------
     def save_html(self, path):
@@ -758,11 +780,7 @@ class Explorer(W.VBox):
 
         import plotly.io as pio
 
-        figs = [self.pose_view, self.space_view, self.section_view]
-        if self.plan is not None and self.plan.found:
-            figs.append(self.loop_view)
-        parts = [pio.to_html(go.Figure(f), include_plotlyjs=(i == 0), full_html=False)
-                 for i, f in enumerate(figs)]
+        parts = [pio.to_html(go.Figure(self.figure), include_plotlyjs=True, full_html=False)]
         q = ", ".join(f"{v:.10g}" for v in self.q)
         page = ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>imagespace explorer: "
                 f"{html.escape(self.manipulator.name)}</title></head><body style='font-family:sans-serif'>"
