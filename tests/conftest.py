@@ -21,3 +21,21 @@ settings.load_profile("imagespace")
 def rng():
     """A seeded generator: every random test is reproducible."""
     return np.random.default_rng(20261121)
+
+
+# Items that share an expensive per-process artefact run on the same pytest-xdist worker
+# (``--dist loadgroup`` in pyproject.toml; without xdist the mark does nothing). The seed-000
+# dynamics model (a symbolic derivation of about 4 s, cached per process by seed000_model) is built
+# by tests/dynamics and by the doctests of imagespace/dynamics: one group, one derivation.
+XDIST_GROUPS = {
+    "tests/dynamics/": "dynamics",
+    "imagespace/dynamics/": "dynamics",
+}
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist appends the group to the node id
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        for prefix, group in XDIST_GROUPS.items():
+            if item.nodeid.startswith(prefix):
+                item.add_marker(pytest.mark.xdist_group(group))
