@@ -21,3 +21,24 @@ settings.load_profile("imagespace")
 def rng():
     """A seeded generator: every random test is reproducible."""
     return np.random.default_rng(20261121)
+
+
+
+# pytest-xdist (``--dist loadgroup`` in pyproject.toml) sends each group to one worker. Every item
+# is grouped by its file, as ``--dist loadscope`` would (module-scoped fixtures and per-process
+# caches built once per file); files that share an expensive per-process artefact form one group.
+# The seed-000 dynamics model (a symbolic derivation of about 4 s, cached per process by
+# seed000_model) is built by tests/dynamics and by the doctests of imagespace/dynamics: one group,
+# one derivation instead of one on each worker. Without xdist the marks do nothing.
+XDIST_GROUPS = {
+    "tests/dynamics/": "dynamics",
+    "imagespace/dynamics/": "dynamics",
+}
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist appends the group to the node id
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        path = item.nodeid.split("::", 1)[0]
+        group = next((g for prefix, g in XDIST_GROUPS.items() if path.startswith(prefix)), path)
+        item.add_marker(pytest.mark.xdist_group(group))

@@ -3,6 +3,7 @@ into another object's private ``_cache``. Walks the AST of every module, functio
 imports included: a lazy import may delay a dependency, never hide an upward one."""
 
 import ast
+import functools
 from pathlib import Path
 
 
@@ -46,9 +47,18 @@ def modules():
     return out
 
 
+@functools.lru_cache(maxsize=None)
+def parsed(path):
+    """The AST of ``path``, parsed once per test session (the four checks walk the same files;
+    the trees are only read)."""
+    return ast.parse(path.read_text())
+
+
+@functools.lru_cache(maxsize=None)
 def imports_of(mod, path):
-    """(target module, line, lazy) for every import of an imagespace module in ``path``."""
-    tree = ast.parse(path.read_text())
+    """(target module, line, lazy) for every import of an imagespace module in ``path`` (computed
+    once per session; three checks ask)."""
+    tree = parsed(path)
     is_pkg = path.name == "__init__.py"
     pkg = mod if is_pkg else mod.rsplit(".", 1)[0]
     found = []
@@ -70,7 +80,7 @@ def imports_of(mod, path):
             for a in node.names:
                 if a.name.startswith("imagespace"):
                     found.append((a.name, node.lineno, id(node) not in top_level))
-    return found
+    return tuple(found)
 
 
 def resolve(target, mods):
@@ -149,7 +159,7 @@ def test_no_module_touches_another_objects_private_cache():
     """Derived artefacts live behind Mechanism.cached / SingularitySurface.cached."""
     offenders = []
     for mod, path in modules().items():
-        tree = ast.parse(path.read_text())
+        tree = parsed(path)
         for node in ast.walk(tree):
             if isinstance(node, ast.Attribute) and node.attr in ("_cache", "_symbolic_cache"):
                 owner = node.value

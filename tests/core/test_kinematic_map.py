@@ -39,20 +39,25 @@ def test_transform_matrix_moves_points_like_a_rigid_motion(pose, p):
     assert np.allclose(got, expected, atol=1e-9 * (1 + np.abs(expected).max()))
 
 
-@given(pose_st, pose_st)
-@settings(max_examples=100, deadline=None)
-def test_composition_is_the_product(a, b):
+def _composition_is_the_product(a, b):
     A, B = isp.image_point(a), isp.image_point(b)
     T = isp.transform_matrix(isp.compose(A, B))
     assert np.allclose(T, isp.transform_matrix(A) @ isp.transform_matrix(B), atol=1e-9 * 100)
 
 
-@given(pose_st)
-@settings(max_examples=100, deadline=None)
-def test_inverse(a):
+def _inverse(a):
     A = isp.image_point(a)
     T = isp.transform_matrix(isp.compose(A, isp.inverse(A)))
     assert np.allclose(T, np.eye(3), atol=1e-9)
+
+
+# the property in the fast lane with 25 examples, the full 100-example sweep with the slow checks
+test_composition_is_the_product = settings(max_examples=25, deadline=None)(
+    given(pose_st, pose_st)(_composition_is_the_product))
+test_composition_is_the_product_sweep = pytest.mark.slow(settings(max_examples=100, deadline=None)(
+    given(pose_st, pose_st)(_composition_is_the_product)))
+test_inverse = settings(max_examples=25, deadline=None)(given(pose_st)(_inverse))
+test_inverse_sweep = pytest.mark.slow(settings(max_examples=100, deadline=None)(given(pose_st)(_inverse)))
 
 
 def test_batch_shapes_and_half_turn():

@@ -135,13 +135,18 @@ def _grids_without_Td(Td, seed):
     return grids
 
 
-def test_consistency_is_judged_at_the_crossing_on_grids_without_T_d(setup):
+def _grids(Td, seed, which):
+    grids = _grids_without_Td(Td, seed)
+    return [grids[i] for i in which]
+
+
+def _check_consistency_at_the_crossing(setup, grids):
     model, path, st, sing, law, info = setup
     from scipy.optimize import brentq
     Td = brentq(lambda t: law(t) - sing.s, 0.05, 0.95, xtol=1e-15)      # the crossing, independently
     assert Td == pytest.approx(info["Td"], abs=1e-9)
     checked = 0
-    for ts in _grids_without_Td(Td, seed=13):
+    for ts in grids(Td):
         assert np.abs(ts - Td).min() > 5e-5                                # T_d itself is not sampled
         res = inverse_dynamics(model, path, law, ts, st.eta, sing, eps=1e-3)
         band = res.branch == "eq11"
@@ -154,21 +159,45 @@ def test_consistency_is_judged_at_the_crossing_on_grids_without_T_d(setup):
         scale = np.abs(ref.mu[:, 2:]).max()
         assert np.abs(res.mu[band, 2:] - ref.mu[:, 2:]).max() < 1e-6 * scale
         checked += 1
-    assert checked == 4
+    return checked
 
 
-def test_the_cubic_law_is_flagged_on_any_grid(setup):
+# one seeded random grid (26 samples) in the fast lane, the even 100-sample grid and the other two
+# random grids (same seed, same grids) with the slow checks: together the four grids of
+# _grids_without_Td(Td, seed=13)
+def test_consistency_is_judged_at_the_crossing_on_grids_without_T_d(setup):
+    assert _check_consistency_at_the_crossing(setup, lambda Td: _grids_without_Td(Td, seed=13)[1:2]) == 1
+
+
+@pytest.mark.slow
+def test_consistency_is_judged_at_the_crossing_on_the_remaining_grids_without_T_d(setup):
+    assert _check_consistency_at_the_crossing(setup, lambda Td: _grids(Td, 13, [0, 2, 3])) == 3
+
+
+def _check_the_cubic_law_is_flagged(setup, grids):
     model, path, st, sing, law, info = setup
     from scipy.optimize import brentq
     cub = cubic_rest_to_rest(1.5, 1.0)
     tc = brentq(lambda t: cub(t) - sing.s, 0.05, 0.95, xtol=1e-15)
     sparse = np.array([0.1, 0.3, 0.45, 0.6, 0.9])                         # no sample in the band
     checked = 0
-    for ts in [sparse] + _grids_without_Td(tc, seed=14):
+    for ts in grids(sparse, tc):
         res = inverse_dynamics(model, path, cub, ts, st.eta, sing, eps=1e-3)
         inside = np.abs(res.g) < 1e-3
         assert not res.consistent and res.consistency_residual > 1e-3
         assert res.crossings.shape == (1,) and abs(res.crossings[0] - tc) < 1e-9
         assert np.all(np.isnan(res.mu[inside])) and np.all(np.isfinite(res.mu[~inside]))
         checked += 1
-    assert checked == 5
+    return checked
+
+
+# the sparse grid (no sample in the band) and one seeded random grid in the fast lane, the even
+# grid and the other two random grids with the slow checks: together the five grids
+# [sparse] + _grids_without_Td(tc, seed=14)
+def test_the_cubic_law_is_flagged_on_any_grid(setup):
+    assert _check_the_cubic_law_is_flagged(setup, lambda sparse, tc: [sparse] + _grids_without_Td(tc, seed=14)[1:2]) == 2
+
+
+@pytest.mark.slow
+def test_the_cubic_law_is_flagged_on_the_remaining_grids(setup):
+    assert _check_the_cubic_law_is_flagged(setup, lambda sparse, tc: _grids(tc, 14, [0, 2, 3])) == 3

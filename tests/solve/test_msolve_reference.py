@@ -146,7 +146,13 @@ def random_case(seed):
 # of the PP dyad, which carries no mode by design, was counted as a root the modes must explain
 
 
-@pytest.mark.parametrize("seed", range(30))
+# a random sweep: six seeds (among them 4 and 24, the PP dyads above) in the fast lane, the other
+# 24 with the slow checks (the full suite runs all thirty)
+FAST_SEEDS = (0, 1, 2, 3, 4, 24)
+
+
+@pytest.mark.parametrize("seed", [pytest.param(s, marks=() if s in FAST_SEEDS else pytest.mark.slow)
+                                  for s in range(30)])
 def test_random_designs_match_msolve(seed):
     m, q, pose = random_case(seed)
     ref = planar_dk_reference(m, q)
