@@ -44,7 +44,7 @@ from .drawing import ASPECT_COLOURS, CHART_LABELS, chart_coordinates, mechanism_
 from .exceptions import ImageSpaceError, InputError, NearSingularWarning
 
 __all__ = ["explore", "Explorer", "joint_ranges", "parse_joint_value", "REST_DELAY", "DRAG_RESOLUTION",
-           "REST_RESOLUTION", "SECTION_GRID"]
+           "REST_RESOLUTION", "SECTION_GRID", "SLIDER_STEPS"]
 
 REST_DELAY = 0.4
 """Seconds without slider motion after which a joint-dependent surface is meshed finely."""
@@ -54,6 +54,8 @@ REST_RESOLUTION = 48
 """Grid points per axis of the surface mesh at rest (and of a joint-free surface, meshed once)."""
 SECTION_GRID = 100
 """Grid points per axis of the section view's aspect regions."""
+SLIDER_STEPS = 2000
+"""Steps across a joint slider's range (keyboard arrows move one step, PageUp/PageDown several)."""
 _PHI_CHART = 3.0                 # default |x1/x0| = |tan(phi/2)| range of the image-space view
 
 
@@ -248,9 +250,13 @@ class Explorer(W.VBox):
         rows = []
         for i, leg in enumerate(manipulator.legs):
             lo, hi = ranges[i]
+            # the slider snaps to min + k * step in the browser: align its grid with q so that the
+            # starting joint values are shown (and solved) as given
+            step = float(hi - lo) / SLIDER_STEPS
+            lo = self.q[i] - np.floor((self.q[i] - lo) / step) * step
+            hi = lo + SLIDER_STEPS * step
             unit = "rad" if leg.actuated_is_angle else "length"
-            s = W.FloatSlider(value=float(np.clip(self.q[i], lo, hi)), min=float(lo), max=float(hi),
-                              step=float(hi - lo) / 2000, description=f"q{i + 1} {leg.actuated_name} [{unit}]",
+            s = W.FloatSlider(value=float(self.q[i]), min=float(lo), max=float(hi), step=step, description=f"q{i + 1} {leg.actuated_name} [{unit}]",
                               continuous_update=True, readout_format=".4f",
                               style={"description_width": "140px"}, layout=W.Layout(width="480px"))
             t = W.Text(placeholder="exact value, e.g. 27/2", continuous_update=False,
@@ -704,13 +710,16 @@ class Explorer(W.VBox):
             plan = plan_mode_change(self.manipulator, self.q, self.modes[a], self.modes[b])
         except ImageSpaceError as e:
             self.plan = None
+            self.play.playing = False
+            self._hide_plan()
             self.plan_message.value = f'<span class="isp-plan">no plan: {html.escape(str(e))}</span>'
             return None
         self.plan = plan
         if not plan.found:
+            self.play.playing = False
+            self._hide_plan()
             self.plan_message.value = (f'<span class="isp-plan">mode {a + 1} &rarr; mode {b + 1}: '
                                        f'{html.escape(plan.reason)}</span>')
-            self._hide_plan_traces()
             return plan
         n = len(plan.poses)
         self.plan_message.value = (f'<span class="isp-plan">mode {a + 1} &rarr; mode {b + 1}: certified '
@@ -728,11 +737,6 @@ class Explorer(W.VBox):
         self.play.disabled = self.frame.disabled = False
         self._draw_frame(0)
         return plan
-
-    def _hide_plan_traces(self):
-        with self.figure.batch_update():
-            for name in ("path", "position"):
-                self.trace(name).update(x=[], y=[], z=[])
 
     def _draw_frame(self, k):
         plan = self.plan

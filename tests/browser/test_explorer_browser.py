@@ -104,10 +104,21 @@ def page(served):
         browser.close()
 
 
-def _status(pg):
-    el = pg.locator(".isp-status")
-    q = [float(v) for v in el.get_attribute("data-q").split(",")]
-    return int(pg.inner_text(".isp-count")), np.array(q)
+_READ_STATUS = """() => { const el = document.querySelector('.isp-status');
+    const c = el.querySelector('.isp-count'); return [el.dataset.q, c ? c.innerText : '']; }"""
+
+
+def _status(pg, settle_ms=500, tries=40):
+    """(count, q) read in one go from the status line, once it stopped changing (updates may queue)."""
+    last = None
+    for _ in range(tries):
+        now = pg.evaluate(_READ_STATUS)
+        if now == last:
+            break
+        last = now
+        pg.wait_for_timeout(settle_ms)
+    q, count = last
+    return int(count), np.array([float(v) for v in q.split(",")])
 
 
 PANELS = {"pose": (0.0, 0.0, 0.47, 0.58), "space": (0.5, 0.0, 1.0, 0.58)}   # fractions of the figure
@@ -140,6 +151,10 @@ def _reference_count(q):
 def test_slider_moves_the_modes_and_the_3d_view(page, artifacts):
     count0, q0 = _status(page)
     assert count0 == _reference_count(q0) == 6
+    import imagespace as isp
+
+    # the sliders start at q_example (their grids are aligned with it; the browser snaps to the grid)
+    assert np.allclose(q0, isp.examples.stigger_husty().q_example_float, rtol=1e-12, atol=0)
     before = _shot(page, "space", artifacts / "01_image_space_before.png")
     page.screenshot(path=str(artifacts / "00_explorer.png"), full_page=True)
     handle = page.locator(".widget-slider .noUi-handle").nth(2)
@@ -190,3 +205,4 @@ def test_change_mode_between_equal_aspects(page, artifacts):
     page.wait_for_function("document.querySelector('.isp-plan').innerText.includes('opposite aspects')",
                            timeout=60_000)
     page.screenshot(path=str(artifacts / "07_opposite_aspects.png"), full_page=True)
+    assert page.locator(".widget-play button").first.is_disabled()      # the old animation is gone

@@ -36,6 +36,14 @@ def test_parse_joint_value_is_exact_and_never_evaluates():
         parse_joint_value(3.0)
 
 
+def test_sliders_start_exactly_at_q(seed002_explorer):
+    ex = seed002_explorer
+    q = isp.examples.stigger_husty().q_example_float
+    for s, v in zip(ex.sliders, q):
+        k = (v - s.min) / s.step          # the browser snaps to min + k * step: q must be on that grid
+        assert abs(k - round(k)) < 1e-6 and s.min <= v <= s.max
+
+
 def test_joint_ranges_contain_q_and_respect_leg_domains():
     m = isp.examples.stigger_husty()
     q = m.q_example_float
@@ -132,6 +140,9 @@ def test_change_mode_equal_and_opposite_aspects(seed002_explorer):
     ex.frame.value = 5
     lines = mechanism_lines(ex.manipulator, plan.poses[5], plan.joint_loop[5])
     assert np.allclose(np.asarray(ex.trace("moving").x[:2], dtype=float), lines.legs[0][:, 0])
+    # a failed plan afterwards clears the previous one (no stale animation or joint loop)
+    assert not ex.change_mode(neg[0], pos[0]).found
+    assert ex.play.disabled and len(ex.trace("loop1").x) == 0 and len(ex.trace("path").x) == 0
     with pytest.raises(InputError, match="b must be in"):
         ex.change_mode(0, 17)
 
