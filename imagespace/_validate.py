@@ -8,6 +8,7 @@ import numpy as np
 import sympy as sp
 
 from .exceptions import InputError
+from .tolerances import TOLERANCES, Tolerances
 
 __all__ = [
     "is_symbolic",
@@ -22,6 +23,7 @@ __all__ = [
     "as_joint_vector",
     "as_box",
     "as_index",
+    "as_tolerances",
 ]
 
 
@@ -350,3 +352,27 @@ def as_index(value, name: str, size: int) -> int:
     if i >= size:
         raise InputError(f"{name} must be in 0..{size - 1}, got {i}")
     return i
+
+
+def as_tolerances(value, name: str = "tolerances") -> Tolerances:
+    """A ``tolerances=None`` keyword at a public boundary: ``None`` gives the defaults
+    (:data:`~imagespace.tolerances.TOLERANCES`), a :class:`~imagespace.tolerances.Tolerances`
+    passes, anything else is refused.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is neither None nor a :class:`~imagespace.tolerances.Tolerances`.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_tolerances
+    >>> as_tolerances(None).duplicate
+    1e-07
+    """
+    if value is None:
+        return TOLERANCES
+    if not isinstance(value, Tolerances):
+        raise TypeError(f"{name} must be an imagespace.Tolerances or None (the defaults), got "
+                        f"{type(value).__name__} {_short(value)}")
+    return value

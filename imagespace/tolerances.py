@@ -9,9 +9,12 @@ quadrics are balanced to the design's length scale before any decision, so answe
 on units. Certified answers (counts, multiplicities, root intervals) never read a tolerance.
 
 The compiled batch kernel (:mod:`imagespace.solve.kernel`) reads its decision thresholds from the same
-object (passed to it as an array); its root finder's numerical constants (how far a critical point
-is polished) are named module constants there, as are the thresholds of meshing, paths, cusps,
-backlash, workspaces and dynamics, which this object does not cover.
+object (passed to it as an array, :func:`imagespace.solve.kernel.kernel_tolerances`). So do the
+legs' inverse kinematics, the meshes, paths, mode changes, cusps, workspaces, fuzzy design choice,
+the dynamics (through its model) and the figures: functions that receive a manipulator read
+``manipulator.tolerances``; the others take a ``tolerances=None`` keyword (None: :data:`TOLERANCES`).
+What stays a named module constant is a numerical-method knob, not a decision: how far a root is
+polished, a bisection's stopping width, a finite-difference step, a minimiser's ``xatol``.
 """
 
 from dataclasses import dataclass
@@ -194,7 +197,7 @@ class Tolerances:
 
     The compiled kernel also reads ``cramer_small`` (a root with ``|D| <= cramer_small max|D|``
     sends the row to the numpy path) and ``newton_stop`` (its 4x4 solve's pivot threshold); it
-    receives all six as one array (:func:`imagespace.solve.kernel.kernel_tolerances`).
+    receives its seven as one array (:func:`imagespace.solve.kernel.kernel_tolerances`).
     """
 
     joint_residual: float = 1e-7

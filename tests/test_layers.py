@@ -185,16 +185,7 @@ PRIVATE_UTILITY_MODULES = {"imagespace._validate", "imagespace._memory", "images
                            "imagespace.core._numba"}
 # private names still imported across modules outside core/ and solve/ (other work on them is
 # under way); this list may only shrink
-KNOWN_PRIVATE_IMPORTS = {
-    ("imagespace.design.indices", "imagespace.design.workspace", "_phi_range"),
-    ("imagespace.dynamics.model", "imagespace.dynamics", "_checks"),
-    ("imagespace.dynamics.seed000", "imagespace.dynamics", "_checks"),
-    ("imagespace.dynamics.solve", "imagespace.dynamics", "_checks"),
-    ("imagespace.dynamics.timelaw", "imagespace.dynamics", "_checks"),
-    ("imagespace.singular.jacobians", "imagespace.singular.surface", "_constraint_values"),
-    ("imagespace.singular.meshing", "imagespace.singular.implicit", "_ArbBudget"),
-    ("imagespace.singular.meshing", "imagespace.singular.implicit", "_EPS"),
-}
+KNOWN_PRIVATE_IMPORTS: set = set()   # emptied in session 6: every cross-module private import is gone
 
 
 def private_imports(mods=None):

@@ -18,7 +18,6 @@ import sympy as sp
 
 from .._validate import as_exact, as_point, as_sympy_entry
 from ..exceptions import InputError
-from ..tolerances import TOLERANCES, Tolerances
 
 __all__: list[str] = []
 
@@ -188,26 +187,7 @@ def floatify(value: Any) -> Any:
 
 # --------------------------------------------------------------------------- float plane primitives
 
-def as_tolerances(value: Any) -> Tolerances:
-    """The ``tolerances=None`` keyword of the legs' inverse kinematics: None gives
-    :data:`~imagespace.tolerances.TOLERANCES`.
 
-    Raises
-    ------
-    TypeError
-        ``value`` is neither None nor a :class:`~imagespace.tolerances.Tolerances`.
-
-    Examples
-    --------
-    >>> as_tolerances(None).ik_tangent
-    1e-12
-    """
-    if value is None:
-        return TOLERANCES
-    if not isinstance(value, Tolerances):
-        raise TypeError(f"tolerances must be an imagespace.Tolerances or None, got {type(value).__name__} "
-                        f"{short_text(repr(value))}")
-    return value
 
 
 

@@ -56,7 +56,8 @@ import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_count, as_exact, as_flag, as_float_array, as_sympy_entry, check_positive, is_symbolic
-from .leg_geometry import (Arithmetic, as_tolerances, circle_line, direction_angle, exact_cos_sin, floatify,
+from .._validate import as_tolerances
+from .leg_geometry import (Arithmetic, circle_line, direction_angle, exact_cos_sin, floatify,
                            geometry_number, geometry_point, in_float_range, lines_meet, rotate_vector, short_text,
                            unit_direction, world_point, wrap_angle)
 from .quadrics import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric

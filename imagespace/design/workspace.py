@@ -22,9 +22,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validate import _short, as_box, as_count, as_float_array, as_scalar
+from .._validate import as_tolerances as check_tolerances
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
-from ..tolerances import TOLERANCES, Tolerances
 from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["Workspace", "halfplane_polygon", "polygon_area", "constant_orientation_workspace",
@@ -41,29 +41,7 @@ EXTREME_XATOL = 1e-12
 ``max/min c_i(phi)`` of the dexterous and reachable workspaces (a method knob, not a threshold)."""
 
 
-def check_tolerances(tolerances, name="tolerances"):
-    """``tolerances`` as a :class:`~imagespace.tolerances.Tolerances` (``None``: the defaults).
 
-    Shared by the design modules whose functions receive no manipulator (internal; not in
-    ``__all__``).
-
-    Raises
-    ------
-    TypeError
-        If ``tolerances`` is neither None nor a Tolerances.
-
-    Examples
-    --------
-    >>> from imagespace.design.workspace import check_tolerances
-    >>> check_tolerances(None).workspace_inside
-    1e-12
-    """
-    if tolerances is None:
-        return TOLERANCES
-    if not isinstance(tolerances, Tolerances):
-        raise TypeError(f"{name} must be an imagespace.Tolerances (or None for the defaults), got "
-                        f"{type(tolerances).__name__} {_short(tolerances)}")
-    return tolerances
 
 
 @dataclass(frozen=True)

@@ -10,33 +10,14 @@ import numpy as np
 import sympy as sp
 
 from .._validate import _short, as_count, as_float_array
+from .._validate import as_tolerances as tolerances  # noqa: F401  (checks.tolerances for the dynamics modules)
 from ..exceptions import InputError
-from ..tolerances import TOLERANCES, Tolerances
 
 MAX_SAMPLES = 1_000_000
 """The largest sample count (``samples``, ``n``) the dynamics functions accept."""
 
 
-def tolerances(value, name="tolerances"):
-    """``value`` as a :class:`~imagespace.tolerances.Tolerances` (``None``: the defaults).
 
-    Raises
-    ------
-    TypeError
-        If ``value`` is neither None nor a Tolerances.
-
-    Examples
-    --------
-    >>> from imagespace.dynamics.checks import tolerances
-    >>> tolerances(None).dynamics_residual
-    1e-09
-    """
-    if value is None:
-        return TOLERANCES
-    if not isinstance(value, Tolerances):
-        raise TypeError(f"{name} must be an imagespace.Tolerances (or None for the defaults), got "
-                        f"{type(value).__name__} {_short(value)}")
-    return value
 
 
 def instance(value, cls, name, hint=""):

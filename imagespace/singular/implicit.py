@@ -13,10 +13,10 @@ import numpy as np
 import sympy as sp
 
 from .._validate import _short, as_float_array, as_sympy_entry
+from .._validate import as_tolerances
 from ..core.certify import flint_precision
 from ..core.codegen import compile_exprs
 from ..exceptions import InputError
-from ..tolerances import TOLERANCES, Tolerances
 
 __all__ = ["Implicit", "PolynomialImplicit", "FunctionImplicit", "surface_implicit", "TRIG_ULPS"]
 
@@ -358,28 +358,7 @@ class ArbBudget:
         return True
 
 
-def as_tolerances(value, name: str = "tolerances") -> Tolerances:
-    """A ``tolerances=None`` keyword at a public boundary: ``None`` gives the defaults.
 
-    Shared by :mod:`imagespace.singular` and :mod:`imagespace.paths` (not public API).
-
-    Raises
-    ------
-    TypeError
-        If ``value`` is neither ``None`` nor a :class:`~imagespace.tolerances.Tolerances`.
-
-    Examples
-    --------
-    >>> from imagespace.singular.implicit import as_tolerances
-    >>> as_tolerances(None).mesh_on_grid
-    1e-12
-    """
-    if value is None:
-        return TOLERANCES
-    if not isinstance(value, Tolerances):
-        raise TypeError(f"{name} must be an imagespace.Tolerances or None, got {type(value).__name__} "
-                        f"{_short(value)}")
-    return value
 
 
 # -- implicit functions ---------------------------------------------------------------------------
@@ -433,19 +412,29 @@ class Implicit:
         """``F`` at points ``P`` ``(n, 3)``."""
         return self.value_and_gradient(P)[0]
 
-    def _value_bound(self, P):
-        """``(F, bound, zero)``: a float value whose sign is known where ``|F| > bound`` (or
-        ``zero``: known to be 0). Here the float standard: ``bound = 0``."""
+    def value_bound(self, P):
+        """``(F, bound, zero)`` at points ``P`` ``(n, 3)``: a float value whose sign is proven where
+        ``|F| > bound`` (or ``zero``: proven to be 0). The base class is the float standard,
+        ``bound = 0``; :class:`PolynomialImplicit` gives an a priori rounding-error bound.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from imagespace.singular.implicit import FunctionImplicit
+        >>> f = FunctionImplicit(lambda P: (P[:, 0] - 0.5, np.tile([1.0, 0, 0], (len(P), 1))))
+        >>> [a.tolist() for a in f.value_bound(np.array([[1.0, 0, 0]]))]
+        [[0.5], [0.0], [False]]
+        """
         F = self.value(np.atleast_2d(P))
         return F, np.zeros(len(F)), np.zeros(len(F), dtype=bool)
 
-    def proven_sign(self, P, _budget=None):
+    def proven_sign(self, P, budget=None):
         """Signs of ``F`` at points ``P`` ``(n, 3)`` and whether each is known.
 
         Returns ``(sign (n,) int8, known (n,) bool)``: ``sign`` in ``{-1, 0, 1}``, meaningful where
         ``known``. The base class knows the sign of every finite non-zero float value (``sign_test
         == "float signs ..."``); :class:`PolynomialImplicit` proves it (see the module docstring).
-        ``_budget`` (internal) caps the number of arb evaluations of one mesh.
+        ``budget`` (an :class:`ArbBudget`, used by the mesher) caps the number of arb evaluations of one mesh.
 
         Raises
         ------
@@ -589,20 +578,20 @@ class PolynomialImplicit(Implicit):
                 self._sign_note = f"float signs (not proven against rounding: {exc})"
         return self._signs or None
 
-    def _value_bound(self, P):
+    def value_bound(self, P):
         ev = self._sign_evaluator()
-        return super()._value_bound(P) if ev is None else ev.filter(P)
+        return super().value_bound(P) if ev is None else ev.filter(P)
 
-    def proven_sign(self, P, _budget=None):
+    def proven_sign(self, P, budget=None):
         P = _points3(P)
         ev = self._sign_evaluator()
         if ev is None:
-            return super().proven_sign(P, _budget)
+            return super().proven_sign(P, budget)
         F, bound, zero = ev.filter(P)
         known = zero | (np.abs(F) > bound)
         sign = np.where(zero, 0, np.sign(F)).astype(np.int8)
         for i in np.flatnonzero(~known):
-            if _budget is not None and not _budget.take():
+            if budget is not None and not budget.take():
                 break
             s = ev.arb_sign(P[i])
             if s is not None:

@@ -498,8 +498,8 @@ def _project_edges(func, verts, axis, origin, h, tol_abs, budget):
             k = act[small]
             pl = np.maximum(sn[small] - 0.5 * delta[k], 0.0)
             ph = np.minimum(sn[small] + 0.5 * delta[k], 1.0)
-            fl, bl, _ = func._value_bound(a[k] + pl[:, None] * e[k])
-            fh, bh, _ = func._value_bound(a[k] + ph[:, None] * e[k])
+            fl, bl, _ = func.value_bound(a[k] + pl[:, None] * e[k])
+            fh, bh, _ = func.value_bound(a[k] + ph[:, None] * e[k])
             ok = (np.abs(fl) > bl) & (np.abs(fh) > bh) & (np.sign(fl) * np.sign(fh) < 0)
             pair[k[ok]] = np.stack([pl[ok], ph[ok]], axis=-1)
             certified[small] = ok
