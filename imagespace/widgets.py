@@ -139,7 +139,7 @@ def joint_ranges(manipulator, q):
     >>> from imagespace.widgets import joint_ranges
     >>> m = isp.examples.stigger_husty()
     >>> joint_ranges(m, m.q_example_float).round(3).tolist()
-    [[0.0, 34.356], [0.0, 34.356], [-3.928, 30.428]]
+    [[0.0, 40.0], [0.0, 40.0], [-6.75, 33.25]]
     """
     check_mechanism(manipulator)
     qv = as_joint_vector(q)
