@@ -243,6 +243,9 @@ class Explorer(W.VBox):
         self._surface_q = None
         self._timer = None
         self._lock = threading.Lock()
+        self._want = None
+        self._working = False
+        self._mesh_resolution = 0
         self._muted = False
         ranges = joint_ranges(manipulator, self.q)
         self.sliders = []
@@ -433,36 +436,38 @@ class Explorer(W.VBox):
         self.status = {"count": len(modes), "certified": certified and err is None, "near_singular": near,
                        "exact": exact is not None, "seconds": time.perf_counter() - t0, "error": err}
 
-    def _surface_for(self, q):
-        m = self.manipulator
-        if self._surface is not None and self._surface.kind == "joint-free":
-            return self._surface
-        return m.singularity_surface(q=q)
-
-    def _remesh(self, resolution):
+    def _mesh_for(self, q, resolution):
+        """``(surface, mesh)`` at joint values ``q``; raises ImageSpaceError (the caller reports it)."""
         from .singular.meshing import mesh_surface
 
-        try:
-            S = self._surface_for(self.q)
-        except ImageSpaceError as e:
-            self._surface = None
-            self.status["error"] = self.status["error"] or f"singularity surface: {e}"
-            return
-        if S is self._surface and self._surface_q is not None and resolution <= self._mesh_resolution:
-            return
+        S = self._surface
+        if S is None or S.kind != "joint-free":
+            S = self.manipulator.singularity_surface(q=q)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            try:
-                mesh = mesh_surface(S, [tuple(r) for r in self._box], chart="image", resolution=resolution)
-            except ImageSpaceError as e:
-                self.status["error"] = self.status["error"] or f"mesh: {e}"
-                return
-        self._surface, self._surface_q, self._mesh_resolution = S, self.q.copy(), resolution
-        V, F = np.asarray(mesh.vertices), np.asarray(mesh.faces)
-        F = F.astype(np.int32)
+            mesh = mesh_surface(S, [tuple(r) for r in self._box], chart="image", resolution=resolution)
+        return S, mesh
+
+    def _show_mesh(self, S, mesh, q, resolution):
+        self._surface, self._surface_q, self._mesh_resolution = S, q, resolution
+        V, F = np.asarray(mesh.vertices), np.asarray(mesh.faces).astype(np.int32)
         with self.figure.batch_update():
             self.trace("surface").update(x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
-                                         name=f"singularity surface ({S.kind}, {resolution}^3 grid)")
+                                         opacity=0.5, name=f"singularity surface ({S.kind}, {resolution}^3 grid)")
+
+    def _remesh(self, resolution):
+        """Mesh the surface for the current joint values now (skipped for a joint-free surface
+        already meshed at least this finely)."""
+        S = self._surface
+        if S is not None and S.kind == "joint-free" and resolution <= self._mesh_resolution:
+            return
+        q = self.q.copy()
+        try:
+            S, mesh = self._mesh_for(q, resolution)
+        except ImageSpaceError as e:
+            self.status["error"] = self.status["error"] or f"singularity surface: {e}"
+            return
+        self._show_mesh(S, mesh, q, resolution)
 
     # -- drawing --------------------------------------------------------------------------------
     def _draw_all(self):
@@ -646,24 +651,80 @@ class Explorer(W.VBox):
         self._draw_status()
 
     def _schedule_refine(self):
-        """Joint-dependent surface: coarse mesh now, fine mesh once the sliders rest."""
+        """A joint-dependent surface while a slider moves: the shown mesh is dimmed (it belongs to
+        earlier joint values), a coarse mesh for the latest values is made in the background, and a
+        fine one once the sliders rest for :data:`REST_DELAY` seconds."""
+        with self.figure.batch_update():
+            self.trace("surface").update(opacity=0.15)
+        self._queue(min(DRAG_RESOLUTION, self.resolution))
         if self._timer is not None:
             self._timer.cancel()
-        self._remesh(DRAG_RESOLUTION)
-        self._timer = threading.Timer(REST_DELAY, self.refine)
+        self._timer = threading.Timer(REST_DELAY, self._queue, args=(self.resolution,))
         self._timer.daemon = True
         self._timer.start()
 
+    def _queue(self, resolution):
+        with self._lock:
+            self._want = (self.q.copy(), resolution)
+            if self._working:
+                return
+            self._working = True
+        threading.Thread(target=self._work, daemon=True).start()
+
+    def _work(self):
+        while True:
+            with self._lock:
+                job, self._want = self._want, None
+                if job is None:
+                    self._working = False
+                    return
+            q, resolution = job
+            try:
+                S, mesh = self._mesh_for(q, resolution)
+            except ImageSpaceError:
+                continue                      # the status line already reports a bad design
+            if np.array_equal(q, self.q):     # still the joint values shown
+                self._show_mesh(S, mesh, q, resolution)
+                self._draw_section()
+
+    def wait(self, timeout=60.0):
+        """Wait until background re-meshing (joint-dependent surfaces, after dragging) is done.
+
+        Parameters
+        ----------
+        timeout : float
+            Seconds at most.
+
+        Returns
+        -------
+        bool
+            True if nothing is left to do.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.widgets.explore(isp.examples.stigger_husty()).wait()
+        True
+        """
+        end = time.monotonic() + float(timeout)
+        while time.monotonic() < end:
+            with self._lock:
+                timer_pending = self._timer is not None and self._timer.is_alive()
+                idle = not self._working and self._want is None
+            if idle and not timer_pending:
+                return True
+            time.sleep(0.02)
+        return False
+
     def refine(self):
-        """Mesh the surface at the rest resolution for the current joint values (after dragging).
+        """Mesh the surface at the rest resolution for the current joint values, now.
 
         Examples
         --------
         >>> import imagespace as isp
         >>> ex = isp.widgets.explore(isp.examples.stigger_husty()); ex.refine()
         """
-        with self._lock:
-            self._remesh(self.resolution)
+        self._remesh(self.resolution)
 
     def _hide_plan(self):
         self.play.disabled = self.frame.disabled = True

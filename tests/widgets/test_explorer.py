@@ -174,4 +174,18 @@ def test_joint_dependent_surface_is_remeshed():
     first = np.asarray(ex.trace("surface").x).copy()
     ex.set_q(q + np.array([0.2, 0.0, 0.0]))
     assert "given-joints" in ex.trace("surface").name
-    assert not np.array_equal(first, np.asarray(ex.trace("surface").x))
+    second = np.asarray(ex.trace("surface").x).copy()
+    assert not np.array_equal(first, second)
+    # dragging: the slider's event re-meshes in the background, coarse then fine at rest
+    ex.sliders[0].value = ex.sliders[0].value + 0.1
+    assert ex.trace("surface").opacity < 0.5          # dimmed: it belongs to earlier joint values
+    assert ex.wait(120)
+    assert ex.trace("surface").opacity == 0.5 and "16^3" in ex.trace("surface").name
+    assert not np.array_equal(second, np.asarray(ex.trace("surface").x))
+    # the mesh shown is the surface at the slider's joint values, not at the earlier ones
+    q_now = np.array([s.value for s in ex.sliders])
+    V = np.column_stack([ex.trace("surface").x, ex.trace("surface").y, ex.trace("surface").z])[::25]
+    X = np.column_stack([np.ones(len(V)), V[:, 2], V[:, 0], V[:, 1]])      # chart (x2/x0, x3/x0, x1/x0)
+    now = np.abs([float(m.singularity_surface(q=q_now)(x)) for x in X])
+    before = np.abs([float(m.singularity_surface(q=q + np.array([0.2, 0.0, 0.0]))(x)) for x in X])
+    assert np.median(now) < 1e-3 * np.median(before)
