@@ -189,3 +189,42 @@ def test_joint_dependent_surface_is_remeshed():
     now = np.abs([float(m.singularity_surface(q=q_now)(x)) for x in X])
     before = np.abs([float(m.singularity_surface(q=q + np.array([0.2, 0.0, 0.0]))(x)) for x in X])
     assert np.median(now) < 1e-3 * np.median(before)
+
+
+def test_near_singular_badge_next_to_a_double_root(seed002_explorer):
+    import warnings
+
+    from imagespace.exceptions import NearSingularWarning
+
+    ex = seed002_explorer
+    m = ex.manipulator
+    q = m.q_example_float.copy()
+    # bisect q3 onto the place where two real modes merge (the count drops 6 -> 4), with the
+    # per-call certified path; remember where it could not certify (NearSingularWarning)
+    lo, hi, warned = 13.25, 13.65, []
+    for _ in range(60):
+        q[2] = 0.5 * (lo + hi)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            n = len(m.direct_kinematics(q, certify=True))
+        if any(issubclass(w.category, NearSingularWarning) for w in caught):
+            warned.append(q.copy())
+        lo, hi = (q[2], hi) if n == 6 else (lo, q[2])
+    assert warned, "the bisection should meet joint values the exact path cannot certify"
+    ex.set_q(warned[-1])
+    assert ex.status["near_singular"] and not ex.status["certified"]
+    assert "isp-near-singular" in ex.status_line.value and "NOT certified" in ex.status_line.value
+    ex.set_q(m.q_example_float)
+    assert not ex.status["near_singular"] and "isp-near-singular" not in ex.status_line.value
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not msolve_available(), reason="msolve binary not installed")
+@pytest.mark.parametrize("name", ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr"])
+def test_every_example_opens(name):
+    m = getattr(isp.examples, name)()
+    ex = explore(m)
+    ref = planar_dk_reference(m, m.q_example_float)
+    assert ex.status["count"] == len(ref.poses) and ex.status["certified"]
+    assert len(ex.trace("surface").i) > 100          # a meshed surface with triangles
+    assert tuple(ex.trace("numbers").text) == tuple(str(k + 1) for k in range(len(ref.poses)))
