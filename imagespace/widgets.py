@@ -624,8 +624,8 @@ class Explorer(W.VBox):
         --------
         >>> import imagespace as isp
         >>> ex = isp.widgets.explore(isp.examples.stigger_husty())
-        >>> ex.set_q([10.0, 15.0, 13.25]); ex.status["count"] >= 0
-        True
+        >>> ex.set_q([10.0, 15.0, 13.25]); ex.status["count"], ex.status["certified"]
+        (4, True)
         """
         qv = as_joint_vector(q)
         self.q = qv.copy()
