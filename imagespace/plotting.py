@@ -137,12 +137,13 @@ def plot_mechanism(manipulator, pose, q=None, ax=None, title=None, platform_colo
         fig, ax = plt.subplots(figsize=(6.5, 5))
     else:
         fig = ax.figure
-    for g in lines.guides:
-        ax.plot(g[:, 0], g[:, 1], label="prismatic guide", **GUIDE_STYLE)
     for i, pts in enumerate(lines.legs):
         ax.plot(pts[:, 0], pts[:, 1], "-o", color=_LEG_COLOURS[i % 3], lw=2, ms=4,
                 label=f"leg {i + 1} ({lines.joints[i]})")
+    for pts in lines.legs:
         ax.plot(*pts[0], "ks", ms=7, label="base joint")
+    for g in lines.guides:
+        ax.plot(g[:, 0], g[:, 1], label="prismatic guide", **GUIDE_STYLE)
     poly = lines.platform
     ax.fill(poly[:, 0], poly[:, 1], color=platform_colour, alpha=0.25)
     ax.plot(poly[:, 0], poly[:, 1], color=platform_colour, lw=1.5, label="platform")
@@ -208,7 +209,8 @@ def plot_assembly_modes(manipulator, q, modes=None, ax=None, ncols=3):
         return ax.figure
     ncol = min(ncols, len(modes))
     nrows = int(np.ceil(len(modes) / ncols))
-    fig, axes = plt.subplots(nrows, ncol, figsize=(4 * ncol, 4 * nrows + 0.9), squeeze=False)
+    height = 4.5 * nrows + 0.6                                  # 0.6 in at the bottom for the legend
+    fig, axes = plt.subplots(nrows, ncol, figsize=(4 * ncol, height), squeeze=False)
     lo, hi = _drawing_extent(manipulator, [mm.pose for mm in modes], [qf] * len(modes))
     pad = 0.08 * np.max(hi - lo)
     for k, mode in enumerate(modes):
@@ -225,9 +227,9 @@ def plot_assembly_modes(manipulator, q, modes=None, ax=None, ncols=3):
     handles, labels = axes.flat[0].get_legend_handles_labels()
     seen = dict(zip(labels[::-1], handles[::-1]))
     order = [lab for lab in dict.fromkeys(labels)]
-    fig.legend([seen[lab] for lab in order], order, loc="lower center", ncol=min(len(order), 4), fontsize=8,
+    fig.legend([seen[lab] for lab in order], order, loc="lower center", ncol=min(len(order), 7), fontsize=8,
                frameon=False)
-    fig.tight_layout(rect=(0, 0.9 / (4 * nrows + 0.9), 1, 1))
+    fig.tight_layout(rect=(0, 0.6 / height, 1, 1), h_pad=1.5)
     return fig
 
 
@@ -448,8 +450,9 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
     from matplotlib.colors import ListedColormap
 
     con = surface.section(phi)
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(6, 5.5))
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(8, 5.5))
     else:
         fig = ax.figure
     xs = np.linspace(*xlim, n)
@@ -471,11 +474,16 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
     ax.plot([], [], "k-", lw=1.5, label="det J = 0")
     for sign in sorted({mm.aspect for _, mm in ms}, reverse=True):
         ax.plot([], [], "o", color=_ASPECT_COLOURS[sign], mec="k", label=f"assembly mode, aspect {sign:+d}")
-    ax.legend(loc="upper right", fontsize=8)
+    if own:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1), borderaxespad=0, fontsize=8)
+    else:
+        ax.legend(loc="best", fontsize=8)
     ax.set_xlabel(f"x [{LENGTH_UNIT}]")
     ax.set_ylabel(f"y [{LENGTH_UNIT}]")
     ax.set_aspect("equal")
     ax.set_title(f"phi = {np.degrees(float(phi)):.2f} deg: {con.type}", fontsize=10)
+    if own:
+        fig.tight_layout()
     return fig
 
 
@@ -697,8 +705,9 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
 
     leg = manipulator.legs[analysis.leg]
     p = np.asarray(leg.geometry(exact=False)["platform"], dtype=float)
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(6.5, 6))
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(8.5, 6))
     else:
         fig = ax.figure
     pts_all = []
@@ -742,10 +751,15 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal")
     ax.set_xlabel(f"x of leg {analysis.leg + 1}'s platform anchor [{LENGTH_UNIT}]")
-    ax.set_ylabel(f"y [{LENGTH_UNIT}]")
-    _legend(ax, fontsize=8, loc="best")
+    ax.set_ylabel(f"y of leg {analysis.leg + 1}'s platform anchor [{LENGTH_UNIT}]")
+    if own:
+        _legend(ax, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1), borderaxespad=0)
+    else:
+        _legend(ax, fontsize=8, loc="best")
     ax.set_title(f"{manipulator.name}: play +-{analysis.delta:g} {_joint_unit(manipulator, analysis.leg)} "
                  f"in leg {analysis.leg + 1}", fontsize=10)
+    if own:
+        fig.tight_layout()
     return fig
 
 
@@ -842,13 +856,14 @@ def plot_workspaces(workspaces, labels=None, ax=None):
     1
     """
     plt = _pyplot()
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(5.5, 5.5))
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(5.5, 6))
     else:
         fig = ax.figure
     cmap = plt.get_cmap("tab10")
     for k, ws in enumerate(workspaces):
-        lab = labels[k] if labels is not None else f"{ws.kind} ({ws.area:.3g})"
+        lab = labels[k] if labels is not None else f"{ws.kind} (area {ws.area:.3g} {LENGTH_UNIT}^2)"
         col = cmap(k % 10)
         for j, curve in enumerate(ws.boundary):
             ax.plot(curve[:, 0], curve[:, 1], color=col, lw=1.8, label=lab if j == 0 else None)
@@ -858,7 +873,11 @@ def plot_workspaces(workspaces, labels=None, ax=None):
     ax.set_xlabel(f"x [{LENGTH_UNIT}]")
     ax.set_ylabel(f"y [{LENGTH_UNIT}]")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
+    if own:
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), frameon=False)
+        fig.tight_layout()
+    else:
+        ax.legend(fontsize=8, loc="best")
     return fig
 
 
