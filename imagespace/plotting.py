@@ -17,7 +17,15 @@ __all__ = ["plot_mechanism", "plot_assembly_modes", "plot_singularity_surface", 
 
 _LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green")
 _ASPECT_COLOURS = {1: "tab:red", -1: "tab:blue", 0: "k"}
-_CHART_LABELS = {"image": ("x2/x0", "x3/x0", "x1/x0"), "pose": ("x", "y", "phi [rad]")}
+LENGTH_UNIT = "length units"
+"""Unit named on the axes that show lengths (the manipulator's own length unit, whatever it is)."""
+_CHART_LABELS = {"image": (f"x2/x0 [{LENGTH_UNIT}]", f"x3/x0 [{LENGTH_UNIT}]", "x1/x0 = tan(phi/2) [-]"),
+                 "pose": (f"x [{LENGTH_UNIT}]", f"y [{LENGTH_UNIT}]", "phi [rad]")}
+GUIDE_STYLE = {"ls": "--", "color": "0.55", "lw": 1.0, "zorder": 1}
+"""How a prismatic guide from :func:`imagespace.drawing.mechanism_lines` is drawn (dashed grey);
+the only dashed lines of a mechanism drawing."""
+UNSOLVED_COLOUR = "0.75"
+"""Colour of the mode-count cells whose row could not be solved (count ``-1``)."""
 
 
 def _pyplot():
@@ -26,8 +34,66 @@ def _pyplot():
     return plt
 
 
-def plot_mechanism(manipulator, pose, q=None, ax=None, title=None, platform_colour="tab:red"):
-    """Draw the manipulator at one pose: base anchors, legs, platform.
+def _legend(ax, **kwargs):
+    """A legend with each label once (figures drawn repeatedly into one Axes repeat labels)."""
+    handles, labels = ax.get_legend_handles_labels()
+    seen = {}
+    for h, lab in zip(handles, labels):
+        seen.setdefault(lab, h)
+    kwargs.setdefault("fontsize", 8)
+    return ax.legend(list(seen.values()), list(seen), **kwargs)
+
+
+def _joint_unit(manipulator, i):
+    """``"rad"`` or ``"length units"`` for leg ``i``'s actuated joint; ``"length units or rad"``
+    without a manipulator."""
+    if manipulator is None:
+        return f"{LENGTH_UNIT} or rad"
+    return "rad" if manipulator.legs[i].actuated_is_angle else LENGTH_UNIT
+
+
+def _joint_label(manipulator, i):
+    """``"q1 [rad]"`` / ``"q1 [length units]"``: joint ``i`` with its unit (see :func:`_joint_unit`)."""
+    return f"q{i + 1} [{_joint_unit(manipulator, i)}]"
+
+
+def _mode_labels(modes):
+    """``"start", "end"`` or ``"mode a", "mode b"`` for :func:`plot_path_singularity`."""
+    if modes is None:
+        return "start", "end"
+    try:
+        pair = list(modes)
+    except TypeError:
+        pair = None
+    if pair is None or len(pair) != 2:
+        raise InputError(f"modes must be a pair (a, b) naming the modes the path joins, got {modes!r}")
+    out = []
+    for v in pair:
+        if isinstance(v, (int, np.integer)) and not isinstance(v, bool):
+            out.append(f"mode {int(v)}")
+        else:
+            out.append(str(v))
+    return tuple(out)
+
+
+def _drawing_extent(manipulator, poses, qs=None):
+    """Lower-left and upper-right corners of the drawings (legs, platform, guides) at ``poses``."""
+    from .drawing import mechanism_lines
+
+    pts = []
+    for k, p in enumerate(poses):
+        lines = mechanism_lines(manipulator, p, None if qs is None else qs[k])
+        pts.extend(lines.legs)
+        pts.extend(lines.guides)
+    pts = np.concatenate(pts)
+    return pts.min(axis=0), pts.max(axis=0)
+
+
+def plot_mechanism(manipulator, pose, q=None, ax=None, title=None, platform_colour="tab:red", legend=True):
+    """Draw the manipulator at one pose: base anchors, legs, prismatic guides, platform.
+
+    The geometry is :func:`imagespace.drawing.mechanism_lines`, the same the Jupyter explorer
+    draws; prismatic guides are dashed grey lines.
 
     Parameters
     ----------
@@ -37,6 +103,9 @@ def plot_mechanism(manipulator, pose, q=None, ax=None, title=None, platform_colo
         Joint values; used to pick each leg's branch (e.g. the elbow of an RRR leg).
     ax : matplotlib Axes, optional
     title : str, optional
+    platform_colour : matplotlib colour
+    legend : bool
+        Draw a legend (legs, base joints, guides, platform).
 
     Returns
     -------
@@ -45,7 +114,7 @@ def plot_mechanism(manipulator, pose, q=None, ax=None, title=None, platform_colo
     Raises
     ------
     TypeError
-        ``pose`` not numeric.
+        ``manipulator`` not a :class:`PlanarParallel`; ``pose`` not numeric.
     InputError
         ``pose`` not ``(3,)`` or not finite.
 
@@ -55,30 +124,41 @@ def plot_mechanism(manipulator, pose, q=None, ax=None, title=None, platform_colo
     >>> from imagespace.plotting import plot_mechanism
     >>> m = isp.examples.stigger_husty()
     >>> fig = plot_mechanism(m, m.direct_kinematics(m.q_example)[0].pose)
-    >>> len(fig.axes)
-    1
+    >>> len(fig.axes), fig.axes[0].get_xlabel()
+    (1, 'x [length units]')
     """
+    from .drawing import mechanism_lines
+
     plt = _pyplot()
     p = as_float_array(pose, "pose", last=3, allow_batch=False)
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(5, 5))
+    lines = mechanism_lines(manipulator, p, q)
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(6.5, 5))
     else:
         fig = ax.figure
-    legs = manipulator.leg_points(p, q)
-    anchors = []
-    for i, pts in enumerate(legs):
+    for i, pts in enumerate(lines.legs):
         ax.plot(pts[:, 0], pts[:, 1], "-o", color=_LEG_COLOURS[i % 3], lw=2, ms=4,
-                label=f"leg {i + 1} ({manipulator.legs[i].joints})")
-        ax.plot(*pts[0], "ks", ms=7)
-        anchors.append(pts[-1])
-    poly = np.array(anchors + [anchors[0]])
+                label=f"leg {i + 1} ({lines.joints[i]})")
+    for pts in lines.legs:
+        ax.plot(*pts[0], "ks", ms=7, label="base joint")
+    for g in lines.guides:
+        ax.plot(g[:, 0], g[:, 1], label="prismatic guide", **GUIDE_STYLE)
+    poly = lines.platform
     ax.fill(poly[:, 0], poly[:, 1], color=platform_colour, alpha=0.25)
-    ax.plot(poly[:, 0], poly[:, 1], color=platform_colour, lw=1.5)
-    ax.plot(p[0], p[1], "+", color="k", ms=10)
+    ax.plot(poly[:, 0], poly[:, 1], color=platform_colour, lw=1.5, label="platform")
+    ax.plot(p[0], p[1], "+", color="k", ms=10, label="platform point (x, y)")
     ax.set_aspect("equal")
     ax.grid(True, alpha=0.3)
+    ax.set_xlabel(f"x [{LENGTH_UNIT}]")
+    ax.set_ylabel(f"y [{LENGTH_UNIT}]")
     if title:
         ax.set_title(title, fontsize=9)
+    if legend and own:
+        _legend(ax, fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1), borderaxespad=0)
+        fig.tight_layout()
+    elif legend:
+        _legend(ax, fontsize=7, loc="best")
     return fig
 
 
@@ -122,26 +202,34 @@ def plot_assembly_modes(manipulator, q, modes=None, ax=None, ncols=3):
     if ax is not None:
         cmap = plt.get_cmap("viridis")
         for k, mode in enumerate(modes):
-            plot_mechanism(manipulator, mode.pose, qf, ax=ax, platform_colour=cmap(k / max(1, len(modes) - 1)))
+            plot_mechanism(manipulator, mode.pose, qf, ax=ax, legend=False,
+                           platform_colour=cmap(k / max(1, len(modes) - 1)))
+            ax.annotate(f"mode {k + 1}", mode.pose[:2], textcoords="offset points", xytext=(6, 6), fontsize=8)
+        _legend(ax, fontsize=7, loc="best")
         return ax.figure
+    ncol = min(ncols, len(modes))
     nrows = int(np.ceil(len(modes) / ncols))
-    fig, axes = plt.subplots(nrows, min(ncols, len(modes)), figsize=(4 * min(ncols, len(modes)), 4 * nrows),
-                             squeeze=False)
-    pts = np.concatenate([np.concatenate(manipulator.leg_points(mm.pose, qf)) for mm in modes])
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    height = 4.5 * nrows + 0.6                                  # 0.6 in at the bottom for the legend
+    fig, axes = plt.subplots(nrows, ncol, figsize=(4 * ncol, height), squeeze=False)
+    lo, hi = _drawing_extent(manipulator, [mm.pose for mm in modes], [qf] * len(modes))
     pad = 0.08 * np.max(hi - lo)
     for k, mode in enumerate(modes):
         a = axes.flat[k]
         x, y, phi = mode.pose
-        plot_mechanism(manipulator, mode.pose, qf, ax=a,
-                       title=f"mode {k + 1}: x={x:.3f}, y={y:.3f}, phi={np.degrees(phi):.2f} deg, "
-                             f"aspect {mode.aspect:+d}")
+        plot_mechanism(manipulator, mode.pose, qf, ax=a, legend=False,
+                       title=f"mode {k + 1} (aspect {mode.aspect:+d})\n"
+                             f"x = {x:.3f}, y = {y:.3f}, phi = {np.degrees(phi):.2f} deg")
         a.set_xlim(lo[0] - pad, hi[0] + pad)
         a.set_ylim(lo[1] - pad, hi[1] + pad)
     for a in list(axes.flat)[len(modes):]:
         a.set_visible(False)
     fig.suptitle(f"{manipulator.name}: {len(modes)} assembly modes")
-    fig.tight_layout()
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    seen = dict(zip(labels[::-1], handles[::-1]))
+    order = [lab for lab in dict.fromkeys(labels)]
+    fig.legend([seen[lab] for lab in order], order, loc="lower center", ncol=min(len(order), 7), fontsize=8,
+               frameon=False)
+    fig.tight_layout(rect=(0, 0.6 / height, 1, 1), h_pad=1.5)
     return fig
 
 
@@ -183,6 +271,13 @@ def _draw_mesh(ax, mesh, colour, alpha):
                             edgecolor="none")
     ax.add_collection3d(coll)
     return coll
+
+
+def _label_modes_3d(ax, P):
+    """``mode 1`` ... next to the points ``P`` (chart coordinates, in the order of the modes)."""
+    for k, pt in enumerate(P):
+        if np.all(np.isfinite(pt)):
+            ax.text(*pt, f"  mode {k + 1}", fontsize=7, zorder=10)
 
 
 def _set_box(ax, box, chart):
@@ -245,8 +340,10 @@ def plot_singularity_surface(surface, box, chart="image", resolution=48, q=None,
             sel = np.array([mm.aspect == sign for mm in ms])
             if sel.any():
                 ax.scatter(*P[sel].T, color=_ASPECT_COLOURS[sign], s=40, depthshade=False,
-                           label=f"aspect {sign:+d} ({sel.sum()})")
-        ax.legend(loc="upper left", fontsize=8)
+                           label=f"modes with aspect {sign:+d} ({sel.sum()})")
+        _label_modes_3d(ax, P)
+    ax.plot([], [], "s", color="0.6", label="det J = 0")
+    _legend(ax, loc="upper left")
     _set_box(ax, b, chart)
     ax.set_title(f"{surface.manipulator.name}: det J = 0 ({surface.kind})", fontsize=10)
     return fig
@@ -308,7 +405,8 @@ def plot_constraint_quadrics(manipulator, q, box, resolution=40, modes=None, ax=
     if ms:
         P = _chart_coords(ms, "image")
         ax.scatter(*P.T, color="k", s=30, depthshade=False, label=f"{len(ms)} assembly modes")
-    ax.legend(loc="upper left", fontsize=8)
+        _label_modes_3d(ax, P)
+    _legend(ax, loc="upper left")
     _set_box(ax, b, "image")
     ax.set_title(f"{manipulator.name}: constraint quadrics", fontsize=10)
     return fig
@@ -352,8 +450,9 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
     from matplotlib.colors import ListedColormap
 
     con = surface.section(phi)
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(6, 5.5))
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(8, 5.5))
     else:
         fig = ax.figure
     xs = np.linspace(*xlim, n)
@@ -365,21 +464,30 @@ def plot_conic_section(surface, phi, xlim, ylim, q=None, modes=None, ax=None, n=
     if np.nanmin(Z) < 0 < np.nanmax(Z):
         ax.contour(Xg, Yg, Z, levels=[0.0], colors="k", linewidths=1.5)
     near = surface.manipulator.tolerances.plot_orientation
-    ms = [mm for mm in _modes_for(surface.manipulator, q, modes)
+    ms = [(k, mm) for k, mm in enumerate(_modes_for(surface.manipulator, q, modes))
           if abs(np.remainder(mm.pose[2] - float(phi) + np.pi, 2 * np.pi) - np.pi) < near]
-    for mm in ms:
+    for k, mm in ms:
         ax.plot(mm.pose[0], mm.pose[1], "o", color=_ASPECT_COLOURS[mm.aspect], mec="k", ms=8)
+        ax.annotate(f"mode {k + 1}", mm.pose[:2], textcoords="offset points", xytext=(7, 7), fontsize=9)
     ax.plot([], [], "s", color="#fcbba1", label="det J > 0 (aspect +1)")
     ax.plot([], [], "s", color="#c6dbef", label="det J < 0 (aspect -1)")
-    ax.legend(loc="upper right", fontsize=8)
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.plot([], [], "k-", lw=1.5, label="det J = 0")
+    for sign in sorted({mm.aspect for _, mm in ms}, reverse=True):
+        ax.plot([], [], "o", color=_ASPECT_COLOURS[sign], mec="k", label=f"assembly mode, aspect {sign:+d}")
+    if own:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1), borderaxespad=0, fontsize=8)
+    else:
+        ax.legend(loc="best", fontsize=8)
+    ax.set_xlabel(f"x [{LENGTH_UNIT}]")
+    ax.set_ylabel(f"y [{LENGTH_UNIT}]")
     ax.set_aspect("equal")
     ax.set_title(f"phi = {np.degrees(float(phi)):.2f} deg: {con.type}", fontsize=10)
+    if own:
+        fig.tight_layout()
     return fig
 
 
-def plot_path_singularity(target, path, ax=None, per_piece=200):
+def plot_path_singularity(target, path, ax=None, per_piece=200, modes=None):
     """``det J`` along a path and its distance estimate ``|S|/|grad S|`` (seed 002, Abb. 6).
 
     Parameters
@@ -389,10 +497,19 @@ def plot_path_singularity(target, path, ax=None, per_piece=200):
     ax : matplotlib Axes, optional
     per_piece : int
         Samples per piece (the picture only; the certificate is :func:`imagespace.paths.check.check_path`).
+    modes : (a, b), optional
+        The assembly modes the path joins, named in the title as ``"mode a -> mode b"`` (an
+        integer ``a`` becomes ``"mode a"``, anything else is shown as given). Default:
+        ``"start -> end"``.
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        ``modes`` not a pair.
 
     Examples
     --------
@@ -400,36 +517,43 @@ def plot_path_singularity(target, path, ax=None, per_piece=200):
     >>> from imagespace.paths.check import pose_segment
     >>> from imagespace.plotting import plot_path_singularity
     >>> m = isp.examples.stigger_husty()
-    >>> fig = plot_path_singularity(m, pose_segment([0, 0, 0.2], [3, 1, 0.5]))
-    >>> len(fig.axes)
-    2
+    >>> fig = plot_path_singularity(m, pose_segment([0, 0, 0.2], [3, 1, 0.5]), modes=(1, 4))
+    >>> len(fig.axes), fig.axes[0].get_title()
+    (2, 'det J along the path: mode 1 -> mode 4')
     """
     plt = _pyplot()
+    start, end = _mode_labels(modes)
     S = target.singularity_surface() if hasattr(target, "singularity_surface") else target
     X, s = path.sample(per_piece)
     X = X / np.hypot(X[:, 0], X[:, 1])[:, None]
     v, G = S.value_and_gradient(X)
     if ax is None:
-        fig, ax = plt.subplots(figsize=(7, 3.5))
+        fig, ax = plt.subplots(figsize=(8, 4))
     else:
         fig = ax.figure
     ax.plot(s, v, color="k", lw=1.5, label="det J (normalised image point)")
-    ax.axhline(0, color="tab:red", lw=0.8)
+    ax.axhline(0, color="tab:red", lw=0.8, label="det J = 0 (singular)")
     for k in range(1, len(path)):
-        ax.axvline(k, color="0.7", lw=0.8, ls="--")
-    ax.set_xlabel("path parameter (one unit per piece)")
-    ax.set_ylabel("det J")
+        ax.axvline(k, color="0.7", lw=0.8, ls="--", label="piece boundary")
+    ax.set_xlabel("path parameter s [pieces]")
+    ax.set_ylabel("det J [arbitrary units]")
     ax2 = ax.twinx()
     ax2.plot(s, np.abs(v) / np.linalg.norm(G, axis=1), color="tab:blue", lw=1.2,
              label="|det J| / |grad det J|")
-    ax2.set_ylabel("distance estimate", color="tab:blue")
+    ax2.set_ylabel("distance estimate [image-space units]", color="tab:blue")
     ax2.set_ylim(bottom=0)
-    ax.set_title("det J along the path", fontsize=10)
-    ax.legend(loc="upper left", fontsize=8)
+    ax.set_xlim(s[0], s[-1])
+    ax.set_title(f"det J along the path: {start} -> {end}", fontsize=10)
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    seen = dict(zip(l1 + l2, h1 + h2))
+    ax.legend(list(seen.values()), list(seen), fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.18),
+              ncol=min(4, len(seen)), frameon=False)
+    fig.tight_layout()
     return fig
 
 
-def plot_joint_loop(plan, ax=None, q=None):
+def plot_joint_loop(plan, ax=None, q=None, manipulator=None):
     """The loop a mode change traces in joint space (3D), start/end marked.
 
     Parameters
@@ -440,6 +564,9 @@ def plot_joint_loop(plan, ax=None, q=None):
     ax : 3D matplotlib Axes, optional
     q : (3,) float, optional
         Joint values to mark (default: the loop's start).
+    manipulator : PlanarParallel, optional
+        Names each axis's unit (``rad`` for a revolute actuated joint, length units for a
+        prismatic one); without it the axes say ``[length units or rad]``.
 
     Returns
     -------
@@ -470,13 +597,13 @@ def plot_joint_loop(plan, ax=None, q=None):
     else:
         Q = np.atleast_2d(as_float_array(plan, "plan", last=3, finite=False))
     fig, ax = _axes3d(ax)
-    ax.plot(*Q.T, color="tab:purple", lw=2)
+    ax.plot(*Q.T, color="tab:purple", lw=2, label="joint loop")
     q0 = Q[0] if q is None else np.asarray(q, float)
     ax.scatter(*q0, color="k", s=40, depthshade=False, label="q (start = end)")
-    ax.set_xlabel("q1")
-    ax.set_ylabel("q2")
-    ax.set_zlabel("q3")
-    ax.legend(fontsize=8)
+    ax.set_xlabel(_joint_label(manipulator, 0))
+    ax.set_ylabel(_joint_label(manipulator, 1))
+    ax.set_zlabel(_joint_label(manipulator, 2))
+    _legend(ax)
     ax.set_title("the mode change as a loop in joint space", fontsize=10)
     return fig
 
@@ -521,20 +648,25 @@ def animate_path(manipulator, poses, q_path=None, interval=60, xlim=None, ylim=N
     P = as_float_array(poses, "poses", last=3)
     P = np.atleast_2d(P)
     Qp = None if q_path is None else np.atleast_2d(as_float_array(q_path, "q_path", last=3, finite=False))
-    fig, ax = plt.subplots(figsize=(5, 5))
-    pts = np.concatenate([np.concatenate(manipulator.leg_points(p)) for p in P[:: max(1, len(P) // 20)]])
-    pad = 0.1 * np.ptp(pts, axis=0).max()
-    xlim = xlim or (pts[:, 0].min() - pad, pts[:, 0].max() + pad)
-    ylim = ylim or (pts[:, 1].min() - pad, pts[:, 1].max() + pad)
+    fig, ax = plt.subplots(figsize=(6.5, 5))
+    every = slice(None, None, max(1, len(P) // 20))
+    lo, hi = _drawing_extent(manipulator, P[every])
+    pad = 0.1 * np.max(hi - lo)
+    xlim = xlim or (lo[0] - pad, hi[0] + pad)
+    ylim = ylim or (lo[1] - pad, hi[1] + pad)
 
     def draw(k):
         ax.clear()
-        plot_mechanism(manipulator, P[k], None if Qp is None else Qp[k], ax=ax,
+        ax.plot(P[: k + 1, 0], P[: k + 1, 1], color="0.5", lw=1, label="path of (x, y)")
+        plot_mechanism(manipulator, P[k], None if Qp is None else Qp[k], ax=ax, legend=False,
                        title=f"frame {k + 1}/{len(P)}: phi = {np.degrees(P[k, 2]):.1f} deg")
-        ax.plot(P[: k + 1, 0], P[: k + 1, 1], color="0.5", lw=1)
         ax.set_xlim(*xlim)
         ax.set_ylim(*ylim)
+        _legend(ax, fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1), borderaxespad=0)
         return []
+
+    draw(0)
+    fig.tight_layout()
 
     anim = FuncAnimation(fig, draw, frames=len(P), interval=interval, blit=False)
     plt.close(fig)
@@ -573,8 +705,9 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
 
     leg = manipulator.legs[analysis.leg]
     p = np.asarray(leg.geometry(exact=False)["platform"], dtype=float)
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(6.5, 6))
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(8.5, 6))
     else:
         fig = ax.figure
     pts_all = []
@@ -591,7 +724,7 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
         ax.plot(c_plot[:, 0], c_plot[:, 1], color="0.55", lw=1, label="coupler curve" if s == 0 else None)
         inside = analysis.deviation[:, s] <= analysis.delta
         ci = np.where(inside[:, None], c_plot, np.nan)
-        ax.plot(ci[:, 0], ci[:, 1], color="tab:red", lw=2.5, label=f"inside the band (+-{analysis.delta:g})" if s == 0 else None)
+        ax.plot(ci[:, 0], ci[:, 1], color="tab:red", lw=2.5, label="coupler curve inside the band" if s == 0 else None)
         pts_all.append(c[ok])
     allp = np.concatenate(pts_all)
     lo, hi = allp.min(axis=0), allp.max(axis=0)
@@ -605,22 +738,37 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
         best = np.take_along_axis(vals, np.nanargmin(np.where(np.isnan(vals), np.inf, leg.joint_distance(vals, q0)), axis=1)[:, None], 1)[:, 0]
         ax.contour(xs, ys, best.reshape(n, n), levels=[q0 - analysis.delta, q0, q0 + analysis.delta],
                    colors=["tab:orange", "tab:orange", "tab:orange"], linestyles=["--", "-", "--"], linewidths=1)
+        name = f"q{analysis.leg + 1}"
+        ax.plot([], [], color="tab:orange", lw=1, label=f"{name} = its value in q")
+        ax.plot([], [], color="tab:orange", lw=1, ls="--", label=f"{name} +- {analysis.delta:g} (the band)")
     for k, mm in enumerate(analysis.modes):
         x, y, phi = mm.pose
         cx, cy = x + np.cos(phi) * p[0] - np.sin(phi) * p[1], y + np.sin(phi) * p[0] + np.cos(phi) * p[1]
-        ax.plot(cx, cy, "o", color=_ASPECT_COLOURS[mm.aspect], mec="k", ms=8)
-        ax.annotate(f"{k + 1}", (cx, cy), textcoords="offset points", xytext=(6, 6), fontsize=9)
+        ax.plot(cx, cy, "o", color=_ASPECT_COLOURS[mm.aspect], mec="k", ms=8,
+                label=f"assembly mode, aspect {mm.aspect:+d}")
+        ax.annotate(f"mode {k + 1}", (cx, cy), textcoords="offset points", xytext=(6, 6), fontsize=9)
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal")
-    ax.legend(fontsize=8, loc="best")
-    ax.set_title(f"{manipulator.name}: play +-{analysis.delta:g} in leg {analysis.leg + 1}", fontsize=10)
+    ax.set_xlabel(f"x of leg {analysis.leg + 1}'s platform anchor [{LENGTH_UNIT}]")
+    ax.set_ylabel(f"y of leg {analysis.leg + 1}'s platform anchor [{LENGTH_UNIT}]")
+    if own:
+        _legend(ax, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1), borderaxespad=0)
+    else:
+        _legend(ax, fontsize=8, loc="best")
+    ax.set_title(f"{manipulator.name}: play +-{analysis.delta:g} {_joint_unit(manipulator, analysis.leg)} "
+                 f"in leg {analysis.leg + 1}", fontsize=10)
+    if own:
+        fig.tight_layout()
     return fig
 
 
-def plot_mode_count_map(count_map, cusps=(), loops=(), ax=None):
+def plot_mode_count_map(count_map, cusps=(), loops=(), ax=None, manipulator=None):
     """Real assembly modes over a joint-space section, the discriminant curve as the region
     boundaries, cusps and loops around them.
+
+    The counts are whole numbers, so the colour map is discrete: one colour per count that occurs
+    (grey for ``-1``, a row that could not be solved), and the colour bar's ticks are the counts.
 
     Parameters
     ----------
@@ -629,6 +777,9 @@ def plot_mode_count_map(count_map, cusps=(), loops=(), ax=None):
     cusps : sequence of Cusp
     loops : sequence of CuspLoop
     ax : matplotlib Axes, optional
+    manipulator : PlanarParallel, optional
+        Names the joint axes' units (``rad`` or length units); without it the axes say
+        ``[length units or rad]``.
 
     Returns
     -------
@@ -640,29 +791,43 @@ def plot_mode_count_map(count_map, cusps=(), loops=(), ax=None):
     >>> from imagespace.singular.cusps import mode_count_map
     >>> from imagespace.plotting import plot_mode_count_map
     >>> m = isp.examples.general_3rpr()
-    >>> fig = plot_mode_count_map(mode_count_map(m, 2, 10.0, [(6, 16), (1, 9)], 30))
-    >>> len(fig.axes)
-    2
+    >>> fig = plot_mode_count_map(mode_count_map(m, 2, 10.0, [(6, 16), (1, 9)], 30), manipulator=m)
+    >>> len(fig.axes), fig.axes[0].get_xlabel()
+    (2, 'q1 [length units]')
     """
     plt = _pyplot()
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
     if ax is None:
-        fig, ax = plt.subplots(figsize=(6, 5))
+        fig, ax = plt.subplots(figsize=(6.5, 5))
     else:
         fig = ax.figure
     a, b = count_map.axes
-    mesh = ax.pcolormesh(a, b, count_map.counts.T, shading="nearest", cmap="Blues", vmin=-1, vmax=6)
-    fig.colorbar(mesh, ax=ax, label="real assembly modes")
+    C = np.asarray(count_map.counts)
+    values = np.unique(C).astype(int)
+    solved = values[values >= 0]
+    shades = plt.get_cmap("Blues")(np.linspace(0.15, 0.85, max(1, len(solved))))[: len(solved)]
+    colours = ([UNSOLVED_COLOUR] if (values < 0).any() else []) + [tuple(c) for c in shades]
+    mids = (values[1:] + values[:-1]) / 2.0
+    bounds = np.concatenate([[values[0] - 0.5], mids, [values[-1] + 0.5]])
+    cmap = ListedColormap(colours)
+    norm = BoundaryNorm(bounds, cmap.N)
+    mesh = ax.pcolormesh(a, b, C.T, shading="nearest", cmap=cmap, norm=norm)
+    unsolved = " (-1: not solved)" if (values < 0).any() else ""
+    fig.colorbar(mesh, ax=ax, ticks=values, format="%d", label=f"real assembly modes{unsolved}")
     fa, fb = count_map.free
     if len(cusps):
-        C = np.array([c.q for c in cusps])
-        ax.plot(C[:, fa], C[:, fb], "r*", ms=12, label="cusps")
+        Cq = np.array([c.q for c in cusps])
+        ax.plot(Cq[:, fa], Cq[:, fb], "r*", ms=12, label="cusps")
     for lp in loops:
-        ax.plot(lp.q[:, fa], lp.q[:, fb], color="tab:green" if lp.changed else "0.4", lw=1.5)
-    ax.set_xlabel(f"q{fa + 1}")
-    ax.set_ylabel(f"q{fb + 1}")
-    ax.set_title(f"section q{count_map.fixed + 1} = {count_map.value:g}", fontsize=10)
-    if len(cusps):
-        ax.legend(fontsize=8)
+        ax.plot(lp.q[:, fa], lp.q[:, fb], color="tab:green" if lp.changed else "0.4", lw=1.5,
+                label="loop that changes the mode" if lp.changed else "loop, mode unchanged")
+    ax.set_xlabel(_joint_label(manipulator, fa))
+    ax.set_ylabel(_joint_label(manipulator, fb))
+    unit = "" if manipulator is None else f" {_joint_unit(manipulator, count_map.fixed)}"
+    ax.set_title(f"section q{count_map.fixed + 1} = {count_map.value:g}{unit}", fontsize=10)
+    if len(cusps) or len(loops):
+        _legend(ax)
     return fig
 
 
@@ -691,27 +856,32 @@ def plot_workspaces(workspaces, labels=None, ax=None):
     1
     """
     plt = _pyplot()
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(5.5, 5.5))
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(5.5, 6))
     else:
         fig = ax.figure
     cmap = plt.get_cmap("tab10")
     for k, ws in enumerate(workspaces):
-        lab = labels[k] if labels is not None else f"{ws.kind} ({ws.area:.3g})"
+        lab = labels[k] if labels is not None else f"{ws.kind} (area {ws.area:.3g} {LENGTH_UNIT}^2)"
         col = cmap(k % 10)
         for j, curve in enumerate(ws.boundary):
             ax.plot(curve[:, 0], curve[:, 1], color=col, lw=1.8, label=lab if j == 0 else None)
             if ws.polygon is not None:
                 ax.fill(curve[:, 0], curve[:, 1], color=col, alpha=0.12)
     ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlabel(f"x [{LENGTH_UNIT}]")
+    ax.set_ylabel(f"y [{LENGTH_UNIT}]")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
+    if own:
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), frameon=False)
+        fig.tight_layout()
+    else:
+        ax.legend(fontsize=8, loc="best")
     return fig
 
 
-def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
+def plot_design_map(table, value, x, y, best=None, ax=None, title=None, units=None):
     """A design index (or the composite) over a two-parameter grid (seed 004, Figs. 7-9).
 
     Parameters
@@ -725,6 +895,10 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
         Rows to mark (e.g. ``FuzzyResult.best``).
     ax : matplotlib Axes, optional
     title : str, optional
+    units : dict of str, optional
+        Unit of each parameter (and of the value, under the key ``value`` if it is a name, or
+        ``"value"``), e.g. ``{"alpha": "rad", "r_over_R": "-"}``; a name without one is labelled
+        ``[sweep units]``.
 
     Returns
     -------
@@ -733,7 +907,7 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
     Raises
     ------
     InputError
-        ``x, y`` not the table's two grid parameters in order.
+        ``x, y`` not the table's two grid parameters in order; ``units`` not a dict.
 
     Examples
     --------
@@ -742,10 +916,15 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
     >>> def index(a, b):
     ...     return {"sum": float(a + b)}
     >>> t = sweep(index, {"a": [1.0, 2.0, 3.0], "b": [0.0, 1.0]}, processes=0)
-    >>> len(plot_design_map(t, "sum", "a", "b").axes)
-    2
+    >>> fig = plot_design_map(t, "sum", "a", "b", units={"a": "mm", "b": "mm", "sum": "mm"})
+    >>> len(fig.axes), fig.axes[0].get_xlabel()
+    (2, 'a [mm]')
     """
     plt = _pyplot()
+    if units is None:
+        units = {}
+    if not isinstance(units, dict):
+        raise InputError(f"units must be a dict of parameter name -> unit, got {type(units).__name__}")
     names = list(table.params)
     if [x, y] != names[:2] or len(names) != 2:
         raise InputError(f"x, y must be the table's two grid parameters in order {names}, got {[x, y]}")
@@ -756,13 +935,16 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None):
         fig, ax = plt.subplots(figsize=(6, 4.5))
     else:
         fig = ax.figure
+    def label(name):
+        return f"{name} [{units.get(name, 'sweep units')}]"
+
     mesh = ax.pcolormesh(xs, ys, Z.T, shading="nearest", cmap="viridis")
-    fig.colorbar(mesh, ax=ax, label=value if isinstance(value, str) else "value")
+    fig.colorbar(mesh, ax=ax, label=label(value if isinstance(value, str) else "value"))
     if best is not None:
         ax.plot(table.params[x][list(best)], table.params[y][list(best)], "r*", ms=14, label="optimum")
         ax.legend(fontsize=8)
-    ax.set_xlabel(x)
-    ax.set_ylabel(y)
+    ax.set_xlabel(label(x))
+    ax.set_ylabel(label(y))
     if title:
         ax.set_title(title, fontsize=10)
     return fig
