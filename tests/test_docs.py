@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-DOCS_PACKAGES = ("sphinx", "myst_nb", "numpydoc", "pydata_sphinx_theme", "ipykernel")
+DOCS_PACKAGES = ("sphinx", "myst_nb", "numpydoc", "pydata_sphinx_theme", "ipykernel", "plotly", "anywidget")
 
 
 @pytest.mark.slow
