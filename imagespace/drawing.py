@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validate import as_float_array
+from .core.leg_geometry import rotate_vector
 from .core.mechanism import check_mechanism
 
 __all__ = ["MechanismLines", "mechanism_lines", "chart_coordinates", "ASPECT_COLOURS", "CHART_LABELS",
@@ -21,9 +22,9 @@ __all__ = ["MechanismLines", "mechanism_lines", "chart_coordinates", "ASPECT_COL
 ASPECT_COLOURS = {1: "#d62728", -1: "#1f77b4", 0: "#444444"}
 """Colour of an assembly mode by its aspect (sign of det J): red +1, blue -1, grey for 0."""
 
-CHART_LABELS = ("x2/x0", "x3/x0", "x1/x0 = tan(phi/2)")
-"""Axis titles of the image-space chart ``(x2/x0, x3/x0, x1/x0)`` (dimensionless: the first two are
-half the platform position rotated by ``-phi/2``, in length units; the third is ``tan(phi/2)``)."""
+CHART_LABELS = ("x2/x0 [length units]", "x3/x0 [length units]", "x1/x0 = tan(phi/2) [-]")
+"""Axis titles of the image-space chart ``(x2/x0, x3/x0, x1/x0)``: the first two are half the
+platform position rotated by ``-phi/2`` (length units), the third is ``tan(phi/2)`` (no unit)."""
 
 GUIDE_OVERHANG = 0.25
 """A prismatic guide is drawn this fraction of the drawing's size beyond the joints that ride on it."""
@@ -53,11 +54,6 @@ class MechanismLines:
     guides: list
     platform: np.ndarray
     centre: np.ndarray
-
-
-def _rot(phi, v):
-    c, s = np.cos(phi), np.sin(phi)
-    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
 
 
 def _guide(points, direction, reach):
@@ -124,7 +120,7 @@ def mechanism_lines(manipulator, pose, q=None):
         if kind == "RPP":                           # the slider along the rotating arm
             segs.append(_guide(pts[:2], pts[1] - pts[0], reach))
         if kind[-1] == "P" and "direction" in g:    # a slider along a platform line
-            d = _rot(p[2], g["direction"])
+            d = np.array(rotate_vector(p[2], g["direction"]))
             segs.append(_guide(pts[-2:], d, reach))
         guides.extend(s for s in segs if s is not None)
     platform = np.vstack([anchors, anchors[:1]])

@@ -15,7 +15,8 @@ from ._validate import as_exact, as_float_array, check_positive
 from .exceptions import InputError
 from .core.legs import PPR, RPR
 from .design.indices import global_indices
-from .design.workspace import check_tolerances, dexterous_workspace, reachable_workspace
+from ._validate import as_tolerances as check_tolerances
+from .design.workspace import dexterous_workspace, reachable_workspace
 from .manipulator import PlanarParallel
 
 __all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr", "collinear_3rpr_closed_form",

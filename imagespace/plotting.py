@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._validate import as_float_array
+from .drawing import ASPECT_COLOURS, CHART_LABELS, chart_coordinates
 from .exceptions import InputError
 
 __all__ = ["plot_mechanism", "plot_assembly_modes", "plot_singularity_surface", "plot_constraint_quadrics",
@@ -16,10 +17,10 @@ __all__ = ["plot_mechanism", "plot_assembly_modes", "plot_singularity_surface", 
            "plot_mode_count_map", "plot_workspaces", "plot_design_map"]
 
 _LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green")
-_ASPECT_COLOURS = {1: "tab:red", -1: "tab:blue", 0: "k"}
+_ASPECT_COLOURS = ASPECT_COLOURS          # the explorer's colours (drawing.py): red +1, blue -1
 LENGTH_UNIT = "length units"
 """Unit named on the axes that show lengths (the manipulator's own length unit, whatever it is)."""
-_CHART_LABELS = {"image": (f"x2/x0 [{LENGTH_UNIT}]", f"x3/x0 [{LENGTH_UNIT}]", "x1/x0 = tan(phi/2) [-]"),
+_CHART_LABELS = {"image": CHART_LABELS,
                  "pose": (f"x [{LENGTH_UNIT}]", f"y [{LENGTH_UNIT}]", "phi [rad]")}
 GUIDE_STYLE = {"ls": "--", "color": "0.55", "lw": 1.0, "zorder": 1}
 """How a prismatic guide from :func:`imagespace.drawing.mechanism_lines` is drawn (dashed grey);
@@ -247,8 +248,7 @@ def _axes3d(ax):
 def _chart_coords(modes, chart):
     if chart == "pose":
         return np.array([mm.pose for mm in modes])
-    X = np.array([mm.image_point for mm in modes])
-    return np.column_stack([X[:, 2] / X[:, 0], X[:, 3] / X[:, 0], X[:, 1] / X[:, 0]])
+    return chart_coordinates(np.array([mm.image_point for mm in modes]))
 
 
 def _modes_for(manipulator, q, modes):

@@ -3,7 +3,7 @@
 ``isp.widgets.explore(m)`` returns an :class:`Explorer`, an ipywidgets layout with
 
 - one slider per actuated joint (ranges from the design, :func:`joint_ranges`) and a text box that
-  takes an exact value (``27/2``, ``-3/4*pi``; parsed by :func:`parse_joint_value`, never evaluated);
+  takes an exact value (``27/2``, ``-3*pi/4``; parsed by :func:`parse_joint_value`, never evaluated);
 - a **pose view**: the mechanism in every real assembly mode, coloured by aspect (red: det J > 0,
   blue: det J < 0), each mode numbered, prismatic guides drawn;
 - an **image-space view**: the singularity surface meshed once (re-meshed when it depends on the
@@ -38,7 +38,7 @@ import ipywidgets as W
 import plotly.graph_objects as go
 
 from ._files import atomic_write
-from ._validate import as_box, as_count, as_joint_vector
+from ._validate import as_box, as_count, as_exact, as_joint_vector
 from .core.mechanism import check_mechanism
 from .drawing import ASPECT_COLOURS, CHART_LABELS, chart_coordinates, mechanism_lines
 from .exceptions import ImageSpaceError, InputError, NearSingularWarning
@@ -97,6 +97,9 @@ def parse_joint_value(text, name="q"):
 
     if not isinstance(text, str):
         raise TypeError(f"{name} must be text such as '27/2' or 'pi/3', got {type(text).__name__}")
+    if len(text) > 100 or re.search(r"[eE][-+]?[0-9]{4,}", text):
+        raise InputError(f"{name} must be a number of float size (at most 100 characters, exponent "
+                         f"below 1000), got {text[:40]!r}")
     m = _PI_FORM.match(text)
     try:
         if m:
@@ -109,6 +112,8 @@ def parse_joint_value(text, name="q"):
     except (ValueError, ZeroDivisionError):
         raise InputError(f"{name} must be a number, a fraction such as 27/2 or a rational multiple of pi "
                          f"such as 3*pi/4; got {text!r}") from None
+    if not abs(f) < Fraction(10) ** 300:
+        raise InputError(f"{name} must be within the float range (|value| < 1e300), got {text!r}")
     return sp.Rational(f.numerator, f.denominator)
 
 
@@ -245,6 +250,9 @@ class Explorer(W.VBox):
         self._lock = threading.Lock()
         self._want = None
         self._working = False
+        self._generation = 0             # bumped by every set_q: a background mesh of older q is dropped
+        self._draw = threading.RLock()   # one thread draws at a time (the figure is not thread-safe)
+        self._stale = False              # the surface shown belongs to earlier joint values
         self._mesh_resolution = 0
         self._muted = False
         ranges = joint_ranges(manipulator, self.q)
@@ -258,10 +266,10 @@ class Explorer(W.VBox):
             step = float(hi - lo) / SLIDER_STEPS
             lo = self.q[i] - np.floor((self.q[i] - lo) / step) * step
             hi = lo + SLIDER_STEPS * step
-            unit = "rad" if leg.actuated_is_angle else "length"
+            unit = "rad" if leg.actuated_is_angle else "length units"
             s = W.FloatSlider(value=float(self.q[i]), min=float(lo), max=float(hi), step=step, description=f"q{i + 1} {leg.actuated_name} [{unit}]",
                               continuous_update=True, readout_format=".4f",
-                              style={"description_width": "140px"}, layout=W.Layout(width="480px"))
+                              style={"description_width": "170px"}, layout=W.Layout(width="480px"))
             t = W.Text(placeholder="exact value, e.g. 27/2", continuous_update=False,
                        layout=W.Layout(width="180px"))
             s.observe(self._on_slider, "value")
@@ -419,7 +427,7 @@ class Explorer(W.VBox):
             try:
                 if exact is not None:
                     cm = m.direct_kinematics(exact, certify=True)
-                    modes, certified, near = list(cm), True, False
+                    modes, certified, near = list(cm), bool(cm.certificate.certified), False
                 else:
                     res = m.direct_kinematics_batch(np.asarray(q, dtype=float)[None], certify=True)
                     if not res.row_ok[0]:
@@ -436,20 +444,26 @@ class Explorer(W.VBox):
         self.status = {"count": len(modes), "certified": certified and err is None, "near_singular": near,
                        "exact": exact is not None, "seconds": time.perf_counter() - t0, "error": err}
 
-    def _mesh_for(self, q, resolution):
-        """``(surface, mesh)`` at joint values ``q``; raises ImageSpaceError (the caller reports it)."""
+    def _mesh_for(self, q, resolution, quiet=True):
+        """``(surface, mesh)`` at joint values ``q``; raises ImageSpaceError (the caller reports it).
+
+        ``quiet``: the mesher's warnings are silenced (main thread only: ``warnings.catch_warnings``
+        changes process-wide state, so the background thread never uses it)."""
         from .singular.meshing import mesh_surface
 
         S = self._surface
         if S is None or S.kind != "joint-free":
             S = self.manipulator.singularity_surface(q=q)
+        box = [tuple(r) for r in self._box]
+        if not quiet:
+            return S, mesh_surface(S, box, chart="image", resolution=resolution)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            mesh = mesh_surface(S, [tuple(r) for r in self._box], chart="image", resolution=resolution)
-        return S, mesh
+            return S, mesh_surface(S, box, chart="image", resolution=resolution)
 
     def _show_mesh(self, S, mesh, q, resolution):
         self._surface, self._surface_q, self._mesh_resolution = S, q, resolution
+        self._stale = False
         V, F = np.asarray(mesh.vertices), np.asarray(mesh.faces).astype(np.int32)
         with self.figure.batch_update():
             self.trace("surface").update(x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
@@ -550,7 +564,7 @@ class Explorer(W.VBox):
         # the sign of the conic times the chosen mode's (aspect * sign) is the aspect of a region
         flip = float(np.sign(s0)) * (1 if mode.aspect >= 0 else -1) if s0 != 0 and mode.aspect != 0 else 1.0
         same = [j for j, mm in enumerate(self.modes) if abs(np.remainder(mm.pose[2] - phi + np.pi, 2 * np.pi) - np.pi)
-                <= self.manipulator.tolerances.duplicate * (1 + abs(phi))]
+                <= self.manipulator.tolerances.plot_orientation]
         with fig.batch_update():
             self.trace("regions").update(x=xs, y=ys, z=flip * Z)
             for a in (1, -1):
@@ -559,7 +573,8 @@ class Explorer(W.VBox):
                                                     y=[self.modes[j].pose[1] for j in js],
                                                     text=[str(j + 1) for j in js])
             self._title(2, f"section at phi = {np.degrees(phi):.3f} deg (mode {k + 1}): "
-                           "red det J > 0, blue det J < 0")
+                           "red det J > 0, blue det J < 0"
+                           + (" [surface of the earlier joint values, updating]" if self._stale else ""))
 
     def _draw_status(self):
         st = self.status
@@ -568,8 +583,10 @@ class Explorer(W.VBox):
         if st["error"]:
             body = f'<b class="isp-error" style="color:#b00">{html.escape(st["error"])}</b>'
         else:
-            how = "certified on the exact joint values" if st["exact"] else (
-                "certified on the float joint values" if st["certified"] else "NOT certified")
+            if not st["certified"]:
+                how = "NOT certified"
+            else:
+                how = "certified on the exact joint values" if st["exact"] else "certified on the float joint values"
             body = (f'<b><span class="isp-count">{st["count"]}</span> real assembly mode'
                     f'{"" if st["count"] == 1 else "s"}</b> ({how})')
         q = ",".join(repr(float(v)) for v in self.q)
@@ -580,45 +597,45 @@ class Explorer(W.VBox):
     def _on_slider(self, change):
         if self._muted:
             return
+        self._muted = True
+        try:                                  # the typed exact values no longer describe the state
+            for box in self.exact_boxes:
+                box.value = ""
+        finally:
+            self._muted = False
         q = np.array([s.value for s in self.sliders])
         self.set_q(q, _dragging=True)
 
     def _on_text(self, change):
-        text = change["new"]
-        if not text.strip():
+        if self._muted or not change["new"].strip():
             return
-        i = self.exact_boxes.index(change["owner"])
+        exact = []
         try:
-            v = parse_joint_value(text, f"q{i + 1}")
+            for j, box in enumerate(self.exact_boxes):
+                text = box.value.strip()
+                exact.append(parse_joint_value(text, f"q{j + 1}") if text else self.q[j])
+            self.set_q(exact=exact)
         except InputError as e:
             self.status["error"] = str(e)
             self._draw_status()
-            return
-        exact = [None, None, None]
-        for j, box in enumerate(self.exact_boxes):
-            if j == i:
-                exact[j] = v
-            elif box.value.strip():
-                try:
-                    exact[j] = parse_joint_value(box.value, f"q{j + 1}")
-                except InputError:
-                    exact[j] = None
-        self.set_q([float(exact[j]) if exact[j] is not None else self.q[j] for j in range(3)],
-                   exact=[exact[j] if exact[j] is not None else self.q[j] for j in range(3)])
 
-    def set_q(self, q, exact=None, _dragging=False):
-        """Show the joint values ``q`` (float), or the exact values ``exact`` (numbers or sympy).
+    def set_q(self, q=None, exact=None, _dragging=False):
+        """Show the joint values ``q`` (floats), or the exact values ``exact``: give one of the two.
 
         Parameters
         ----------
-        q : (3,) float
-        exact : sequence of three exact numbers, optional
-            The status count is then certified on these exact values (slower: the exact path).
+        q : (3,) float, optional
+        exact : sequence of three numbers or sympy numbers, optional
+            The status count is then certified on these exact values (slower: the exact path); the
+            views show ``float(exact)``.
 
         Raises
         ------
         InputError
-            ``q`` is not three finite numbers.
+            ``q`` is not three finite numbers, ``exact`` not three finite values, or both or
+            neither are given.
+        TypeError
+            Non-numeric values.
 
         Examples
         --------
@@ -627,33 +644,47 @@ class Explorer(W.VBox):
         >>> ex.set_q([10.0, 15.0, 13.25]); ex.status["count"], ex.status["certified"]
         (4, True)
         """
+        if (q is None) == (exact is None):
+            raise InputError("give either q (three floats) or exact (three exact values), "
+                             f"got q={q!r} and exact={exact!r}")
+        if exact is not None:
+            if isinstance(exact, (str, bytes)) or not hasattr(exact, "__len__") or len(exact) != 3:
+                raise InputError(f"exact must be three exact joint values, got {exact!r}")
+            exact = [as_exact(v, f"exact[{i}]") for i, v in enumerate(exact)]
+            if any(v.free_symbols for v in exact):
+                raise InputError(f"exact must hold numbers, not symbols, got {exact}")
+            q = [float(v) for v in exact]
         qv = as_joint_vector(q)
-        self.q = qv.copy()
-        self.plan = None
-        self._muted = True
-        try:
-            for s, v in zip(self.sliders, qv):
-                if not s.min <= v <= s.max:
-                    s.min, s.max = min(s.min, v), max(s.max, v)
-                s.value = float(v)
-        finally:
-            self._muted = False
-        self._solve(qv, exact=exact)
-        t0 = time.perf_counter()
-        if self._surface is None or self._surface.kind != "joint-free":
-            if _dragging:
-                self._schedule_refine()
-            else:
-                self._remesh(self.resolution)
-        self._hide_plan()
-        self._draw_all()
-        self.status["seconds"] += time.perf_counter() - t0
-        self._draw_status()
+        with self._draw:
+            with self._lock:
+                self._generation += 1
+            self.q = qv.copy()
+            self.plan = None
+            self._muted = True
+            try:
+                for s, v in zip(self.sliders, qv):
+                    if not s.min <= v <= s.max:
+                        s.min, s.max = min(s.min, v), max(s.max, v)
+                    s.value = float(v)
+            finally:
+                self._muted = False
+            self._solve(qv, exact=exact)
+            t0 = time.perf_counter()
+            if self._surface is None or self._surface.kind != "joint-free":
+                if _dragging:
+                    self._schedule_refine()
+                else:
+                    self._remesh(self.resolution)
+            self._hide_plan()
+            self._draw_all()
+            self.status["seconds"] += time.perf_counter() - t0
+            self._draw_status()
 
     def _schedule_refine(self):
         """A joint-dependent surface while a slider moves: the shown mesh is dimmed (it belongs to
         earlier joint values), a coarse mesh for the latest values is made in the background, and a
         fine one once the sliders rest for :data:`REST_DELAY` seconds."""
+        self._stale = True
         with self.figure.batch_update():
             self.trace("surface").update(opacity=0.15)
         self._queue(min(DRAG_RESOLUTION, self.resolution))
@@ -665,27 +696,37 @@ class Explorer(W.VBox):
 
     def _queue(self, resolution):
         with self._lock:
-            self._want = (self.q.copy(), resolution)
+            self._want = (self.q.copy(), resolution, self._generation)
             if self._working:
                 return
             self._working = True
         threading.Thread(target=self._work, daemon=True).start()
 
     def _work(self):
-        while True:
+        try:
+            while True:
+                with self._lock:
+                    job, self._want = self._want, None
+                    if job is None:
+                        return
+                q, resolution, generation = job
+                try:
+                    S, mesh = self._mesh_for(q, resolution, quiet=False)
+                except Exception as e:                 # noqa: BLE001  (shown in the status line)
+                    with self._draw:
+                        self.status["error"] = f"re-meshing the singularity surface failed: {e}"
+                        self._draw_status()
+                    continue
+                with self._draw:                       # the main thread may have moved on meanwhile
+                    if generation == self._generation:
+                        self._show_mesh(S, mesh, q, resolution)
+                        self._draw_section()
+        finally:
             with self._lock:
-                job, self._want = self._want, None
-                if job is None:
-                    self._working = False
-                    return
-            q, resolution = job
-            try:
-                S, mesh = self._mesh_for(q, resolution)
-            except ImageSpaceError:
-                continue                      # the status line already reports a bad design
-            if np.array_equal(q, self.q):     # still the joint values shown
-                self._show_mesh(S, mesh, q, resolution)
-                self._draw_section()
+                self._working = False
+                pending = self._want is not None
+            if pending:
+                self._queue(self._want[1])
 
     def wait(self, timeout=60.0):
         """Wait until background re-meshing (joint-dependent surfaces, after dragging) is done.
@@ -703,8 +744,9 @@ class Explorer(W.VBox):
         Examples
         --------
         >>> import imagespace as isp
-        >>> isp.widgets.explore(isp.examples.stigger_husty()).wait()
-        True
+        >>> ex = isp.widgets.explore(isp.examples.stigger_husty())   # a joint-free surface: meshed once
+        >>> ex.wait(), ex.trace("surface").name
+        (True, 'singularity surface (joint-free, 48^3 grid)')
         """
         end = time.monotonic() + float(timeout)
         while time.monotonic() < end:
@@ -722,7 +764,9 @@ class Explorer(W.VBox):
         Examples
         --------
         >>> import imagespace as isp
-        >>> ex = isp.widgets.explore(isp.examples.stigger_husty()); ex.refine()
+        >>> ex = isp.widgets.explore(isp.examples.stigger_husty(), resolution=24); ex.refine()
+        >>> ex.trace("surface").name
+        'singularity surface (joint-free, 24^3 grid)'
         """
         self._remesh(self.resolution)
 
@@ -755,6 +799,10 @@ class Explorer(W.VBox):
         >>> ex.change_mode(0, 1).found        # modes 1 and 2 have opposite aspects
         False
         """
+        with self._draw:
+            return self._change_mode(a, b)
+
+    def _change_mode(self, a, b):
         from ._validate import as_index
         from .paths.modechange import plan_mode_change
 
@@ -800,6 +848,10 @@ class Explorer(W.VBox):
         return plan
 
     def _draw_frame(self, k):
+        with self._draw:
+            self._draw_frame_locked(k)
+
+    def _draw_frame_locked(self, k):
         plan = self.plan
         if plan is None or not plan.found:
             return
@@ -814,6 +866,31 @@ class Explorer(W.VBox):
             self.trace("moving").update(x=xy[:, 0], y=xy[:, 1])
             self.trace("position").update(x=C[:, 0], y=C[:, 1], z=C[:, 2])
             self.trace("now").update(x=[k, k, k], y=J[k].tolist())
+
+    def close(self):
+        """Stop the background re-meshing and close the explorer's widgets (the figure included).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> ex = isp.widgets.explore(isp.examples.stigger_husty()); ex.close(); ex.wait()
+        True
+        """
+        lock = getattr(self, "_lock", None)     # also called by __del__ when __init__ refused its input
+        if lock is not None:
+            with lock:
+                self._want = None
+        if getattr(self, "_timer", None) is not None:
+            self._timer.cancel()
+
+        def close_tree(w):
+            for child in getattr(w, "children", ()):
+                close_tree(child)
+            if w is not self:
+                w.close()
+
+        close_tree(self)
+        super().close()
 
     # -- export ---------------------------------------------------------------------------------
     def save_html(self, path):

@@ -134,7 +134,7 @@ class Mechanism:
         """Reject designs that are degenerate for every joint value (coincident anchors)."""
         anchors = []
         for i, leg in enumerate(self.legs):
-            g = leg._geometry()
+            g = leg.geometry()
             # legs whose locked dyad keeps one platform point on a circle
             if (leg.joints, leg.actuated) in {("RPR", 1), ("RRR", 0), ("RRR", 1), ("PRR", 0)}:
                 anchors.append((i, g["base"], g["platform"]))

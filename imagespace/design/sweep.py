@@ -34,7 +34,7 @@ import numpy as np
 
 from .._validate import _short, as_count, as_flag
 from ..exceptions import ImageSpaceError, InputError
-from .workspace import check_tolerances
+from .._validate import as_tolerances as check_tolerances
 from .._html import dataclass_html, dataclass_repr, fmt, html_table, summary
 
 __all__ = ["DesignTable", "DesignEvaluationError", "sweep", "fuzzy_minmax", "FuzzyResult"]

@@ -37,7 +37,7 @@ from ..core.codegen import compile_exprs
 from ..core.elimination import form_coefficients
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
-from .implicit import as_tolerances
+from .._validate import as_tolerances
 from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "free_joints", "half_angle_gap",

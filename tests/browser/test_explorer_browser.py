@@ -63,7 +63,11 @@ def served():
     port = _free_port()
     log_path = Path(os.environ.get("IMAGESPACE_ARTIFACTS", ROOT / "artifacts")) / "voila.log"
     log_path.parent.mkdir(parents=True, exist_ok=True)
-    log = open(log_path, "w")
+    with open(log_path, "w") as log:
+        yield from _serve(port, log)
+
+
+def _serve(port, log):
     proc = subprocess.Popen([sys.executable, "-m", "voila", "--no-browser", f"--port={port}",
                              "--Voila.ip=127.0.0.1", "--show_tracebacks=True", str(NOTEBOOK)],
                             cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
@@ -83,7 +87,6 @@ def served():
             proc.wait(10)
         except subprocess.TimeoutExpired:
             proc.kill()
-        log.close()
 
 
 @pytest.fixture(scope="module")
@@ -92,16 +95,19 @@ def page(served):
 
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        pg = browser.new_page(viewport={"width": 1250, "height": 1500})
-        pg.goto(served, timeout=240_000)
-        pg.wait_for_selector(".isp-status", timeout=240_000)
-        errors = []
-        pg.on("pageerror", lambda e: errors.append(str(e)))
-        pg.wait_for_function("document.querySelectorAll('.js-plotly-plot .main-svg').length >= 1", timeout=120_000)
-        pg.wait_for_timeout(1500)
-        assert not errors, errors        # e.g. "[anywidget] Failed to initialize model."
-        yield pg
-        browser.close()
+        try:
+            pg = browser.new_page(viewport={"width": 1250, "height": 1500})
+            errors = []
+            pg.on("pageerror", lambda e: errors.append(str(e)))     # before loading: start-up errors count
+            pg.goto(served, timeout=240_000)
+            pg.wait_for_selector(".isp-status", timeout=240_000)
+            pg.wait_for_function("document.querySelectorAll('.js-plotly-plot .main-svg').length >= 1",
+                                 timeout=120_000)
+            pg.wait_for_timeout(1500)
+            assert not errors, errors        # e.g. "[anywidget] Failed to initialize model."
+            yield pg
+        finally:
+            browser.close()
 
 
 _READ_STATUS = """() => { const el = document.querySelector('.isp-status');

@@ -43,7 +43,7 @@ def test_dynamics_residual_decides_whether_newton_converged():
     with pytest.raises(isp.InputError, match="did not converge"):
         state(model, path, 0.5, guess=[0.3, 0.0])
     loose = state(tuned(model, dynamics_residual=10.0), path, 0.5, guess=[0.3, 0.0])
-    assert 1 <= np.sin(loose.eta[0]) + 2 <= 3 and loose.eta[1] == pytest.approx(0.5)
+    assert loose.eta[1] == pytest.approx(0.5)     # accepted (residual >= 1 <= 10): b follows the path
 
 
 def test_dynamics_rank_and_alpha_zero_decide_the_row_dependence(setup):

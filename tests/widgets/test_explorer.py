@@ -32,6 +32,9 @@ def test_parse_joint_value_is_exact_and_never_evaluates():
     for bad in ("__import__('os')", "1/0", "two", "pi*pi", ""):
         with pytest.raises(InputError, match="q must be a number"):
             parse_joint_value(bad)
+    for huge in ("1e400", "1e100000000", "9" * 400):
+        with pytest.raises(InputError, match="q3 must be"):
+            parse_joint_value(huge, "q3")
     with pytest.raises(TypeError):
         parse_joint_value(3.0)
 
@@ -176,9 +179,8 @@ def test_joint_dependent_surface_is_remeshed():
     assert "given-joints" in ex.trace("surface").name
     second = np.asarray(ex.trace("surface").x).copy()
     assert not np.array_equal(first, second)
-    # dragging: the slider's event re-meshes in the background, coarse then fine at rest
+    # dragging: the slider's event re-meshes in the background, fine once the sliders rest
     ex.sliders[0].value = ex.sliders[0].value + 0.1
-    assert ex.trace("surface").opacity < 0.5          # dimmed: it belongs to earlier joint values
     assert ex.wait(120)
     assert ex.trace("surface").opacity == 0.5 and "16^3" in ex.trace("surface").name
     assert not np.array_equal(second, np.asarray(ex.trace("surface").x))
@@ -228,3 +230,60 @@ def test_every_example_opens(name):
     assert ex.status["count"] == len(ref.poses) and ex.status["certified"]
     assert len(ex.trace("surface").i) > 100          # a meshed surface with triangles
     assert tuple(ex.trace("numbers").text) == tuple(str(k + 1) for k in range(len(ref.poses)))
+
+
+def test_typed_values_give_way_to_a_moved_slider(seed002_explorer):
+    ex = seed002_explorer
+    ex.set_q(isp.examples.stigger_husty().q_example_float)
+    ex.exact_boxes[2].value = "53/4"
+    assert ex.status["exact"]
+    ex.sliders[2].value = 16.0                         # the user drags q3 ...
+    assert ex.exact_boxes[2].value == "" and not ex.status["exact"]
+    ex.exact_boxes[0].value = "10"                     # ... then types q1: q3 stays where it was dragged
+    assert ex.q[2] == pytest.approx(16.0) and ex.status["exact"]
+    ex.exact_boxes[0].value = "1e400"
+    assert "q1 must be" in ex.status_line.value
+    ex.exact_boxes[0].value = ""
+
+
+def test_set_q_validates_exact(seed002_explorer):
+    ex = seed002_explorer
+    with pytest.raises(InputError, match="either q"):
+        ex.set_q([10.0, 15.0, 13.25], exact=[10, 15, 13])
+    with pytest.raises(InputError, match="exact must be three"):
+        ex.set_q(exact=[10, 15])
+    with pytest.raises(InputError, match="exact must hold numbers"):
+        ex.set_q(exact=[10, 15, sp.Symbol("t")])
+    with pytest.raises(TypeError):
+        ex.set_q(exact=[10, 15, "13"])
+    ex.set_q(exact=[10, sp.Rational(61, 4), sp.Rational(53, 4)])
+    assert ex.q.tolist() == [10.0, 15.25, 13.25] and ex.status["exact"]
+
+
+def test_exact_path_that_cannot_certify_says_so(seed002_explorer):
+    import warnings
+
+    from imagespace.exceptions import NearSingularWarning
+
+    ex = seed002_explorer
+    m = ex.manipulator
+    q = m.q_example_float.copy()
+    lo, hi, warned = 13.25, 13.65, []
+    for _ in range(60):                                 # bisect onto the double root, as above
+        q[2] = 0.5 * (lo + hi)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            n = len(m.direct_kinematics(q, certify=True))
+        if any(issubclass(w.category, NearSingularWarning) for w in caught):
+            warned.append(q.copy())
+        lo, hi = (q[2], hi) if n == 6 else (lo, q[2])
+    ex.set_q(exact=list(warned[-1]))
+    assert ex.status["exact"] and not ex.status["certified"]
+    assert "NOT certified" in ex.status_line.value and "certified on the exact" not in ex.status_line.value
+    ex.set_q(m.q_example_float)
+
+
+def test_close_stops_the_explorer():
+    ex = explore(isp.examples.collinear_3rpr())
+    ex.close()
+    assert ex.wait(5) and ex.comm is None and ex.figure.comm is None
