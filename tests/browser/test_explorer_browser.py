@@ -208,7 +208,8 @@ def test_change_mode_between_equal_aspects(page, artifacts):
     pos = [t for t in labels if t.endswith("(+1)")]
     mode_b.select_option(label=pos[0])
     page.get_by_role("button", name="change mode").click()
-    page.wait_for_function("document.querySelector('.isp-plan').innerText.includes('opposite aspects')",
+    page.wait_for_function("document.querySelector('.isp-plan') && "
+                           "document.querySelector('.isp-plan').innerText.includes('opposite aspects')",
                            timeout=60_000)
     page.screenshot(path=str(artifacts / "07_opposite_aspects.png"), full_page=True)
     assert page.locator(".widget-play button").first.is_disabled()      # the old animation is gone
