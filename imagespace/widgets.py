@@ -744,9 +744,9 @@ class Explorer(W.VBox):
         Examples
         --------
         >>> import imagespace as isp
-        >>> ex = isp.widgets.explore(isp.examples.stigger_husty())   # a joint-free surface: meshed once
+        >>> ex = isp.widgets.explore(isp.examples.collinear_3rpr(), resolution=16)   # joint-free: meshed once
         >>> ex.wait(), ex.trace("surface").name
-        (True, 'singularity surface (joint-free, 48^3 grid)')
+        (True, 'singularity surface (joint-free, 16^3 grid)')
         """
         end = time.monotonic() + float(timeout)
         while time.monotonic() < end:
@@ -764,9 +764,9 @@ class Explorer(W.VBox):
         Examples
         --------
         >>> import imagespace as isp
-        >>> ex = isp.widgets.explore(isp.examples.stigger_husty(), resolution=24); ex.refine()
+        >>> ex = isp.widgets.explore(isp.examples.collinear_3rpr(), resolution=16); ex.refine()
         >>> ex.trace("surface").name
-        'singularity surface (joint-free, 24^3 grid)'
+        'singularity surface (joint-free, 16^3 grid)'
         """
         self._remesh(self.resolution)
 
@@ -873,7 +873,7 @@ class Explorer(W.VBox):
         Examples
         --------
         >>> import imagespace as isp
-        >>> ex = isp.widgets.explore(isp.examples.stigger_husty()); ex.close(); ex.wait()
+        >>> ex = isp.widgets.explore(isp.examples.collinear_3rpr(), resolution=16); ex.close(); ex.wait()
         True
         """
         lock = getattr(self, "_lock", None)     # also called by __del__ when __init__ refused its input
@@ -913,7 +913,7 @@ class Explorer(W.VBox):
         Examples
         --------
         >>> import tempfile, pathlib, imagespace as isp
-        >>> ex = isp.widgets.explore(isp.examples.stigger_husty())
+        >>> ex = isp.widgets.explore(isp.examples.collinear_3rpr(), resolution=16)
         >>> p = ex.save_html(pathlib.Path(tempfile.mkdtemp()) / "explorer.html")
         >>> "plotly" in p.read_text()
         True

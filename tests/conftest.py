@@ -36,9 +36,25 @@ XDIST_GROUPS = {
 }
 
 
+# doctest examples that take a second or more; each behaviour is also checked by a fast test or
+# by the other doctests of its module, so they run with the slow tests (CI runs everything)
+SLOW_DOCTESTS = {
+    "imagespace.dynamics.solve.simulate",
+    "imagespace.singular.cusps.cusp_edges",
+    "imagespace.singular.cusps.cusps",
+    "imagespace.paths.cusp_loops.CuspLoop.certified_path",
+    "imagespace.paths.cusp_loops.cusp_loop",
+    "imagespace.cli.demo",
+    "imagespace.singular.jacobians.symbolic_jacobians",
+    "imagespace.widgets.Explorer.change_mode",
+}
+
+
 @pytest.hookimpl(tryfirst=True)  # before pytest-xdist appends the group to the node id
 def pytest_collection_modifyitems(config, items):
     for item in items:
+        if isinstance(item, pytest.DoctestItem) and item.name in SLOW_DOCTESTS:
+            item.add_marker(pytest.mark.slow)
         path = item.nodeid.split("::", 1)[0]
         group = next((g for prefix, g in XDIST_GROUPS.items() if path.startswith(prefix)), path)
         item.add_marker(pytest.mark.xdist_group(group))

@@ -90,6 +90,7 @@ def test_cli_mesh_write_failure_names_the_path(tmp_path, capsys, monkeypatch):
     _assert_one_line_error(rc, err, target, "Permission denied")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", [["demo"], ["plot", "modes"]])
 def test_cli_png_write_failure_names_the_path(command, tmp_path, capsys, monkeypatch):
     import tempfile
@@ -291,6 +292,7 @@ def _demo_x1_column(out):
     return rows
 
 
+@pytest.mark.slow
 def test_cli_demo_reads_chart_x0_from_the_tolerances(tmp_path, capsys, monkeypatch):
     """The demo prints image points in the chart x0 = 1 where |x0| exceeds ``chart_x0``; with a
     threshold above every |x0| (at most 1) the normalised points are printed as they are."""

@@ -122,6 +122,7 @@ def _figures():
     yield "design_map", plotting.plot_design_map(t, "sum", "a", "b", best=[0])
 
 
+@pytest.mark.slow
 def test_every_figure_has_unit_labels_and_a_legend():
     seen = []
     for name, fig in _figures():
@@ -209,6 +210,7 @@ def test_mode_count_map_is_discrete_with_integer_ticks():
     plt.close(fig)
 
 
+@pytest.mark.slow
 def test_path_singularity_title_names_the_modes():
     m = isp.examples.stigger_husty()
     path = pose_segment([0, 0, 0.2], [3, 1, 0.5])

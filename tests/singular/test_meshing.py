@@ -73,6 +73,7 @@ def test_normals_point_to_the_positive_aspect(seed002, image_mesh):
     assert np.all(areas > 0)
 
 
+@pytest.mark.slow
 def test_pose_chart_is_periodic_in_phi(seed002):
     mesh = mesh_surface(seed002, POSE_BOX, chart="pose", resolution=48)
     V = mesh.vertices

@@ -21,6 +21,7 @@ def concurrency(m, pose):
     return np.linalg.det(np.array(rows))
 
 
+@pytest.mark.slow
 def test_joint_values_drop_out_for_radius_and_offset_actuation():
     for m in (isp.examples.general_3rpr(), isp.examples.stigger_husty()):
         S = m.singularity_polynomial()
@@ -30,6 +31,7 @@ def test_joint_values_drop_out_for_radius_and_offset_actuation():
         assert sp.expand(S.as_expr() - m.singularity_polynomial(m.q_example).as_expr()) == 0
 
 
+@pytest.mark.slow
 def test_joint_values_stay_for_an_actuated_base_revolute():
     m = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3, 2), actuated=0),
                             isp.RPR(base=(6, 0), platform=(1, 0)),
@@ -205,6 +207,7 @@ def test_image_space_surface_is_the_direct_kinematic_one(rng):
 
 
 # --- labelled surfaces ---------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_working_mode_surfaces_are_labelled_and_their_gradient_is_right(rng):
     m = _rrr_design()
     surfaces = m.singularity_surfaces()

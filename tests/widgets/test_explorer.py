@@ -260,6 +260,7 @@ def test_set_q_validates_exact(seed002_explorer):
     assert ex.q.tolist() == [10.0, 15.25, 13.25] and ex.status["exact"]
 
 
+@pytest.mark.slow
 def test_exact_path_that_cannot_certify_says_so(seed002_explorer):
     import warnings
 
