@@ -558,9 +558,11 @@ class Explorer(W.VBox):
         xs = np.linspace(mid[0] - half, mid[0] + half, SECTION_GRID)
         ys = np.linspace(mid[1] - half, mid[1] + half, SECTION_GRID)
         X, Y = np.meshgrid(xs, ys)
-        Z = c[0] * X * X + c[1] * X * Y + c[2] * Y * Y + c[3] * X + c[4] * Y + c[5]
-        s0 = c[0] * mode.pose[0] ** 2 + c[1] * mode.pose[0] * mode.pose[1] + c[2] * mode.pose[1] ** 2 \
-            + c[3] * mode.pose[0] + c[4] * mode.pose[1] + c[5]
+        def conic(x, y):                       # A x^2 + B xy + C y^2 + D x + E y + F
+            return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y + c[5]
+
+        Z = conic(X, Y)
+        s0 = conic(mode.pose[0], mode.pose[1])
         # the sign of the conic times the chosen mode's (aspect * sign) is the aspect of a region
         flip = float(np.sign(s0)) * (1 if mode.aspect >= 0 else -1) if s0 != 0 and mode.aspect != 0 else 1.0
         same = [j for j, mm in enumerate(self.modes) if abs(np.remainder(mm.pose[2] - phi + np.pi, 2 * np.pi) - np.pi)

@@ -193,16 +193,16 @@ def test_joint_dependent_surface_is_remeshed():
     assert np.median(now) < 1e-3 * np.median(before)
 
 
-def test_near_singular_badge_next_to_a_double_root(seed002_explorer):
+def _uncertifiable_q(m):
+    """Seed-002 joint values next to a double root that the exact per-call path cannot certify.
+
+    Bisects q3 onto the place where two real modes merge (the count drops 6 -> 4) and returns the
+    last midpoint at which ``direct_kinematics(q, certify=True)`` raised NearSingularWarning."""
     import warnings
 
     from imagespace.exceptions import NearSingularWarning
 
-    ex = seed002_explorer
-    m = ex.manipulator
     q = m.q_example_float.copy()
-    # bisect q3 onto the place where two real modes merge (the count drops 6 -> 4), with the
-    # per-call certified path; remember where it could not certify (NearSingularWarning)
     lo, hi, warned = 13.25, 13.65, []
     for _ in range(60):
         q[2] = 0.5 * (lo + hi)
@@ -213,7 +213,13 @@ def test_near_singular_badge_next_to_a_double_root(seed002_explorer):
             warned.append(q.copy())
         lo, hi = (q[2], hi) if n == 6 else (lo, q[2])
     assert warned, "the bisection should meet joint values the exact path cannot certify"
-    ex.set_q(warned[-1])
+    return warned[-1]
+
+
+def test_near_singular_badge_next_to_a_double_root(seed002_explorer):
+    ex = seed002_explorer
+    m = ex.manipulator
+    ex.set_q(_uncertifiable_q(m))
     assert ex.status["near_singular"] and not ex.status["certified"]
     assert "isp-near-singular" in ex.status_line.value and "NOT certified" in ex.status_line.value
     ex.set_q(m.q_example_float)
@@ -262,23 +268,9 @@ def test_set_q_validates_exact(seed002_explorer):
 
 @pytest.mark.slow
 def test_exact_path_that_cannot_certify_says_so(seed002_explorer):
-    import warnings
-
-    from imagespace.exceptions import NearSingularWarning
-
     ex = seed002_explorer
     m = ex.manipulator
-    q = m.q_example_float.copy()
-    lo, hi, warned = 13.25, 13.65, []
-    for _ in range(60):                                 # bisect onto the double root, as above
-        q[2] = 0.5 * (lo + hi)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            n = len(m.direct_kinematics(q, certify=True))
-        if any(issubclass(w.category, NearSingularWarning) for w in caught):
-            warned.append(q.copy())
-        lo, hi = (q[2], hi) if n == 6 else (lo, q[2])
-    ex.set_q(exact=list(warned[-1]))
+    ex.set_q(exact=list(_uncertifiable_q(m)))
     assert ex.status["exact"] and not ex.status["certified"]
     assert "NOT certified" in ex.status_line.value and "certified on the exact" not in ex.status_line.value
     ex.set_q(m.q_example_float)
