@@ -111,7 +111,8 @@ class CoefficientEnclosure:
     product, and its error is bounded the classical way (Higham, *Accuracy and Stability of
     Numerical Algorithms*, 2nd ed., eq. 3.5 for inner products; products of features with their
     absolute errors propagated first order plus the second-order term): ``cos``/``sin`` come
-    from arb, the constants are rounded once (their error is bounded), the joint values are exact
+    with rigorous bounds from :func:`~imagespace.core.bounded_trig.cos_sin_enclosure` (compiled;
+    arb beyond its range), the constants are rounded once (their error is bounded), the joint values are exact
     binary rationals. So the exact coefficients lie in ``F +- E`` for every row.
 
     Parameters
@@ -194,19 +195,14 @@ class CoefficientEnclosure:
         err = np.zeros((n, G))
         val[:, :3] = Q
         if self._trig:
-            import flint
+            from .bounded_trig import cos_sin_enclosure   # numba: imported on first use
 
-            from .certify import flint_precision
-
-            with flint_precision(64):
-                for g, i, is_cos in self._trig:
-                    col = Q[:, i]
-                    for r in range(n):
-                        b = flint.arb(float(col[r]))
-                        b = b.cos() if is_cos else b.sin()
-                        v = float(b.mid())
-                        val[r, g] = v
-                        err[r, g] = float(b.rad()) * (1 + 4 * _U) + abs(v) * _U + 2.0**-1074
+            cols = sorted({i for _, i, _ in self._trig})
+            c, s, ec, es = cos_sin_enclosure(Q[:, cols])
+            for g, i, is_cos in self._trig:
+                j = cols.index(i)
+                val[:, g] = c[:, j] if is_cos else s[:, j]
+                err[:, g] = ec[:, j] if is_cos else es[:, j]
         return val, err
 
     def evaluate(self, Q):
