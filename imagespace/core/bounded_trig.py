@@ -25,12 +25,15 @@ into an FMA (``tests/core/test_bounded_trig.py`` checks the machine code for FMA
    value of ``pi`` by the tests). With ``k`` the integer nearest ``q * 2/pi`` (any integer would
    do for rigour; this one keeps ``|r| <= pi/4 + 2**-29``) and ``|q| <= Q_MAX = 2**22``, so
    ``|k| < 2**22``, the products ``k*P1, k*P2, k*P3`` have at most 52 significant bits and are
-   exact; ``t4 = fl(k*P4)`` errs by at most ``u |t4|``. ``q - k P1 - k P2 - k P3 - t4`` is
-   summed into a double-double ``H + L`` with Knuth's error-free TwoSum; the only rounding, the
-   low parts' addition in each step, is itself split by TwoSum and its discarded part ``g``
-   recorded exactly, so ``|r - (H + L)| <= Er = sum|g| + u|t4| + |k| DELTA`` with
-   ``r = q - k pi/2``. No products other than the exact ones are needed, so Dekker's TwoProduct
-   (Veltkamp splitting) is not used.
+   exact; ``t4 = fl(k*P4)`` errs by at most ``u |t4|``. The main part ``H`` is
+   ``((q - k P1) - k P2) - k P3`` in three rounded subtractions whose errors ``e1, e2, e3`` are
+   recovered exactly by Knuth's TwoSum; the low part ``L = ((e1 + e2) + e3) - t4`` is rounded
+   three times, each time by at most ``u`` times the computed partial sum. So, with
+   ``r = q - k pi/2``, ``|r - (H + L)| <= Er = u (|e1 + e2| + |e1 + e2 + e3| + |L| + |t4|) +
+   |k| DELTA`` (partial sums as computed). As ``|e_i| <= u |H_i|`` for the intermediate ``H_i``,
+   ``Er`` is about ``2**-104 |r|`` plus ``2**-120``, also next to multiples of ``pi/2`` (there
+   ``H_2`` and ``H_3`` are small too). No products other than the exact ones are needed, so
+   Dekker's TwoProduct (Veltkamp splitting) is not used.
 3. **Polynomials** on ``|H| <= RHO = 0.8``: ``sin H = H + H z p_s(z)`` and
    ``cos H = 1 + z p_c(z)`` with ``z = H*H`` and the Taylor coefficients ``(-1)**j / n!`` up to
    ``H**17`` and ``H**18``, each rounded once (error ``<= u`` relative), evaluated by Horner with a
@@ -106,7 +109,7 @@ _K_SIN = 1.5e-19
 _K_COS = 4.8e-21
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _two_sum(a, b):
     """Knuth's TwoSum: ``s + e == a + b`` exactly, ``s = fl(a + b)``."""
     s = a + b
@@ -115,29 +118,37 @@ def _two_sum(a, b):
     return s, e
 
 
-@njit(cache=True)
-def _dd_add(h, l, t):
-    """``(h + l) + t`` as a double-double ``(h2, l2)``; ``g`` is the part discarded, exactly:
-    ``h2 + l2 + g == h + l + t``."""
-    s, e = _two_sum(h, t)
-    f, g = _two_sum(e, l)
-    h2, l2 = _two_sum(s, f)
-    return h2, l2, g
-
-
-@njit(cache=True)
-def _horner(z, ez, coeffs):
-    """``sum_j coeffs[j] z**j`` by Horner at the computed ``z`` (``|z - Z| <= ez``), with a bound on
-    the distance to the exact polynomial (exact rational coefficients) at ``Z``."""
-    n = len(coeffs)
-    y = coeffs[n - 1]
-    ey = _U * abs(y)
+@njit(cache=True, inline="always")
+def _sin_poly(z, ez):
+    """``p_s(Z) = sum_j S_(j+1) Z**j`` by Horner at the computed ``z`` (``|z - Z| <= ez``), with a
+    bound on the distance to the exact polynomial (exact rational coefficients) at ``Z``. (The
+    tuple is read as a global: passed as an argument, numba would index it through memory.)"""
+    n = len(_SIN_COEFFS)
     za = z + ez
+    y = _SIN_COEFFS[n - 1]
+    ey = _U * abs(y)
     for j in range(n - 2, -1, -1):
         t = y * z
-        et = abs(y) * ez + za * ey + _U * abs(t)
-        y = t + coeffs[j]
-        ey = et + _U * abs(coeffs[j]) + _U * abs(y)
+        y2 = t + _SIN_COEFFS[j]
+        # the bound's own chain is one product and one sum per step, like the value's
+        ey = za * ey + (abs(y) * ez + _U * (abs(t) + abs(_SIN_COEFFS[j]) + abs(y2)))
+        y = y2
+    return y, ey
+
+
+@njit(cache=True, inline="always")
+def _cos_poly(z, ez):
+    """``p_c(Z) = sum_j C_(j+1) Z**j`` with its bound, as :func:`_sin_poly`."""
+    n = len(_COS_COEFFS)
+    za = z + ez
+    y = _COS_COEFFS[n - 1]
+    ey = _U * abs(y)
+    for j in range(n - 2, -1, -1):
+        t = y * z
+        y2 = t + _COS_COEFFS[j]
+        # the bound's own chain is one product and one sum per step, like the value's
+        ey = za * ey + (abs(y) * ez + _U * (abs(t) + abs(_COS_COEFFS[j]) + abs(y2)))
+        y = y2
     return y, ey
 
 
@@ -182,18 +193,22 @@ def cos_sin_bounded(q):
         return _beyond(q)
     k = math.floor(q * _TWO_OVER_PI + 0.5)
     t4 = k * _P4
-    h, l = _two_sum(q, -(k * _P1))          # k*P1, k*P2, k*P3 are exact (step 2)
-    h, l, g2 = _dd_add(h, l, -(k * _P2))
-    h, l, g3 = _dd_add(h, l, -(k * _P3))
-    h, l, g4 = _dd_add(h, l, -t4)
-    er = abs(g2) + abs(g3) + abs(g4) + _U * abs(t4) + abs(k) * _DELTA
+    # k*P1, k*P2, k*P3 are exact (step 2); the main chain is three additions, their rounding
+    # errors e1..e3 exact (TwoSum), the low part l = e1 + e2 + e3 - t4 rounded three times
+    h, e1 = _two_sum(q, -(k * _P1))
+    h, e2 = _two_sum(h, -(k * _P2))
+    h, e3 = _two_sum(h, -(k * _P3))
+    l12 = e1 + e2
+    l123 = l12 + e3
+    l = l123 - t4
+    er = _U * (abs(l12) + abs(l123) + abs(l) + abs(t4)) + abs(k) * _DELTA
     ah = abs(h)
     if ah > _RHO:                           # cannot happen (|r| <= pi/4 + 2**-29): safety net
         return _beyond(q)
     z = h * h
     ez = _U * z
     # sin H = H + (H z) p_s(z)
-    ys, eys = _horner(z, ez, _SIN_COEFFS)
+    ys, eys = _sin_poly(z, ez)
     w = h * z
     ew = ah * ez + _U * abs(w)
     v = w * ys
@@ -201,7 +216,7 @@ def cos_sin_bounded(q):
     sh = h + v
     esh = ev + _U * abs(sh) + _K_SIN * ah
     # cos H = 1 + z p_c(z)
-    yc, eyc = _horner(z, ez, _COS_COEFFS)
+    yc, eyc = _cos_poly(z, ez)
     v = z * yc
     ev = z * eyc + (abs(yc) + eyc) * ez + _U * abs(v)
     ch = 1.0 + v
@@ -217,14 +232,17 @@ def cos_sin_bounded(q):
     ecr = ech + al * esh + _U * abs(ls) + er + d2 + _U * abs(cr)
     esr = esr * _SLACK + _FLOOR
     ecr = ecr * _SLACK + _FLOOR
+    # quadrant without branches (a random quadrant would mispredict): k mod 4 = 0, 1, 2, 3 gives
+    # (cos q, sin q) = (c_r, s_r), (-s_r, c_r), (-c_r, -s_r), (s_r, -c_r)
     n = int(k) & 3
-    if n == 0:
-        return cr, sr, ecr, esr
-    if n == 1:
-        return -sr, cr, esr, ecr
-    if n == 2:
-        return -cr, -sr, ecr, esr
-    return sr, -cr, esr, ecr
+    odd = n & 1
+    a = sr if odd else cr
+    b = cr if odd else sr
+    ea = esr if odd else ecr
+    eb = ecr if odd else esr
+    sign_c = 1.0 - 2.0 * (((n + 1) >> 1) & 1)
+    sign_s = 1.0 - 2.0 * ((n >> 1) & 1)
+    return sign_c * a, sign_s * b, ea, eb
 
 
 @njit(cache=True)

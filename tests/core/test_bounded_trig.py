@@ -191,10 +191,10 @@ def test_no_fused_multiply_add_in_machine_code():
     import numba
 
     fresh = {name: numba.njit(getattr(bt, name).py_func) for name in
-             ("_two_sum", "_dd_add", "_horner", "cos_sin_bounded")}
+             ("_two_sum", "_sin_poly", "_cos_poly", "cos_sin_bounded")}
     fresh["_two_sum"](1.0, 2.0)
-    fresh["_dd_add"](1.0, 2.0, 3.0)
-    fresh["_horner"](0.1, 1e-18, bt._SIN_COEFFS)
+    fresh["_sin_poly"](0.1, 1e-18)
+    fresh["_cos_poly"](0.1, 1e-18)
     fresh["cos_sin_bounded"](1.0)
     for name, f in fresh.items():
         asm = "\n".join(f.inspect_asm(sig) for sig in f.signatures)
