@@ -42,6 +42,7 @@ class PlanarParallel(Mechanism):
     direct_kinematics = dispatch.direct_kinematics
     direct_kinematics_batch = dispatch.direct_kinematics_batch
     direct_kinematics_chunks = dispatch.direct_kinematics_chunks
+    certified_root_counts = dispatch.certified_root_counts
 
     def __repr__(self):
         return f"PlanarParallel({self.name!r}, legs={list(self.legs)!r})"

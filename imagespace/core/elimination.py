@@ -53,7 +53,10 @@ __all__ = [
     "EliminationPlan",
     "plan_elimination",
     "eliminate",
+    "combine_rows",
     "binary_form_poly",
+    "plan_array",
+    "eliminate_row",
 ]
 
 
@@ -242,6 +245,22 @@ class Elimination:
     F: list
 
 
+def combine_rows(quadrics, plan):
+    """The three combinations ``E1, E2, E3`` of the quadrics that ``plan`` names (see
+    :class:`EliminationPlan`), as :class:`LinearRow` s.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.core.elimination import combine_rows, plan_elimination
+    >>> m = isp.examples.general_3rpr()
+    >>> quads = m.quadrics(m.q_example)
+    >>> [row.c for row in combine_rows(quads, plan_elimination([q.kind for q in quads]))]
+    [0, 0, 4]
+    """
+    return tuple(_combine(quadrics, w) for w in (plan.w1, plan.w2, plan.w3))
+
+
 def eliminate(quadrics, plan=None):
     """Eliminate ``(x2, x3)`` from three quadrics.
 
@@ -266,7 +285,7 @@ def eliminate(quadrics, plan=None):
     """
     if plan is None:
         plan = plan_elimination([q.kind for q in quadrics])
-    E1, E2, E3 = (_combine(quadrics, w) for w in (plan.w1, plan.w2, plan.w3))
+    E1, E2, E3 = combine_rows(quadrics, plan)
     symbolic = any(isinstance(v, sp.Basic) for q in quadrics for v in q.coefficients())
     # sympy entries are expanded after every stage: nested unexpanded products would make the
     # final expansion exponentially expensive
@@ -335,3 +354,173 @@ def form_coefficients(poly):
     """
     d = poly.total_degree()
     return [poly.coeff_monomial((d - k, k)) for k in range(d + 1)]
+
+
+# --------------------------------------------------------------------------- the numeric twin
+# ``eliminate_row`` is the compiled kernel's copy of :func:`eliminate` for ONE row of float
+# coefficients, with a rigorous bound on the error of every output coefficient. It is plain
+# Python written for numba (``imagespace.solve.kernel`` compiles this very function) and
+# self-contained (numba compiles only the functions it is handed); ``tests/core`` hold it equal
+# to :func:`eliminate` on random rows and its bounds against exact rational arithmetic.
+
+#: Layout of :func:`eliminate_row`'s output: ``D`` (3), ``X2`` (4), ``X3`` (4), then ``F`` (7, or 5
+#: when no quadric has an ``x2**2 + x3**2`` term).
+ELIMINATION_ROW_SIZE = 18
+#: Offsets of ``D, X2, X3, F`` in that layout.
+ROW_D, ROW_X2, ROW_X3, ROW_F = 0, 3, 7, 11
+#: Scratch floats :func:`eliminate_row` needs.
+ELIMINATION_WORK_SIZE = 76
+
+_ROW_U = 2.0**-53                        # unit roundoff of double precision
+_ROW_GAMMA = 40 * _ROW_U / (1 - 40 * _ROW_U)   # gamma_40: any sum of up to 39 rounded products
+_ROW_INFLATE = 1.0 + 2.0**-40            # covers the rounding of the bound arithmetic itself
+_ROW_TINY = 2.0**-1000                   # covers every underflow (each below 2**-1074 per operation)
+
+
+def plan_array(plan):
+    """An :class:`EliminationPlan` as the integer array :func:`eliminate_row` reads: for ``E1, E2,
+    E3`` the quadric ``i`` and ``j`` (``-1`` for a single quadric; ``c_j Q_i - c_i Q_j`` for a
+    difference), then ``1`` if ``plan.linear_only``.
+
+    Examples
+    --------
+    >>> from imagespace.core.elimination import plan_array, plan_elimination
+    >>> plan_array(plan_elimination(["RR", "RR", "PR"])).tolist()
+    [2, -1, 0, 1, 0, -1, 0]
+    """
+    import numpy as np
+
+    out = []
+    for w in (plan.w1, plan.w2, plan.w3):
+        idx = [i for i, wi in enumerate(w) if wi]
+        out += [idx[0], idx[1] if len(idx) == 2 else -1]
+    return np.array(out + [1 if plan.linear_only else 0], dtype=np.int64)
+
+
+def eliminate_row(C, Ce, plan, out, eout, work, bounded):
+    """:func:`eliminate` for one row of float quadric coefficients, with error bounds.
+
+    Parameters
+    ----------
+    C : (24,) float
+        The three quadrics' coefficients ``c, a0, a1, b0, b1, k0, k1, k2``, quadric ``i`` at
+        ``8 i .. 8 i + 7``.
+    Ce : (24,) float
+        Rigorous bounds on the error of ``C`` (zeros: ``C`` is exact).
+    plan : (7,) int
+        :func:`plan_array` of the elimination plan.
+    out, eout : (ELIMINATION_ROW_SIZE,) float
+        Filled with ``D, X2, X3, F`` (offsets ``ROW_*``) and bounds such that the forms of the
+        exact coefficients lie in ``out +- eout`` (rounding of every operation included).
+    work : (ELIMINATION_WORK_SIZE,) float
+        Scratch (no allocation inside: the kernel calls this once per row).
+    bounded : bool
+        Compute the bounds (else ``eout`` is left at zero and only the values are computed).
+
+    Returns
+    -------
+    int
+        The degree of ``F`` (6, or 4 when ``plan`` is linear only).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import imagespace as isp
+    >>> from imagespace.core.elimination import (eliminate, eliminate_row, plan_array,
+    ...     plan_elimination, ROW_F, ELIMINATION_WORK_SIZE)
+    >>> m = isp.examples.general_3rpr()
+    >>> quads = m.quadrics(m.q_example_float)
+    >>> C = np.array([float(v) for qd in quads for v in qd.coefficients()])
+    >>> out, err, work = np.zeros(18), np.zeros(18), np.zeros(ELIMINATION_WORK_SIZE)
+    >>> d = eliminate_row(C, np.zeros(24), plan_array(plan_elimination([q.kind for q in quads])),
+    ...                   out, err, work, True)
+    >>> F = eliminate(quads).F
+    >>> d, bool(np.allclose(out[ROW_F:ROW_F + 7], np.array(F, dtype=float), rtol=1e-12))
+    (6, True)
+    """
+    u = _ROW_U
+    # E rows (c, A0, A1, B0, B1, K0, K1, K2) with bounds, three of them side by side
+    E = work[0:24]
+    Ee = work[24:48]
+    for r in range(3):
+        i = plan[2 * r]
+        j = plan[2 * r + 1]
+        for k in range(8):
+            if j < 0:
+                E[8 * r + k] = C[8 * i + k]
+                Ee[8 * r + k] = Ce[8 * i + k]
+            else:   # c_j Q_i - c_i Q_j: the x2**2 + x3**2 terms cancel exactly
+                a, ea = C[8 * j], Ce[8 * j]
+                b, eb = C[8 * i + k], Ce[8 * i + k]
+                c, ec = C[8 * i], Ce[8 * i]
+                d, ed = C[8 * j + k], Ce[8 * j + k]
+                p1 = a * b
+                p2 = c * d
+                v = p1 - p2
+                E[8 * r + k] = v
+                if bounded:
+                    Ee[8 * r + k] = ((abs(a) * eb + ea * abs(b) + ea * eb + abs(c) * ed + ec * abs(d) + ec * ed
+                                      + 3 * u * (abs(p1) + abs(p2))) * _ROW_INFLATE + _ROW_TINY)
+    for k in range(ELIMINATION_ROW_SIZE):
+        out[k] = 0.0
+        eout[k] = 0.0
+    acc = work[48:66]              # sum |products| per output coefficient, for rounding
+    for k in range(ELIMINATION_ROW_SIZE):
+        acc[k] = 0.0
+
+    # h[oh + k] += s * f[of + i] * g[og + j] over i + j = k, propagating the input bounds
+    def mac(fv, fe, of, nf, gv, ge, og, ng, s, oh, out, eout, acc, bounded):
+        for a in range(nf):
+            for b in range(ng):
+                x, ex = fv[of + a], fe[of + a]
+                y, ey = gv[og + b], ge[og + b]
+                p = x * y
+                out[oh + a + b] += s * p
+                if bounded:
+                    eout[oh + a + b] += abs(x) * ey + ex * abs(y) + ex * ey
+                    acc[oh + a + b] += abs(p)
+
+    def close(lo, hi, out, eout, acc, bounded):
+        if not bounded:
+            return
+        for k in range(lo, hi):
+            eout[k] = (eout[k] + _ROW_GAMMA * acc[k] + abs(out[k]) * u) * _ROW_INFLATE + _ROW_TINY
+            acc[k] = 0.0
+
+    # D = A1 B2 - A2 B1, X2 = K2 B1 - K1 B2, X3 = A2 K1 - A1 K2 (E rows at 0, 8, 16)
+    mac(E, Ee, 1, 2, E, Ee, 11, 2, 1.0, ROW_D, out, eout, acc, bounded)
+    mac(E, Ee, 9, 2, E, Ee, 3, 2, -1.0, ROW_D, out, eout, acc, bounded)
+    mac(E, Ee, 13, 3, E, Ee, 3, 2, 1.0, ROW_X2, out, eout, acc, bounded)
+    mac(E, Ee, 5, 3, E, Ee, 11, 2, -1.0, ROW_X2, out, eout, acc, bounded)
+    mac(E, Ee, 9, 2, E, Ee, 5, 3, 1.0, ROW_X3, out, eout, acc, bounded)
+    mac(E, Ee, 1, 2, E, Ee, 13, 3, -1.0, ROW_X3, out, eout, acc, bounded)
+    close(0, ROW_F, out, eout, acc, bounded)
+    # lin = A3 X2 + B3 X3 + K3 D (E3 at 16), in the F slots; it is F when no quadric is a circle
+    mac(E, Ee, 17, 2, out, eout, ROW_X2, 4, 1.0, ROW_F, out, eout, acc, bounded)
+    mac(E, Ee, 19, 2, out, eout, ROW_X3, 4, 1.0, ROW_F, out, eout, acc, bounded)
+    mac(E, Ee, 21, 3, out, eout, ROW_D, 3, 1.0, ROW_F, out, eout, acc, bounded)
+    close(ROW_F, ROW_F + 5, out, eout, acc, bounded)
+    if plan[6] == 1:
+        return 4
+    # F = c3 (X2**2 + X3**2) + D lin: lin moved out of the F slots first
+    lin = work[66:71]
+    line = work[71:76]
+    for k in range(5):
+        lin[k] = out[ROW_F + k]
+        line[k] = eout[ROW_F + k]
+        out[ROW_F + k] = 0.0
+        eout[ROW_F + k] = 0.0
+    mac(out, eout, ROW_X2, 4, out, eout, ROW_X2, 4, 1.0, ROW_F, out, eout, acc, bounded)
+    mac(out, eout, ROW_X3, 4, out, eout, ROW_X3, 4, 1.0, ROW_F, out, eout, acc, bounded)
+    close(ROW_F, ROW_F + 7, out, eout, acc, bounded)
+    c3, ec3 = E[16], Ee[16]
+    for k in range(7):
+        v, ev = out[ROW_F + k], eout[ROW_F + k]
+        p = c3 * v
+        out[ROW_F + k] = p
+        if bounded:
+            eout[ROW_F + k] = abs(c3) * ev + ec3 * abs(v) + ec3 * ev
+            acc[ROW_F + k] = abs(p)
+    mac(out, eout, ROW_D, 3, lin, line, 0, 5, 1.0, ROW_F, out, eout, acc, bounded)
+    close(ROW_F, ROW_F + 7, out, eout, acc, bounded)
+    return 6

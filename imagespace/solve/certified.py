@@ -276,6 +276,36 @@ def _fast_exact_forms(m, q_exact):
     return P, D, X2, X3
 
 
+def exact_coefficients(m, q):
+    """Exact coefficients (sympy numbers) of the kinematic polynomial at the joint vector ``q``
+    (floats as the binary rationals they are): from the general-q forms where they are rational,
+    else by the sympy elimination at ``q``. Not public API.
+
+    Raises
+    ------
+    DegenerateDesignError
+        The kinematic polynomial vanishes identically at ``q`` (a continuum of modes)."""
+    q_exact = [as_exact(float(v), f"q[{i}]") for i, v in enumerate(q)]
+    fast = _fast_exact_forms(m, q_exact)
+    return list(fast[0]) if fast is not None else form_coefficients(m.exact_forms(q_exact)[0])
+
+
+def exact_root_count(m, q):
+    """The proven number of distinct real roots of the kinematic polynomial at the joint vector
+    ``q``, decided exactly (python-flint, or arb for irrational coefficients): the fallback of
+    the batch counts. ``(count, path)``, count -1 where even that cannot decide (irrational
+    coefficients with a multiple root). Not public API.
+
+    Raises
+    ------
+    DegenerateDesignError
+        The kinematic polynomial vanishes identically at ``q`` (a continuum of modes)."""
+    cert = certify_real_roots(exact_coefficients(m, q))
+    if not cert.certified:
+        return -1, "uncertified"
+    return cert.count, ("flint" if cert.exact else "arb")
+
+
 def certified_modes(m, q, qf):
     """The certified per-call path: modes computed root by root from the exact certificate.
 
@@ -340,12 +370,9 @@ def certified_modes(m, q, qf):
                           [k for _, k in tagged])
 
 
-def certify_batch(m, Q, res):
-    """Certified counts per row on the exact input, and modes held to them (see DKBatchResult).
-
-    The certification stage of :func:`imagespace.solve.dispatch.direct_kinematics_batch`
-    (``certify=True``): runs after the float batch solve and updates ``res`` in place. Not
-    public API (out of ``__all__``)."""
+def _disc_certificate(m, Q, res):
+    """Certified counts from the enclosed general-q kinematic polynomial (inclusion discs, exact
+    fallback) and which rows' float modes they account for: ``(counts, path, consistent)``."""
     n = Q.shape[0]
     enc = m.enclosure()
     Qs = np.where(res.row_ok[:, None], Q, 0.0)
@@ -381,6 +408,53 @@ def certify_batch(m, Q, res):
                    & np.all(np.where(res.valid[disc], per_mode == 1, True), axis=1)
                    & (res.count[disc] == counts[disc]))
         consistent[disc[ok_rows]] = True
+    return counts, path, consistent
+
+
+def _kernel_certificate(kernel, Q, res):
+    """Certified counts from the generic kernel (rigorous bounds, Bernstein isolation) and which
+    rows' float modes they account for: ``(counts, path, consistent)``."""
+    n = Q.shape[0]
+    ok = res.row_ok
+    counts, lo, hi, chart = kernel.certified_counts(np.where(ok[:, None], Q, 0.0))
+    counts = np.where(ok, counts.astype(int), -1)
+    path = np.where(ok, np.where(counts >= 0, "kernel", "undecided"), "invalid").astype(object)
+    consistent = np.zeros(n, dtype=bool)
+    rows = np.flatnonzero(ok & (counts >= 0))
+    if rows.size:
+        X = res.image_points[rows]
+        valid = res.valid[rows]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (X[..., 1] / X[..., 0])[:, :, None]            # chart 0: t = x1 / x0
+            s = (X[..., 0] / X[..., 1])[:, :, None]            # chart 1: s = x0 / x1
+        L, H, c = lo[rows][:, None, :], hi[rows][:, None, :], chart[rows][:, None, :]
+        inside = (((c == 0) & (t >= L) & (t <= H)) | ((c == 1) & (s >= L) & (s <= H)))
+        inside &= valid[:, :, None]
+        per_root = inside.sum(axis=1)
+        per_mode = inside.sum(axis=2)
+        real_slot = chart[rows] >= 0
+        good = (np.all(np.where(real_slot, per_root == 1, per_root == 0), axis=1)
+                & np.all(np.where(valid, per_mode == 1, True), axis=1)
+                & (res.count[rows] == counts[rows]))
+        consistent[rows[good]] = True
+    return counts, path, consistent
+
+
+def certify_batch(m, Q, res, kernel=None):
+    """Certified counts per row on the exact input, and modes held to them (see DKBatchResult).
+
+    The certification stage of :func:`imagespace.solve.dispatch.direct_kinematics_batch`
+    (``certify=True``): runs after the float batch solve and updates ``res`` in place. With the
+    design's generic ``kernel`` the counts are proven inside it (:meth:`BatchKernel.certified_counts`:
+    no symbolic derivation, no eigenvalues); without it (designs the kernel does not take) the
+    general-q kinematic polynomial is enclosed and decided by inclusion discs. Rows neither
+    decides, and rows whose float modes the certificate does not account for, are solved again
+    by the certified per-row path. Not public API (out of ``__all__``)."""
+    n = Q.shape[0]
+    if kernel is not None:
+        counts, path, consistent = _kernel_certificate(kernel, Q, res)
+    else:
+        counts, path, consistent = _disc_certificate(m, Q, res)
     for i in np.flatnonzero(res.row_ok & ~consistent):
         try:
             modes = m.direct_kinematics(Q[i], certify=True)
@@ -404,4 +478,4 @@ def certify_batch(m, Q, res):
         consistent[i] = bool(cert.certified)
         res.near_singular[i] = not cert.certified
     res.near_singular = res.near_singular & ~consistent      # proven rows are not in doubt
-    res.certified_roots, res.certificate_path, res.consistent = counts, path, consistent
+    res.certified_roots, res.certificate_path, res.consistent = counts, np.asarray(path).astype(str), consistent

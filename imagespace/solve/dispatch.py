@@ -13,7 +13,7 @@ import numpy.typing as npt
 from .._memory import check_memory
 from .._validate import as_count, as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
-from .certified import certified_modes, certify_batch
+from .certified import certified_modes, certify_batch, exact_coefficients, exact_root_count
 from .numpy_path import complex_modes, check_rows, solve_batch
 from .results import AssemblyMode, DKBatchResult, MAX_MODES
 
@@ -119,8 +119,9 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
         per-row path. ``"numpy"``: the vectorised numpy path (companion eigenvalues,
         Newton, every mode checked by the legs' inverse kinematics). ``"auto"``: the kernel
         for batches of at least 2,000 rows when numba is installed and the design suits it
-        (no PP dyad, Cramer denominator not identically zero), else numpy. The first kernel
-        call for a design compiles it (a few seconds).
+        (no PP dyad, Cramer denominator not identically zero), else numpy. The kernel is one
+        generic compiled loop for every design: compiled once per installation and cached on
+        disk; a new design costs only its small tables (:func:`imagespace.solve.kernel.design_tables`).
 
     Returns
     -------
@@ -167,8 +168,85 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
                  f"(a chunk of 65,536 rows needs about {65536 * per_row / 1e9:.2g} GB)")
     res = _solve_kernel(m, Q, kernel) if kernel is not None else solve_batch(m, Q, raise_degenerate=False)
     if certify:
-        certify_batch(m, Q, res)
+        certify_batch(m, Q, res, kernel if kernel is not None else batch_kernel(m))
     return res
+
+
+def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Proven numbers of real assembly modes (distinct real roots of the kinematic polynomial) for
+    a batch of joint vectors, without computing the modes.
+
+    Each row is decided at its exact input (floats taken as the binary rationals they are). With
+    the compiled kernel the count is proven inside it: quadric coefficients, elimination and
+    Bernstein root isolation run with a rigorous error bound on every value, so a count the
+    kernel returns is a theorem, not an estimate (:meth:`BatchKernel.certified_counts`). Rows
+    the bounds cannot decide (a double or nearly double root) are decided exactly per row
+    (python-flint; arb for irrational coefficients). Designs the kernel does not take use the
+    enclosed general-q polynomial and inclusion discs, with the same exact fallback.
+
+    A root carries one mode except where the Cramer denominator vanishes at it (case (b):
+    0, 1 or 2 modes); ``direct_kinematics_batch(Q, certify=True)`` reports both.
+
+    Parameters
+    ----------
+    Q : (n, 3) float
+        Rows with NaN or out-of-domain values get -1 (not raised).
+
+    Returns
+    -------
+    counts : (n,) int8
+        -1 for invalid rows, rows whose polynomial vanishes identically (a continuum) and the
+        rare rows nothing could certify (see ``path``).
+    path : (n,) str
+        ``"kernel"`` (proven in the kernel), ``"discs"``, ``"flint"``, ``"arb"``,
+        ``"uncertified"``, ``"continuum"`` or ``"invalid"``.
+
+    Raises
+    ------
+    InputError
+        ``Q`` is not of shape ``(3,)`` or ``(n, 3)``.
+    TypeError
+        ``Q`` is not a real float or integer array.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> import numpy as np
+    >>> m = isp.examples.stigger_husty()
+    >>> counts, path = m.certified_root_counts(np.array([m.q_example_float, [np.nan, 1, 1]]))
+    >>> counts.tolist(), path.tolist()[1]
+    ([6, -1], 'invalid')
+    """
+    from ..core.certify import certify_real_roots_batch
+    from ..exceptions import DegenerateDesignError
+
+    Q = as_float_array(Q, "Q", last=3, finite=False)
+    if Q.ndim == 1:
+        Q = Q[None, :]
+    n = Q.shape[0]
+    row_ok, _ = check_rows(m, Q)
+    counts = np.full(n, -1, dtype=np.int8)
+    path = np.full(n, "invalid", dtype=object)
+    ok = np.flatnonzero(row_ok)
+    kernel = batch_kernel(m) if ok.size else None
+    if kernel is not None:
+        c = kernel.certified_counts(Q[ok])[0]
+        counts[ok] = c
+        path[ok[c >= 0]] = "kernel"
+        todo = ok[c < 0]
+    elif ok.size:
+        F, E = m.enclosure().evaluate(Q[ok])
+        c, p = certify_real_roots_batch(F, E, lambda i: exact_coefficients(m, Q[ok[i]]))
+        counts[ok], path[ok] = c, p
+        todo = ok[p == "zero"]
+    else:
+        todo = ok
+    for i in todo:
+        try:
+            counts[i], path[i] = exact_root_count(m, Q[i])
+        except DegenerateDesignError:
+            counts[i], path[i] = -1, "continuum"
+    return counts, path.astype(str)
 
 
 def direct_kinematics_chunks(m: Any, Q: npt.ArrayLike, chunk_size: int = 65536, certify: bool = False,
@@ -225,8 +303,9 @@ def _chunks(m, Q, chunk_size, certify, method):
 
 
 def batch_kernel(m: Any) -> Any:
-    """The compiled batch kernel of the design ``m`` (built once, cached on it), or None where it
-    does not apply (numba missing, free symbols in the design).
+    """The batch kernel of the design ``m`` (the generic compiled loops bound to the design's
+    tables; built once, cached on it), or None where it does not apply (numba missing, free
+    symbols in the design, a PP dyad, a Cramer denominator vanishing identically).
 
     Examples
     --------

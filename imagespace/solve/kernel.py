@@ -1,28 +1,30 @@
-r"""The compiled batch direct-kinematics kernel: one pass per joint vector, real roots only.
+r"""The compiled batch direct-kinematics kernel: ONE generic kernel for every design, one pass per
+joint vector, real roots only.
 
 :meth:`PlanarParallel.direct_kinematics_batch` sends large batches here when numba is present.
-For one design the derivation is done once, symbolically and general in the joint values
-``q = (q1, q2, q3)``:
+Nothing is generated or compiled per design. A design enters as small tables
+(:func:`design_tables`, derived once in a few milliseconds): each leg's eight quadric coefficients
+and their derivatives in the joint value, as polynomials in the features ``q, cos q, sin q``
+(``cos``/``sin`` for an actuated revolute), and the elimination plan. Per joint vector the
+kernel then
 
-* the three dyad quadrics ``Q_i(x; q_i)`` (8 coefficients each) and their derivatives
-  ``dQ_i/dq_i`` (the diagonal of ``Jq``, used for the joint-space residual),
-* the Cramer forms ``D, X2, X3`` of :mod:`imagespace.core.elimination` and the kinematic polynomial
-  ``F`` (the ``x0**2 + x1**2`` factors divided out),
-
-and printed as the body of one scalar function (common subexpressions shared), which numba
-compiles together with the solver loop. Per joint vector the kernel then
-
-1. evaluates those coefficients (no temporaries),
-2. finds the real roots of ``F`` on the projective line in two charts, ``t = x1/x0`` with
+1. evaluates the three dyad quadrics ``Q_i(x; q_i)`` (8 coefficients each) and their derivatives
+   ``dQ_i/dq_i`` (the diagonal of ``Jq``, used for the joint-space residual) from the tables
+   (:func:`design_row`),
+2. eliminates ``x2, x3`` numerically, as binary-form arithmetic on these coefficients: the Cramer
+   forms ``D, X2, X3`` and the form ``F`` of :mod:`imagespace.core.elimination`
+   (:func:`imagespace.core.elimination.eliminate_row`, the compiled twin of ``eliminate``; ``F``
+   keeps its factors ``x0**2 + x1**2``, which have no real roots),
+3. finds the real roots of ``F`` on the projective line in two charts, ``t = x1/x0`` with
    ``|t| <= 1`` and ``s = x0/x1`` with ``|s| <= 1``, so half-turns are ordinary roots and no
    chart sees a root beyond 1. Roots come from the derivative cascade restricted to the chart's
    interval: the real roots of ``F^(k)`` split it into pieces where ``F^(k-1)`` is monotone,
    each solved by Newton kept inside its bracket. No eigenvalues, no complex arithmetic,
-3. back-substitutes ``x2 = X2/D, x3 = X3/D``, polishes ``(x0..x3)`` by Newton on
-   ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` (4x4 Gaussian elimination with partial pivoting), and
-   checks every mode: relative constraint residual below ``1e-9``, joint residual
-   ``max_i |Q_i| / |dQ_i/dq_i|`` reported,
-4. writes normalised image points, poses, aspects (sign of the 4x4 determinant) sorted by ``phi``.
+4. back-substitutes ``x2 = X2/D, x3 = X3/D``, polishes ``(x0..x3)`` by Newton on
+   ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` (4x4 Gaussian elimination with partial pivoting) unless the
+   residual is at rounding level already, and checks every mode: relative constraint residual
+   below ``1e-9``, joint residual ``max_i |Q_i| / |dQ_i/dq_i|`` reported,
+5. writes normalised image points, poses, aspects (sign of the 4x4 determinant) sorted by ``phi``.
 
 A row is flagged instead of guessed when a float computation cannot decide it: a root met at a
 critical point without a sign change (a double root, or a complex pair within rounding of the
@@ -30,17 +32,23 @@ axis: ``suspect``), or the Cramer denominator vanishing at a root, a vanishing p
 Newton step that does not converge (``special``). The caller re-solves flagged rows with the
 careful and certified per-row paths.
 
+The same tables drive the certified counts (:meth:`BatchKernel.certified_counts`): steps 1 and 2
+with a rigorous error bound on every value (``cos``/``sin`` enclosed by
+:func:`imagespace.core.bounded_trig.cos_sin_bounded`), then Descartes' rule in the Bernstein
+basis (:func:`imagespace.core.isolate.count_real_roots_row`) with every sign decided despite the
+bounds.
+
 Designs the kernel does not take (the caller uses the numpy path): a PP dyad (its pair of planes
 carries a spurious root that only the leg's inverse kinematics can discard) and designs whose
 Cramer denominator vanishes identically (case (a), e.g. seed 003).
 
-The compiled kernel is cached on disk (``$IMAGESPACE_CACHE/kernels`` or
+The compiled loops are cached on disk (``$IMAGESPACE_CACHE/kernels`` or
 ``~/.cache/imagespace/kernels``) only in a directory private to the user (created 0700; refused,
 with a :class:`KernelCacheWarning`, when owned by someone else, writable by group or others, or a
-symbolic link). The cached ``k_<key>.py`` is never executed: the source just generated is
-compared with it (rewritten when it differs) and executed from memory. A corrupted numba cache
-entry is deleted and rebuilt when the kernel is built; with no writable place the kernel is
-compiled in memory.
+symbolic link): one entry per installation, shared by every design. The cached ``k_<key>.py`` is
+never executed: the source is compared with it (rewritten when it differs) and executed from
+memory. A corrupted numba cache entry is deleted and rebuilt when the kernel is loaded; with no
+writable place the loops are compiled in memory.
 """
 
 from __future__ import annotations
@@ -55,7 +63,10 @@ import sympy as sp
 
 from ..core._numba import HAVE_NUMBA, njit
 from ..core.codegen import KernelCacheWarning, kernel_cache_dir, load_cached_module, warn_once  # noqa: F401
-from ..core.elimination import form_coefficients
+from ..core.bounded_trig import cos_sin_bounded
+from ..core.elimination import (ELIMINATION_ROW_SIZE, ELIMINATION_WORK_SIZE, ROW_F,  # noqa: F401
+                                eliminate_row as _eliminate_row_py)
+from ..core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row  # noqa: F401
 from ..core.quadrics import dk_system_row
 from ..tolerances import TOLERANCES
 
@@ -71,6 +82,8 @@ _UNIT_ROUNDOFF = 2.2e-16     # the double precision unit roundoff the rounding b
 _HORNER_ZERO = 4.5e-16       # |p(t)| below this * deg * sum|c_k||t|^k is zero within Horner's rounding
 _BISECT_WIDTH = 4e-16        # a bracket narrower than this (relative) has converged: stopping width
 _TOUCH_ZERO = 64 * _UNIT_ROUNDOFF  # a critical value below this * deg * scale touches the axis
+_POLISHED = 1e-13            # a back-substituted mode with a relative residual below this is not
+                             # polished by Newton (it is at rounding level already)
 
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
 # into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
@@ -333,8 +346,10 @@ def _bf(f, off, deg, x0, x1):
     return v
 
 
-# the DK system and its Jacobian: compiled from its one home in constraints.py
+# the DK system and its Jacobian: compiled from its one home in core/quadrics.py
 _system = njit(cache=True)(dk_system_row)
+# the elimination of one row: compiled from its one home in core/elimination.py
+eliminate_row = njit(cache=True)(_eliminate_row_py)
 
 
 @njit(cache=True)
@@ -473,29 +488,39 @@ def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
         X[3] = _bf(buf, oX3, dX, x0, x1) / Dv
         # Newton on the 4x4 system: one step takes the back-substituted point (error ~1e-13)
         # to rounding; the error after a step is of the order of the step squared, so stop once
-        # a step is below 1e-9 of the size. The aspect is the sign of the determinant at the
+        # a step is below 1e-9 of the size. A point whose residual is already at rounding level
+        # (about 90 % of them) is not stepped. The aspect is the sign of the determinant at the
         # last linearisation point (within a step of 1e-9 of the mode)
-        det = 0.0
-        for it in range(8):
-            _system(Cs, X, val, J)
-            det = _det4(J, X[0], X[1])
-            for i in range(4):
-                val[i] = -val[i]
-            if _solve4(J, val, dx, tol[_T_PIVOT]) == 0.0:
-                break
-            big = 1.0
-            stp = 0.0
-            for i in range(4):
-                X[i] += dx[i]
-                big = max(big, abs(X[i]))
-                stp = max(stp, abs(dx[i]))
-            if stp <= tol[_T_NEWTON_STOP] * big:
-                break
+        _system(Cs, X, val, J)
+        det = _det4(J, X[0], X[1])
+        size = 1.0 + X[2] * X[2] + X[3] * X[3]
+        polished = max(abs(val[0]), abs(val[1]), abs(val[2])) <= _POLISHED * size
+        if not polished:
+            for it in range(8):
+                if it > 0:
+                    _system(Cs, X, val, J)
+                    det = _det4(J, X[0], X[1])
+                for i in range(4):
+                    val[i] = -val[i]
+                if _solve4(J, val, dx, tol[_T_PIVOT]) == 0.0:
+                    break
+                big = 1.0
+                stp = 0.0
+                for i in range(4):
+                    X[i] += dx[i]
+                    big = max(big, abs(X[i]))
+                    stp = max(stp, abs(dx[i]))
+                if stp <= tol[_T_NEWTON_STOP] * big:
+                    break
         sg = -1.0 if (X[0] < 0.0 or (X[0] == 0.0 and X[1] < 0.0)) else 1.0
         nrm = sg / math.sqrt(X[0] * X[0] + X[1] * X[1])
         for i in range(4):
             X[i] = X[i] * nrm
-        _system(Cs, X, val, J)
+        if polished:              # the quadrics are homogeneous of degree 2
+            for i in range(3):
+                val[i] = val[i] * (nrm * nrm)
+        else:
+            _system(Cs, X, val, J)
         size = 1.0 + X[2] * X[2] + X[3] * X[3]
         rel = max(abs(val[0]), abs(val[1]), abs(val[2])) / size
         if not (rel <= tol[_T_RESIDUAL]):
@@ -539,42 +564,199 @@ def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
     return count, 0
 
 
-# --------------------------------------------------------------------------- code generation
+# --------------------------------------------------------------------------- the design tables
 
-def _float_expr(e):
-    """The expression with every number (sqrt(181), 1/3, huge integers) evaluated to a float."""
-    return sp.N(sp.sympify(e), 17)
+#: Monomials in ``(q, cos q, sin q)`` a leg's quadric coefficients may use (a leg needing more goes
+#: to the numpy path).
+MAX_MONOMIALS = 12
+_U = 2.0**-53                    # unit roundoff
+_GAMMA_SUM = (MAX_MONOMIALS + 4) * _U / (1 - (MAX_MONOMIALS + 4) * _U)  # a sum of rounded products
+_INFLATE = 1.0 + 2.0**-40        # covers the rounding of the bound arithmetic itself
+_TINY = 2.0**-1000               # covers every underflow (each below 2**-1074 per operation)
 
 
-def _coefficient_source(exprs, symbols, name):
-    """Source of ``def name(q0, q1, q2, out)`` writing ``exprs`` into ``out``."""
-    args = [sp.Symbol(f"_q{i}") for i in range(len(symbols))]
-    sub = dict(zip(symbols, args))
-    exprs = [_float_expr(sp.sympify(e).xreplace(sub)) for e in exprs]
-    repl, red = sp.cse(exprs, symbols=sp.numbered_symbols("_c"), optimizations="basic")
-    lines = [f"def {name}({', '.join(map(str, args))}, out):"]
-    pr = sp.printing.pycode
-    for s, e in repl:
-        lines.append(f"    {s} = {pr(e, fully_qualified_modules=True)}")
-    for i, e in enumerate(red):
-        lines.append(f"    out[{i}] = {pr(e, fully_qualified_modules=True)}")
-    lines.append("    return None")
-    return "\n".join(lines) + "\n"
+class DesignTables:
+    """The per-design input of the generic kernel: each leg's quadric coefficients (and their
+    derivatives in the joint value) as polynomials in the features ``q, cos q, sin q``.
+
+    Attributes
+    ----------
+    expo : (3, MAX_MONOMIALS, 3) int64
+        Exponents of ``(q, cos q, sin q)`` of each leg's monomials.
+    coef : (3, MAX_MONOMIALS, 16) float
+        Constant factor of each monomial in the 8 quadric coefficients ``c, a0, a1, b0, b1, k0,
+        k1, k2`` and their 8 derivatives in ``q``, each rounded once from its exact value.
+    cerr : (3, MAX_MONOMIALS, 16) float
+        Rigorous bounds on that rounding.
+    nmono : (3,) int64
+        Monomials per leg.
+    trig : (3,) int64
+        1 where the leg's coefficients use ``cos q``, ``sin q`` (an actuated revolute joint).
+    plan : (7,) int64
+        :func:`imagespace.core.elimination.plan_array` of the design's elimination plan.
+    """
+
+    def __init__(self, expo, coef, cerr, nmono, trig, plan):
+        self.expo, self.coef, self.cerr, self.nmono, self.trig, self.plan = (
+            expo, coef, cerr, nmono, trig, plan)
+
+    @property
+    def degree(self):
+        """Degree of the eliminated form ``F`` (6, or 4 when no leg has an RR dyad)."""
+        return 4 if self.plan[6] == 1 else 6
+
+    def arrays(self):
+        """The arrays in the order the kernel takes them."""
+        return self.expo, self.coef, self.cerr, self.nmono, self.trig, self.plan
+
+
+def _rounded(v):
+    """A float of the exact sympy number ``v`` and a rigorous bound on the rounding."""
+    if v == 0:
+        return 0.0, 0.0
+    if v.is_Rational:
+        f = float(v)                                   # correctly rounded
+        return f, abs(f) * _U + 2.0**-1074
+    f = float(sp.N(v, 40))                             # 40 digits, then rounded
+    return f, abs(f) * 2 * _U + 2.0**-1000
+
+
+def design_tables(manipulator):
+    """Derive the :class:`DesignTables` of a numeric design, or None where the generic kernel does
+    not apply (a PP dyad, a Cramer denominator vanishing identically, coefficients that are not
+    polynomial in ``q, cos q, sin q``, too many monomials).
+
+    The derivation is small and done once per design: each leg's dyad quadric with a symbolic
+    joint value (eight coefficients and their derivatives), expanded on the monomials of the
+    features. Nothing is eliminated symbolically: the kernel eliminates per row.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.solve.kernel import design_tables
+    >>> t = design_tables(isp.examples.stigger_husty())
+    >>> t.nmono.tolist(), t.trig.tolist(), t.degree
+    ([3, 3, 2], [0, 0, 0], 6)
+    """
+    from ..core.elimination import combine_rows, plan_array
+
+    if "PP" in manipulator.kinds:
+        return None
+    plan = manipulator.elimination_plan
+    # case (a): the Cramer denominator vanishes identically (a property of the design)
+    rows = combine_rows(manipulator.quadrics(None), plan)
+    E1, E2 = rows[0], rows[1]
+    D = [sp.expand(E1.A[0] * E2.B[0] - E2.A[0] * E1.B[0]),
+         sp.expand(E1.A[0] * E2.B[1] + E1.A[1] * E2.B[0] - E2.A[0] * E1.B[1] - E2.A[1] * E1.B[0]),
+         sp.expand(E1.A[1] * E2.B[1] - E2.A[1] * E1.B[1])]
+    if all(v == 0 for v in D):
+        return None
+    expo = np.zeros((3, MAX_MONOMIALS, 3), dtype=np.int64)
+    coef = np.zeros((3, MAX_MONOMIALS, 16))
+    cerr = np.zeros((3, MAX_MONOMIALS, 16))
+    nmono = np.zeros(3, dtype=np.int64)
+    trig = np.zeros(3, dtype=np.int64)
+    for i, leg in enumerate(manipulator.legs):
+        q = sp.Symbol("q", real=True)
+        cs = [sp.expand(sp.sympify(c)) for c in leg.dyad(q).coefficients()]
+        exprs = cs + [sp.expand(sp.diff(c, q)) for c in cs]
+        gens = (q, sp.cos(q), sp.sin(q))
+        terms = {}
+        for k, e in enumerate(exprs):
+            try:
+                poly = sp.Poly(e, *gens)
+            except sp.PolynomialError:
+                return None
+            for mono, val in poly.terms():
+                if val.free_symbols:
+                    return None
+                terms.setdefault(mono, {})[k] = val
+        if len(terms) > MAX_MONOMIALS:
+            return None
+        for j, mono in enumerate(sorted(terms)):
+            expo[i, j] = mono
+            for k, val in terms[mono].items():
+                coef[i, j, k], cerr[i, j, k] = _rounded(sp.sympify(val))
+        nmono[i] = len(terms)
+        trig[i] = int(any(mono[1] or mono[2] for mono in terms))
+    return DesignTables(expo, coef, cerr, nmono, trig, plan_array(plan))
+
+
+@njit(cache=True)
+def design_row(qr, expo, coef, cerr, nmono, trig, bounded, buf, Ce, acc):
+    """The quadric coefficients of one joint vector ``qr`` (3,) from the design tables: ``buf[0:24]``
+    the three quadrics, ``buf[24:48]`` their derivatives in the joint values; with ``bounded``
+    also rigorous bounds ``Ce`` (24,) on the error of ``buf[0:24]`` (``acc``: 8 floats of scratch).
+
+    The joint values are exact binary rationals; ``cos q``, ``sin q`` come with rigorous bounds
+    from :func:`imagespace.core.bounded_trig.cos_sin_bounded` when ``bounded``, else from libm."""
+    for i in range(3):
+        q = qr[i]
+        cq = 0.0
+        sq = 0.0
+        ec = 0.0
+        es = 0.0
+        if trig[i] != 0:
+            if bounded:
+                cq, sq, ec, es = cos_sin_bounded(q)
+            else:
+                cq = math.cos(q)
+                sq = math.sin(q)
+        for k in range(8):
+            buf[8 * i + k] = 0.0
+            buf[24 + 8 * i + k] = 0.0
+            Ce[8 * i + k] = 0.0
+            acc[k] = 0.0
+        for j in range(nmono[i]):
+            mv = 1.0
+            me = 0.0
+            for _ in range(expo[i, j, 0]):
+                nv = mv * q
+                me = me * abs(q) + _U * abs(nv)
+                mv = nv
+            for _ in range(expo[i, j, 1]):
+                nv = mv * cq
+                me = abs(mv) * ec + me * abs(cq) + me * ec + _U * abs(nv)
+                mv = nv
+            for _ in range(expo[i, j, 2]):
+                nv = mv * sq
+                me = abs(mv) * es + me * abs(sq) + me * es + _U * abs(nv)
+                mv = nv
+            for k in range(8):
+                v = coef[i, j, k]
+                p = mv * v
+                buf[8 * i + k] += p
+                buf[24 + 8 * i + k] += mv * coef[i, j, 8 + k]
+                if bounded:
+                    Ce[8 * i + k] += abs(mv) * cerr[i, j, k] + me * abs(v) + me * cerr[i, j, k]
+                    acc[k] += abs(p)
+        if bounded:
+            for k in range(8):
+                Ce[8 * i + k] = (Ce[8 * i + k] + _GAMMA_SUM * acc[k]) * _INFLATE + _TINY
 
 
 _LOOP_SOURCE = """
 
 @njit(parallel=True, cache=CACHE)
-def run(Q, layout, nbuf, tol, X, P, R, A, cnt, flag):
+def run(Q, expo, coef, cerr, nmono, trig, plan, tol, X, P, R, A, cnt, flag):
     n = Q.shape[0]
     nblocks = min(n, 64)
+    dF = 4 if plan[6] == 1 else 6
     for b in prange(nblocks):
         lo = b * n // nblocks
         hi = (b + 1) * n // nblocks
-        buf = np.empty(nbuf)
+        buf = np.empty(48 + ROW_SIZE)
+        Ce = np.zeros(24)
+        eout = np.zeros(ROW_SIZE)
+        ework = np.empty(ELIM_WORK + 8)
         work = np.empty(WORK_SIZE)
+        layout = np.empty(3, dtype=np.int64)
+        layout[0] = 2
+        layout[1] = 3
+        layout[2] = dF
         for r in range(lo, hi):
-            coefficients(Q[r, 0], Q[r, 1], Q[r, 2], buf)
+            design_row(Q[r], expo, coef, cerr, nmono, trig, False, buf, Ce, ework)
+            eliminate_row(buf, Ce, plan, buf[48:], eout, ework, False)
             k, f = _solve_row(buf, layout, tol, X[r], P[r], R[r], A[r], work)
             if f != 0:
                 k = 0
@@ -589,11 +771,33 @@ def run(Q, layout, nbuf, tol, X, P, R, A, cnt, flag):
             flag[r] = f
 """
 
-_HEADER = """# generated by imagespace.solve.kernel for one design; safe to delete
+_COUNTS_SOURCE = """
+
+@njit(parallel=True, cache=CACHE)
+def run_counts(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart):
+    n = Q.shape[0]
+    nblocks = min(n, 64)
+    for b in prange(nblocks):
+        r0 = b * n // nblocks
+        r1 = (b + 1) * n // nblocks
+        buf = np.empty(48 + ROW_SIZE)
+        Ce = np.zeros(24)
+        eout = np.zeros(ROW_SIZE)
+        ework = np.empty(ELIM_WORK + 8)
+        iwork = np.empty(ISOLATE_WORK)
+        for r in range(r0, r1):
+            design_row(Q[r], expo, coef, cerr, nmono, trig, True, buf, Ce, ework)
+            d = eliminate_row(buf, Ce, plan, buf[48:], eout, ework, True)
+            counts[r] = count_real_roots_row(buf[48 + ROW_F:], eout[ROW_F:], d, lo[r], hi[r], chart[r], iwork)
+"""
+
+_HEADER = """# generated by imagespace.solve.kernel: the generic batch loop (one per installation); safe to delete
 import math
 import numpy as np
 from imagespace.core._numba import njit, prange
-from imagespace.solve.kernel import _solve_row, _WORK_SIZE as WORK_SIZE
+from imagespace.solve.kernel import (_solve_row, _WORK_SIZE as WORK_SIZE, design_row,
+    eliminate_row, ELIMINATION_ROW_SIZE as ROW_SIZE, ELIMINATION_WORK_SIZE as ELIM_WORK, ROW_F,
+    count_real_roots_row, ISOLATE_WORK_SIZE as ISOLATE_WORK)
 """
 
 _DISK_ATTEMPTS = 3         # loads from the disk cache before compiling in memory (see _compile)
@@ -636,17 +840,35 @@ def _helpers_without_code():
             if hasattr(v, "_cache") and hasattr(v, "overloads") and not v.overloads]
 
 
-def _warm(run, nbuf):
-    """Compile (or load from numba's cache) ``run`` for exactly the types ``BatchKernel.__call__``
-    passes, on an empty batch: a corrupted cache entry fails here, not in a user's batch."""
-    run(np.empty((0, 3)), np.zeros(3, dtype=np.int64), nbuf, np.zeros(len(kernel_tolerances(TOLERANCES))),
-        np.empty((0, _MAX, 4)),
-        np.empty((0, _MAX, 3)), np.empty((0, _MAX)), np.empty((0, _MAX), dtype=np.int8),
-        np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8))
-    return run
+def _warm(mod):
+    """Compile (or load from numba's cache) the loops of the generated module ``mod`` for exactly
+    the types :class:`BatchKernel` passes, on an empty batch: a corrupted cache entry fails here,
+    not in a user's batch. Returns ``(run, run_counts)``."""
+    i64 = np.int64
+    tables = (np.zeros((3, MAX_MONOMIALS, 3), dtype=i64), np.zeros((3, MAX_MONOMIALS, 16)),
+              np.zeros((3, MAX_MONOMIALS, 16)), np.zeros(3, dtype=i64), np.zeros(3, dtype=i64),
+              np.zeros(7, dtype=i64))
+    mod.run(np.empty((0, 3)), *tables, np.zeros(len(kernel_tolerances(TOLERANCES))),
+            np.empty((0, _MAX, 4)), np.empty((0, _MAX, 3)), np.empty((0, _MAX)),
+            np.empty((0, _MAX), dtype=np.int8), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8))
+    mod.run_counts(np.empty((0, 3)), *tables, np.empty(0, dtype=np.int8), np.empty((0, _MAX)),
+                   np.empty((0, _MAX)), np.empty((0, _MAX), dtype=np.int8))
+    return mod.run, mod.run_counts
 
 
-def _compile(source, nbuf):
+_INLINED_MODULES = ("imagespace.solve.kernel", "imagespace.core.elimination", "imagespace.core.quadrics",
+                    "imagespace.core.isolate", "imagespace.core.bounded_trig")
+
+
+def _module_source(name):
+    """The bytes of an imported module's source file."""
+    import sys
+
+    with open(sys.modules[name].__file__, "rb") as fh:
+        return fh.read()
+
+
+def _compile(source):
     """The compiled ``run`` of generated ``source``: from the disk cache where there is a private
     one, else compiled in memory.
 
@@ -655,10 +877,11 @@ def _compile(source, nbuf):
     rebuilt; if that fails too, the helpers' entries are deleted as well, and at last the kernel
     is compiled in memory. One :class:`KernelCacheWarning` per broken entry.
     """
-    # the key covers this module's own source too: numba's cache of the generated loop does not
-    # notice a change in the helpers it calls, so a new imagespace must mean a new file
-    with open(__file__, "rb") as fh:
-        own = fh.read()
+    # the key covers the source of every module whose functions the loops compile in (this one,
+    # the elimination, the quadrics' system, the isolation, the trig enclosure): numba's cache of
+    # the generated loops does not notice a change in the helpers they call, so a new imagespace
+    # must mean a new file
+    own = b"".join(_module_source(name) for name in _INLINED_MODULES)
     key = hashlib.sha256(source.encode() + own).hexdigest()[:20]
     folder = kernel_cache_dir()
     if folder is not None:
@@ -670,10 +893,10 @@ def _compile(source, nbuf):
             except OSError:            # the directory is not writable: compile in memory
                 break
             try:
-                run = _warm(mod.run, nbuf)
+                run = _warm(mod)
             except Exception as exc:   # noqa: BLE001 - anything numba's cache loader raises
                 errors.append(f"{type(exc).__name__}: {exc}"[:200])
-                stale = [getattr(mod, "run", None), getattr(mod, "coefficients", None)]
+                stale = [getattr(mod, "run", None), getattr(mod, "run_counts", None)]
                 if attempt >= 1:
                     stale += _helpers_without_code()
                 _discard(_numba_files(stale) + [path])
@@ -685,30 +908,36 @@ def _compile(source, nbuf):
         if errors:
             warn_once("corrupted", path, f"kernel cache entry {path} was corrupted ({errors[0]}) "
                        "and could not be rebuilt: deleted, the kernel is compiled in memory")
-    ns = {}
-    exec(compile(source.replace("CACHE", "False"), f"<imagespace kernel {key}>", "exec"), ns)
-    return _warm(ns["run"], nbuf)
+    import types
+
+    mod = types.ModuleType(f"imagespace_kernel_{key}")
+    exec(compile(source.replace("CACHE", "False"), f"<imagespace kernel {key}>", "exec"), mod.__dict__)
+    return _warm(mod)
 
 
 class BatchKernel:
-    """The compiled direct-kinematics kernel of one design (see the module docstring).
+    """The generic compiled direct-kinematics kernel, bound to one design's tables (see the
+    module docstring).
 
-    Built by :func:`build_kernel`; called by :meth:`PlanarParallel.direct_kinematics_batch`.
+    Built by :func:`build_kernel`; called by :meth:`PlanarParallel.direct_kinematics_batch`. The
+    compiled loop is the same for every design (compiled once per installation, then loaded
+    from the cache); only the small :class:`DesignTables` differ.
 
     Attributes
     ----------
     source : str
-        The generated module: the coefficient function (readable Python) and the parallel loop.
+        The generic loop's module (readable Python), the same for every design.
     layout : (3,) int
         Degrees of ``D``, ``X2``/``X3`` and ``F``.
+    tables : DesignTables
     """
 
-    def __init__(self, coefficient_source, layout, nbuf, tolerances=None):
-        self.source = _HEADER + "\n\n@njit(cache=CACHE)\n" + coefficient_source + _LOOP_SOURCE
-        self.layout = np.asarray(layout, dtype=np.int64)
-        self.nbuf = nbuf
+    def __init__(self, tables, tolerances=None):
+        self.source = _SOURCE
+        self.tables = tables
+        self.layout = np.array([2, 3, tables.degree], dtype=np.int64)
         self.tolerances = kernel_tolerances(TOLERANCES if tolerances is None else tolerances)
-        self._run = _compile(self.source, nbuf)
+        self._run, self._run_counts = _generic_run()
 
     def __call__(self, Q):
         """Solve joint vectors ``Q`` (n, 3) (finite, in the joints' domains).
@@ -728,13 +957,57 @@ class BatchKernel:
         cnt = np.empty(n, dtype=np.int64)
         flag = np.empty(n, dtype=np.int8)
         if n:
-            self._run(Q, self.layout, self.nbuf, self.tolerances, X, P, R, A, cnt, flag)
+            self._run(Q, *self.tables.arrays(), self.tolerances, X, P, R, A, cnt, flag)
         return X, P, R, A, cnt, flag
+
+    def certified_counts(self, Q):
+        """Proven numbers of distinct real roots of the kinematic form for joint vectors ``Q`` (n, 3)
+        (finite, in the joints' domains; floats taken as the exact binary rationals they are).
+
+        Per row: the quadric coefficients with rigorous error bounds (``cos``/``sin`` enclosed),
+        the elimination with a rigorous bound on every coefficient of ``F``, then
+        :func:`imagespace.core.isolate.count_real_roots_row` (Descartes' rule in the Bernstein
+        basis, every sign decided despite the bounds). No eigenvalues, no flint.
+
+        Returns
+        -------
+        counts : (n,) int8
+            The count, or -1 where the bounds could not decide it (a multiple or nearly multiple
+            root, a root on a chart boundary): the caller decides those rows exactly.
+        lo, hi : (n, 6) float
+            Isolating interval of each root (NaN padded), in ``t = x1/x0`` where ``chart`` is 0
+            and in ``s = x0/x1`` where it is 1.
+        chart : (n, 6) int8
+            -1 in unused slots.
+        """
+        Q = np.ascontiguousarray(Q, dtype=float)
+        n = Q.shape[0]
+        counts = np.empty(n, dtype=np.int8)
+        lo = np.full((n, _MAX), np.nan)
+        hi = np.full((n, _MAX), np.nan)
+        chart = np.full((n, _MAX), -1, dtype=np.int8)
+        if n:
+            self._run_counts(Q, *self.tables.arrays(), counts, lo, hi, chart)
+        return counts, lo, hi, chart
+
+
+_SOURCE = _HEADER + _LOOP_SOURCE + _COUNTS_SOURCE
+_RUN = {}                  # the compiled generic loops per cache directory in effect, per process
+
+
+def _generic_run():
+    """The compiled generic loops, loaded from the private cache (compiled once per installation)
+    and then kept for the process; a change of ``$IMAGESPACE_CACHE`` loads them from there."""
+    folder = kernel_cache_dir()
+    if folder not in _RUN:
+        _RUN[folder] = _compile(_SOURCE)
+    return _RUN[folder]
 
 
 def build_kernel(manipulator):
-    """Derive and compile the batch kernel of a numeric design, or return None where the kernel
-    does not apply (no numba, a PP dyad, a Cramer denominator vanishing identically).
+    """The batch kernel of a numeric design, or None where the kernel does not apply (no numba,
+    a PP dyad, a Cramer denominator vanishing identically): the generic compiled loop bound to
+    the design's :func:`design_tables`. No per-design code is generated or compiled.
 
     Examples
     --------
@@ -744,24 +1017,9 @@ def build_kernel(manipulator):
     >>> (k is not None) == HAVE_NUMBA
     True
     """
-    from ..core.elimination import eliminate
-
-    if not HAVE_NUMBA or "PP" in manipulator.kinds:
+    if not HAVE_NUMBA:
         return None
-    q = manipulator.joint_symbols
-    quads = manipulator.quadrics(None)
-    el = eliminate(quads, manipulator.elimination_plan)
-    D = [sp.expand(v) for v in el.D]
-    if all(v == 0 for v in D):
+    tables = design_tables(manipulator)
+    if tables is None:
         return None
-    P = manipulator.kinematic_polynomial()
-    d = P.total_degree()
-    F = form_coefficients(P)
-    C = [v for qd in quads for v in qd.coefficients()]
-    dC = [sp.diff(v, q[i]) for i, qd in enumerate(quads) for v in qd.coefficients()]
-    exprs = C + dC + D + list(el.X2) + list(el.X3) + F
-    layout = (len(D) - 1, len(el.X2) - 1, d)
-    if len(el.X3) != len(el.X2) or d > _MAX:
-        return None
-    src = _coefficient_source(exprs, q, "coefficients")
-    return BatchKernel(src, layout, len(exprs), manipulator.tolerances)
+    return BatchKernel(tables, manipulator.tolerances)
