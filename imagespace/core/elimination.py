@@ -374,7 +374,8 @@ ELIMINATION_WORK_SIZE = 76
 _ROW_U = 2.0**-53                        # unit roundoff of double precision
 _ROW_GAMMA = 40 * _ROW_U / (1 - 40 * _ROW_U)   # gamma_40: any sum of up to 39 rounded products
 _ROW_INFLATE = 1.0 + 2.0**-40            # covers the rounding of the bound arithmetic itself
-_ROW_TINY = 2.0**-1000                   # covers every underflow (each below 2**-1074 per operation)
+_ROW_TINY = 2.0**-500                    # covers every underflow (each below 2**-1074 per operation); not
+                                         # smaller: a product of two such floors must not underflow (slow)
 
 
 def plan_array(plan):

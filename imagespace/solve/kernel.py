@@ -572,7 +572,8 @@ MAX_MONOMIALS = 12
 _U = 2.0**-53                    # unit roundoff
 _GAMMA_SUM = (MAX_MONOMIALS + 4) * _U / (1 - (MAX_MONOMIALS + 4) * _U)  # a sum of rounded products
 _INFLATE = 1.0 + 2.0**-40        # covers the rounding of the bound arithmetic itself
-_TINY = 2.0**-1000               # covers every underflow (each below 2**-1074 per operation)
+_TINY = 2.0**-500                # covers every underflow (each below 2**-1074 per operation); not
+                                 # smaller: a product of two such floors must not underflow (slow)
 
 
 class DesignTables:
