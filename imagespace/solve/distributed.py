@@ -19,6 +19,9 @@ functions only.
 
 from __future__ import annotations
 
+import sys
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any, Optional
 
@@ -42,6 +45,53 @@ __all__ = ["direct_kinematics_dask", "DKDaskResult", "DEFAULT_CHUNK_ROWS"]
 DEFAULT_CHUNK_ROWS = 65536
 
 _METHODS = ("auto", "kernel", "numpy")
+
+#: How many designs a ``dask.distributed`` worker process keeps between computations (the most
+#: recently used ones), with their compiled kernels. Memory management only, decides nothing.
+KEPT_DESIGNS_MAX = 4
+
+#: The designs kept by this worker process: dask token -> the worker's copy of the design. A
+#: worker receives a fresh copy of the design with every computation (the graph's key is released
+#: when the computation ends); solving with the copy it already holds reuses that copy's compiled
+#: kernel (building it again costs 2-3 s per worker). Filled on ``dask.distributed`` workers only
+#: (a local scheduler passes the caller's own object, which keeps its kernel anyway).
+KEPT_DESIGNS: "OrderedDict[str, Any]" = OrderedDict()
+_KEPT_LOCK = threading.Lock()
+
+
+def _on_dask_worker() -> bool:
+    """Whether this code runs in a task on a ``dask.distributed`` worker."""
+    if "distributed" not in sys.modules:
+        return False
+    from distributed import get_worker
+
+    try:
+        get_worker()
+    except ValueError:
+        return False
+    return True
+
+
+def kept_design(token: str, m: Any) -> Any:
+    """The design to solve with: on a ``dask.distributed`` worker the copy of the design with
+    this token kept from an earlier computation (with its compiled kernel), else ``m``.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.solve.distributed import kept_design
+    >>> m = isp.examples.general_3rpr()
+    >>> kept_design("token", m) is m          # not on a worker: the design as given
+    True
+    """
+    if not _on_dask_worker():
+        return m
+    with _KEPT_LOCK:
+        kept = KEPT_DESIGNS.setdefault(token, m)
+        KEPT_DESIGNS.move_to_end(token)
+        while len(KEPT_DESIGNS) > KEPT_DESIGNS_MAX:
+            KEPT_DESIGNS.popitem(last=False)
+    return kept
 
 
 def record_dtype(certify: bool) -> np.dtype:
@@ -67,11 +117,11 @@ def record_dtype(certify: bool) -> np.dtype:
     return np.dtype(spec)
 
 
-def solve_block(block: np.ndarray, m: Any, certify: bool, method: str) -> np.ndarray:
+def solve_block(block: np.ndarray, m: Any, certify: bool, method: str, token: str = "") -> np.ndarray:
     """Solve one row block: :func:`direct_kinematics_batch` on it, packed into records.
 
-    The task function of :func:`direct_kinematics_dask` (runs on the workers). Reads only the
-    public attributes of the batch result.
+    The task function of :func:`direct_kinematics_dask` (runs on the workers; ``token`` names
+    the design for :func:`kept_design`). Reads only the public attributes of the batch result.
 
     Examples
     --------
@@ -86,7 +136,8 @@ def solve_block(block: np.ndarray, m: Any, certify: bool, method: str) -> np.nda
     out = np.zeros(block.shape[0], dtype=record_dtype(certify))
     if block.shape[0] == 0:
         return out
-    res = direct_kinematics_batch(m, block, certify=certify, method=method)
+    res = direct_kinematics_batch(kept_design(token, m) if token else m, block, certify=certify,
+                                  method=method)
     out["count"] = res.count
     out["poses"] = res.poses
     out["valid"] = res.valid
@@ -337,7 +388,9 @@ def direct_kinematics_dask(m: Any, Q: "dask.array.Array | npt.ArrayLike", certif
     Notes
     -----
     The dask graph holds ``m`` once, as its own key: the worker processes each receive one copy
-    (pickled without its caches) and keep it for every block they solve. Reductions stream:
+    (pickled without its caches) and keep it for every block they solve, and for the next
+    computations (:data:`KEPT_DESIGNS_MAX` designs per worker), so a worker builds the
+    design's compiled kernel once. Reductions stream:
     ``da.bincount(r.count, minlength=7).compute()`` holds a few blocks per worker at a time,
     never an array of ``n`` rows.
 
@@ -360,6 +413,7 @@ def direct_kinematics_dask(m: Any, Q: "dask.array.Array | npt.ArrayLike", certif
     """
     import dask
     import dask.array as da
+    from dask.base import tokenize
 
     certify = as_flag(certify, "certify")
     if not isinstance(method, str) or method not in _METHODS:
@@ -367,9 +421,11 @@ def direct_kinematics_dask(m: Any, Q: "dask.array.Array | npt.ArrayLike", certif
     Q = _as_row_blocks(Q)
     dtype = record_dtype(certify)
     # the manipulator as one key of the graph (not copied into every task): a worker receives it
-    # once and its compiled kernel, cached on that copy, serves every block the worker solves
-    design = dask.delayed(m, pure=True)
-    records = da.map_blocks(solve_block, Q, design, certify, method, dtype=dtype, drop_axis=1,
+    # once and its compiled kernel, cached on that copy, serves every block the worker solves;
+    # the token (of the design without its caches) finds the copy a worker kept from before
+    token = tokenize(m)
+    design = dask.delayed(m, name=f"{type(m).__name__}-{token}")
+    records = da.map_blocks(solve_block, Q, design, certify, method, token, dtype=dtype, drop_axis=1,
                             chunks=(Q.chunks[0],), meta=np.empty((0,), dtype=dtype),
                             token="direct-kinematics-dask")
     return DKDaskResult.from_records(records)
