@@ -4,7 +4,8 @@ Not a test: prints rows per second, the total time and the peak resident memory 
 against a baseline measured in the same run.
 
 Run with ``python benchmarks/dask_stream.py [--rows N] [--chunk C] [--baseline-rows B]``
-(defaults: ``--rows 100000000 --chunk 262144 --baseline-rows 10000000``).
+(defaults: ``--rows 100000000 --chunk 262144 --baseline-rows 10000000``);
+``--worker-numba-threads 1`` limits the compiled kernel to one thread in each worker.
 
 * The rows are generated inside dask, block by block: joint vectors of seeded random poses
   (``x, y`` uniform in [-6, 6], ``phi`` uniform in [-pi, pi]) through the inverse kinematics of
@@ -68,14 +69,15 @@ def peak_mb():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def stream(n, chunk):
+def stream(n, chunk, numba_threads=None):
     import dask
     import dask.array as da
     from distributed import Client, LocalCluster
 
     m = design()
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as client:
+    env = {} if numba_threads is None else {"NUMBA_NUM_THREADS": str(numba_threads)}
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                      env=env) as cluster, Client(cluster) as client:
         # warm-up: each worker derives the kernel and loads it from the numba cache (not timed)
         t = time.perf_counter()
         warm = m.direct_kinematics_dask(lazy_rows(4 * 4096, 4096)).count.sum().compute()
@@ -93,7 +95,8 @@ def stream(n, chunk):
         t = time.perf_counter()
         lazy_rows(k, chunk).sum().compute()
         gen_rate = k / (time.perf_counter() - t)
-    print(f"dask LocalCluster, 2 worker processes x 1 thread, blocks of {chunk:,} rows "
+    print(f"dask LocalCluster, 2 worker processes x 1 thread (numba threads per worker: "
+          f"{numba_threads or 'default'}), blocks of {chunk:,} rows "
           f"({-(-n // chunk)} blocks); warm-up of 16,384 rows (kernel per worker, {warm} modes) "
           f"{warm_s:.1f} s")
     print(f"  {n:,} rows streamed (generation + direct kinematics + reduction): {dt:.1f} s, "
@@ -132,8 +135,10 @@ def main():
     ap.add_argument("--rows", type=int, default=10**8)
     ap.add_argument("--chunk", type=int, default=1 << 18)
     ap.add_argument("--baseline-rows", type=int, default=10**7)
+    ap.add_argument("--worker-numba-threads", type=int, default=None,
+                    help="NUMBA_NUM_THREADS of the workers (default: numba's, one per core)")
     args = ap.parse_args()
-    rate, gen_cluster = stream(args.rows, args.chunk)
+    rate, gen_cluster = stream(args.rows, args.chunk, args.worker_numba_threads)
     base, gen_serial = baseline(min(args.baseline_rows, args.rows), args.chunk)
     serial_total = 1 / (1 / base + 1 / gen_serial)
     print(f"ratio: streamed on the cluster {rate:,.0f} rows/s = {rate / base:.2f}x the serial "
