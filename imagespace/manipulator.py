@@ -9,7 +9,7 @@ batches, chunks; results in :mod:`imagespace.solve.results`); the singularity su
 from __future__ import annotations
 
 from .core.mechanism import Mechanism
-from .solve import dispatch
+from .solve import dispatch, distributed
 from .solve.results import AssemblyMode, CertifiedModes, DKBatchResult
 
 __all__ = ["PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes"]
@@ -43,6 +43,7 @@ class PlanarParallel(Mechanism):
     direct_kinematics_batch = dispatch.direct_kinematics_batch
     direct_kinematics_chunks = dispatch.direct_kinematics_chunks
     certified_root_counts = dispatch.certified_root_counts
+    direct_kinematics_dask = distributed.direct_kinematics_dask    # dask imported on first call
 
     def __repr__(self):
         return f"PlanarParallel({self.name!r}, legs={list(self.legs)!r})"
