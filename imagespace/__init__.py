@@ -74,6 +74,13 @@ class _Package(_types.ModuleType):
             return
         super().__setattr__(name, value)
 
+    def __reduce__(self):
+        # pickled by name, like any module (cloudpickle dispatches modules on the exact type, so
+        # without this a function using ``isp`` could not be sent to a dask worker or a process)
+        import importlib
+
+        return importlib.import_module, (self.__name__,)
+
 
 _sys.modules[__name__].__class__ = _Package
 

@@ -58,3 +58,18 @@ def test_the_notebooks_short_paths_still_import():
                 "cusps": "cusp_loop", "paths": "check_path", "design": "fuzzy_minmax"}
     for old, name in expected.items():
         assert callable(getattr(importlib.import_module(f"imagespace.{old}"), name)), old
+
+
+def test_a_function_using_the_package_pickles_by_reference():
+    """cloudpickle (dask workers, process pools) sends the package by name, not by value."""
+    import pickle
+
+    import cloudpickle
+
+    import imagespace as isp
+
+    def name():
+        return isp.examples.general_3rpr().name
+
+    assert pickle.loads(cloudpickle.dumps(isp)) is isp
+    assert pickle.loads(cloudpickle.dumps(name))() == "general 3-RPR"
