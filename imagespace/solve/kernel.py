@@ -841,20 +841,23 @@ def _helpers_without_code():
             if hasattr(v, "_cache") and hasattr(v, "overloads") and not v.overloads]
 
 
-def _warm(mod):
-    """Compile (or load from numba's cache) the loops of the generated module ``mod`` for exactly
-    the types :class:`BatchKernel` passes, on an empty batch: a corrupted cache entry fails here,
-    not in a user's batch. Returns ``(run, run_counts)``."""
+def _warm(mod, name):
+    """Compile (or load from numba's cache) the loop ``name`` (``"run"`` or ``"run_counts"``) of
+    the generated module ``mod`` for exactly the types :class:`BatchKernel` passes, on an empty
+    batch: a corrupted cache entry fails here, not in a user's batch. Each loop is loaded only
+    when first needed (loading one takes about half a second)."""
     i64 = np.int64
     tables = (np.zeros((3, MAX_MONOMIALS, 3), dtype=i64), np.zeros((3, MAX_MONOMIALS, 16)),
               np.zeros((3, MAX_MONOMIALS, 16)), np.zeros(3, dtype=i64), np.zeros(3, dtype=i64),
               np.zeros(7, dtype=i64))
-    mod.run(np.empty((0, 3)), *tables, np.zeros(len(kernel_tolerances(TOLERANCES))),
-            np.empty((0, _MAX, 4)), np.empty((0, _MAX, 3)), np.empty((0, _MAX)),
-            np.empty((0, _MAX), dtype=np.int8), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8))
-    mod.run_counts(np.empty((0, 3)), *tables, np.empty(0, dtype=np.int8), np.empty((0, _MAX)),
-                   np.empty((0, _MAX)), np.empty((0, _MAX), dtype=np.int8))
-    return mod.run, mod.run_counts
+    if name == "run":
+        mod.run(np.empty((0, 3)), *tables, np.zeros(len(kernel_tolerances(TOLERANCES))),
+                np.empty((0, _MAX, 4)), np.empty((0, _MAX, 3)), np.empty((0, _MAX)),
+                np.empty((0, _MAX), dtype=np.int8), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8))
+    else:
+        mod.run_counts(np.empty((0, 3)), *tables, np.empty(0, dtype=np.int8), np.empty((0, _MAX)),
+                       np.empty((0, _MAX)), np.empty((0, _MAX), dtype=np.int8))
+    return getattr(mod, name)
 
 
 _INLINED_MODULES = ("imagespace.solve.kernel", "imagespace.core.elimination", "imagespace.core.quadrics",
@@ -869,7 +872,7 @@ def _module_source(name):
         return fh.read()
 
 
-def _compile(source):
+def _compile(source, name):
     """The compiled ``run`` of generated ``source``: from the disk cache where there is a private
     one, else compiled in memory.
 
@@ -894,10 +897,10 @@ def _compile(source):
             except OSError:            # the directory is not writable: compile in memory
                 break
             try:
-                run = _warm(mod)
+                run = _warm(mod, name)
             except Exception as exc:   # noqa: BLE001 - anything numba's cache loader raises
                 errors.append(f"{type(exc).__name__}: {exc}"[:200])
-                stale = [getattr(mod, "run", None), getattr(mod, "run_counts", None)]
+                stale = [getattr(mod, name, None)]
                 if attempt >= 1:
                     stale += _helpers_without_code()
                 _discard(_numba_files(stale) + [path])
@@ -913,7 +916,7 @@ def _compile(source):
 
     mod = types.ModuleType(f"imagespace_kernel_{key}")
     exec(compile(source.replace("CACHE", "False"), f"<imagespace kernel {key}>", "exec"), mod.__dict__)
-    return _warm(mod)
+    return _warm(mod, name)
 
 
 class BatchKernel:
@@ -938,7 +941,6 @@ class BatchKernel:
         self.tables = tables
         self.layout = np.array([2, 3, tables.degree], dtype=np.int64)
         self.tolerances = kernel_tolerances(TOLERANCES if tolerances is None else tolerances)
-        self._run, self._run_counts = _generic_run()
 
     def __call__(self, Q):
         """Solve joint vectors ``Q`` (n, 3) (finite, in the joints' domains).
@@ -958,7 +960,7 @@ class BatchKernel:
         cnt = np.empty(n, dtype=np.int64)
         flag = np.empty(n, dtype=np.int8)
         if n:
-            self._run(Q, *self.tables.arrays(), self.tolerances, X, P, R, A, cnt, flag)
+            _generic_loop("run")(Q, *self.tables.arrays(), self.tolerances, X, P, R, A, cnt, flag)
         return X, P, R, A, cnt, flag
 
     def certified_counts(self, Q):
@@ -988,7 +990,7 @@ class BatchKernel:
         hi = np.full((n, _MAX), np.nan)
         chart = np.full((n, _MAX), -1, dtype=np.int8)
         if n:
-            self._run_counts(Q, *self.tables.arrays(), counts, lo, hi, chart)
+            _generic_loop("run_counts")(Q, *self.tables.arrays(), counts, lo, hi, chart)
         return counts, lo, hi, chart
 
 
@@ -996,13 +998,14 @@ _SOURCE = _HEADER + _LOOP_SOURCE + _COUNTS_SOURCE
 _RUN = {}                  # the compiled generic loops per cache directory in effect, per process
 
 
-def _generic_run():
-    """The compiled generic loops, loaded from the private cache (compiled once per installation)
-    and then kept for the process; a change of ``$IMAGESPACE_CACHE`` loads them from there."""
-    folder = kernel_cache_dir()
-    if folder not in _RUN:
-        _RUN[folder] = _compile(_SOURCE)
-    return _RUN[folder]
+def _generic_loop(name):
+    """The compiled generic loop ``name``, loaded from the private cache (compiled once per
+    installation) and then kept for the process; a change of ``$IMAGESPACE_CACHE`` loads it from
+    there."""
+    key = (kernel_cache_dir(), name)
+    if key not in _RUN:
+        _RUN[key] = _compile(_SOURCE, name)
+    return _RUN[key]
 
 
 def build_kernel(manipulator):
