@@ -82,8 +82,10 @@ _UNIT_ROUNDOFF = 2.2e-16     # the double precision unit roundoff the rounding b
 _HORNER_ZERO = 4.5e-16       # |p(t)| below this * deg * sum|c_k||t|^k is zero within Horner's rounding
 _BISECT_WIDTH = 4e-16        # a bracket narrower than this (relative) has converged: stopping width
 _TOUCH_ZERO = 64 * _UNIT_ROUNDOFF  # a critical value below this * deg * scale touches the axis
-_POLISHED = 1e-13            # a back-substituted mode with a relative residual below this is not
-                             # polished by Newton (it is at rounding level already)
+_POLISHED = 1e-14            # a back-substituted mode with a relative residual below this and a
+_CONDITIONED = 1e-2          # |det J| above this times Hadamard's bound is not polished by Newton
+                             # (it is at rounding level already: a numerical-method knob, the
+                             # residual check and the joint residual still decide)
 
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
 # into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
@@ -494,7 +496,14 @@ def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
         _system(Cs, X, val, J)
         det = _det4(J, X[0], X[1])
         size = 1.0 + X[2] * X[2] + X[3] * X[3]
-        polished = max(abs(val[0]), abs(val[1]), abs(val[2])) <= _POLISHED * size
+        # skipped only where that residual proves the point accurate: a small residual and a
+        # well-conditioned Jacobian (|det J| against the product of its rows' norms, Hadamard's
+        # bound); near a singularity (close roots) a small residual says little
+        hadamard = 1.0
+        for i in range(4):
+            hadamard *= math.sqrt(J[i, 0] * J[i, 0] + J[i, 1] * J[i, 1] + J[i, 2] * J[i, 2] + J[i, 3] * J[i, 3])
+        polished = (max(abs(val[0]), abs(val[1]), abs(val[2])) <= _POLISHED * size
+                    and abs(det) >= _CONDITIONED * hadamard)
         if not polished:
             for it in range(8):
                 if it > 0:
