@@ -381,6 +381,7 @@ def certify_batch(m, Q, res):
                    & np.all(np.where(res.valid[disc], per_mode == 1, True), axis=1)
                    & (res.count[disc] == counts[disc]))
         consistent[disc[ok_rows]] = True
+    redo = {}                     # row -> (modes, solver name), stored in one rebuild after the loop
     for i in np.flatnonzero(res.row_ok & ~consistent):
         try:
             modes = m.direct_kinematics(Q[i], certify=True)
@@ -389,13 +390,9 @@ def certify_batch(m, Q, res):
             res.errors[int(i)] = str(e)
             counts[i] = -1
             path[i] = "continuum"
-            store_modes(res, i, [])
-            if res.solver is not None:
-                res.solver[i] = "invalid"
+            redo[int(i)] = ([], "invalid")
             continue
-        store_modes(res, i, modes)
-        if res.solver is not None:
-            res.solver[i] = "certified"
+        redo[int(i)] = (modes, "certified")
         cert = modes.certificate
         counts[i] = cert.count if cert.certified else -1
         if path[i] != "flint":
@@ -403,5 +400,10 @@ def certify_batch(m, Q, res):
                 "arb" if cert.certified else "uncertified")
         consistent[i] = bool(cert.certified)
         res.near_singular[i] = not cert.certified
+    if redo:
+        store_modes(res, list(redo), [ms for ms, _ in redo.values()])
+        if res.solver is not None:
+            for name in ("invalid", "certified"):
+                res.set_solver([i for i, (_, s) in redo.items() if s == name], name)
     res.near_singular = res.near_singular & ~consistent      # proven rows are not in doubt
     res.certified_roots, res.certificate_path, res.consistent = counts, path, consistent

@@ -15,7 +15,7 @@ from .._validate import as_count, as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
 from .certified import certified_modes, certify_batch
 from .numpy_path import complex_modes, check_rows, solve_batch
-from .results import AssemblyMode, DKBatchResult, MAX_MODES
+from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 
 _KERNEL_MIN_ROWS = 2000
@@ -249,14 +249,18 @@ def _build_batch_kernel(m):
     return build_kernel(m)
 
 
-def _solve_kernel(m, Q, kernel):
-    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags go to
-    the numpy path (``special``) or to the certified per-row path (a root touching the axis)."""
+#: Rows per kernel call in :func:`_solve_kernel`: each chunk's padded arrays (~0.4 kB a row) are
+#: compacted into the ragged result before the next chunk is solved, which bounds the peak memory
+#: of a large batch (a memory knob, not a decision).
+KERNEL_CHUNK_ROWS = 65536
+
+
+def _kernel_chunk(m, Q, row_ok, kernel):
+    """One chunk of :func:`_solve_kernel`: the kernel on the rows ``row_ok`` of ``Q``, compacted."""
     n = Q.shape[0]
     tol = m.tolerances
-    row_ok, errors = check_rows(m, Q)
     ok = np.flatnonzero(row_ok)
-    if ok.size == n:                       # the usual case: the kernel's arrays are the result
+    if ok.size == n:                       # the usual case: the kernel's arrays are the chunk
         X, P, R, A8, cnt, flag = kernel(Q)
     else:                                  # masked rows stay NaN / 0
         X = np.full((n, MAX_MODES, 4), np.nan)
@@ -267,8 +271,7 @@ def _solve_kernel(m, Q, kernel):
         flag = np.zeros(n, dtype=np.int8)
         if ok.size:
             X[ok], P[ok], R[ok], A8[ok], cnt[ok], flag[ok] = kernel(Q[ok])
-    A = A8.astype(int)
-    solver = np.where(row_ok, "kernel", "invalid").astype("<U9")
+    solver = np.where(row_ok, SOLVER_NAMES.index("kernel"), SOLVER_NAMES.index("invalid")).astype(np.uint8)
     special = row_ok & (flag != 0)
     valid = np.arange(MAX_MODES) < cnt[:, None]
     # cheap indicators of a count the kernel may have got wrong: a real root pair closer
@@ -283,20 +286,27 @@ def _solve_kernel(m, Q, kernel):
     close = np.any(np.where(np.isfinite(gaps), gaps, np.inf) < tol.near_singular_gap, axis=1)
     close |= (cnt > 1) & (wrap < tol.near_singular_gap)
     near = row_ok & ((cnt % 2 == 1) | close)
-    res = DKBatchResult(X, P, valid, cnt, R, A, row_ok, errors, special,
-                        near_singular=near, multiplicity=np.ones((n, MAX_MODES), dtype=np.int8))
+    return DKBatchResult.from_padded(P, valid, R, A8, row_ok, count=cnt, special=special,
+                                     solver=solver, near_singular=near)
+
+
+def _solve_kernel(m, Q, kernel):
+    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags go to
+    the numpy path (``special``) or to the certified per-row path (a root touching the axis).
+    The kernel runs on chunks of :data:`KERNEL_CHUNK_ROWS` rows, each compacted at once."""
+    n = Q.shape[0]
+    row_ok, errors = check_rows(m, Q)
+    parts = [_kernel_chunk(m, Q[s:s + KERNEL_CHUNK_ROWS], row_ok[s:s + KERNEL_CHUNK_ROWS], kernel)
+             for s in range(0, max(n, 1), KERNEL_CHUNK_ROWS)]
+    res = parts[0] if len(parts) == 1 else DKBatchResult.concatenate(parts)
+    del parts
+    res.errors = errors
     # rows the kernel could not decide in floating point (flag 1: Cramer denominator small
     # at a root, Newton not converging; flag 2: a root touching the axis) take the numpy path,
     # which solves case (b) per row and computes its own near_singular mask
-    careful = np.flatnonzero(row_ok & (flag != 0))
+    careful = np.flatnonzero(res.special)
     if careful.size:
         sub = solve_batch(m, Q[careful], raise_degenerate=False)
-        for name in ("image_points", "poses", "valid", "count", "residual", "aspect", "row_ok",
-                     "near_singular"):
-            getattr(res, name)[careful] = getattr(sub, name)
-        for k, msg in sub.errors.items():   # only DegenerateDesignError messages (q stated)
-            errors[int(careful[k])] = msg
-        solver[careful] = "numpy"
-    solver[~res.row_ok] = "invalid"
-    res.solver = solver
+        res.replace_rows(careful, sub)      # modes, count, row_ok, near_singular, solver, errors
+        res.special[careful] = True         # the kernel handed them on: special whatever sub says
     return res
