@@ -369,7 +369,7 @@ class DKBatchResult:
             out = cls.__new__(cls)
             out.__dict__.update({k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in vars(p).items()})
             out.errors = dict(p.errors)
-            out._cache = {}
+            out.release_padded()
             return out
         sizes = [len(p) for p in parts]
         start = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
