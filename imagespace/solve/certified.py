@@ -407,3 +407,4 @@ def certify_batch(m, Q, res):
                 res.set_solver([i for i, (_, s) in redo.items() if s == name], name)
     res.near_singular = res.near_singular & ~consistent      # proven rows are not in doubt
     res.certified_roots, res.certificate_path, res.consistent = counts, path, consistent
+    res.release_padded()          # the padded image points and masks read above are not kept

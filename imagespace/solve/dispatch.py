@@ -22,9 +22,12 @@ _KERNEL_MIN_ROWS = 2000
 
 
 #: Peak bytes per row of a batch, measured with tracemalloc on 20,000 rows of the general 3-RPR
-#: (2026-12-01: numpy path 4.2 kB, kernel 0.7 kB, result 0.49 kB; certify=True adds 3.5 kB),
-#: rounded up; the memory check before a batch multiplies them by the rows.
-BATCH_PEAK_BYTES_PER_ROW = {"numpy": 5000, "kernel": 1000, "certify": 4000}
+#: (2026-12-02, ragged result of 0.14 kB a row: numpy path 4.2 kB; kernel 0.71 kB on one chunk of
+#: 20,000 rows, 0.32 kB on 200,000 rows and 0.25 kB on 10**6 rows of seed 002, its padded arrays
+#: compacted chunk by chunk (KERNEL_CHUNK_ROWS); certify=True on the kernel path 3.1 kB in all, so
+#: it adds 2.4 kB; 2026-12-01 it added 3.5 kB), rounded up; the memory check before a batch
+#: multiplies them by the rows (the large batches it guards are the chunked regime).
+BATCH_PEAK_BYTES_PER_ROW = {"numpy": 5000, "kernel": 500, "certify": 4000}
 
 
 def _have_numba():
@@ -179,7 +182,8 @@ def direct_kinematics_chunks(m: Any, Q: npt.ArrayLike, chunk_size: int = 65536, 
     ----------
     Q : (n, 3) float array (a numpy memmap works)
     chunk_size : int
-        Rows per chunk; the result of one chunk of 65,536 rows takes ~26 MB.
+        Rows per chunk; the result of one chunk of 65,536 rows takes ~8 MB (ragged: ~0.12 kB a row
+        at 3.3 modes a row, 0.21 kB with six).
     certify, method
         As in :meth:`direct_kinematics_batch`.
 

@@ -152,6 +152,11 @@ CERTIFICATE_PATHS = ("discs", "flint", "arb", "uncertified", "invalid", "zero", 
 #: access and not kept. Counted in :attr:`DKBatchResult.nbytes`.
 PADDED_CACHE_BYTES = 8_000_000
 
+#: Up to this many rows, a mutation copies the untouched runs of modes between the rows as blocks
+#: (fast for the few rows a producer re-solves); more rows take one vectorised scatter. A speed
+#: knob, not a decision: both give the same result.
+SPLICE_BLOCK_ROWS = 512
+
 _SOLVER_TABLE = np.array(SOLVER_NAMES)
 _PATH_TABLE = np.array(CERTIFICATE_PATHS)
 _INVALID = SOLVER_NAMES.index("invalid")
@@ -548,38 +553,60 @@ class DKBatchResult:
 
     # -- mutation ------------------------------------------------------------------------------------
     def _splice(self, rows, count, poses, residual, aspect, multiplicity):
-        """Replace the modes of the distinct ``rows`` (int array) by ragged ones: one O(n + M) rebuild."""
+        """Replace the modes of the distinct ``rows`` (int array) by ragged ones (``count`` per row,
+        per-mode arrays in the order of ``rows``): one O(n + M) rebuild, one field at a time (the
+        peak is the result plus its largest field)."""
         n = len(self)
+        old_off = self._offsets
         new_count = self._count.copy()
         new_count[rows] = count
         off = _offsets(new_count)
-        keep = np.ones(n, dtype=bool)
-        keep[rows] = False
-        keep_modes = np.repeat(keep, self._count)                 # old modes kept, in order
-        kept_rows = np.flatnonzero(keep & (self._count > 0))
-        kc = self._count[kept_rows]
-        local = np.arange(int(kc.sum())) - np.repeat(_offsets(kc)[:-1], kc)
-        dest_keep = np.repeat(off[kept_rows], kc) + local
-        sub_local = np.arange(int(count.sum())) - np.repeat(_offsets(count)[:-1], count)
-        dest_sub = np.repeat(off[rows], count) + sub_local
+        sub_off = _offsets(count)
         total = int(off[-1])
+        if rows.size <= SPLICE_BLOCK_ROWS:
+            # few rows: copy the untouched runs of modes between them as blocks
+            order = np.argsort(rows, kind="stable")
+            segments = []                      # (destination start, source, source start, length)
+            prev = 0
+            for k in order.tolist():
+                r = int(rows[k])
+                a, b = int(old_off[prev]), int(old_off[r])
+                segments.append((int(off[prev]), "old", a, b - a))
+                segments.append((int(off[r]), "new", int(sub_off[k]), int(count[k])))
+                prev = r + 1
+            segments.append((int(off[prev]), "old", int(old_off[prev]), int(old_off[n]) - int(old_off[prev])))
 
-        def merge(old, new, fill, dtype):
-            out = np.full((total,) + old.shape[1:], fill, dtype=dtype)
-            out[dest_keep] = old[keep_modes]
-            out[dest_sub] = new
-            return out
+            def merge(old, new, fill, dtype):
+                out = np.empty((total,) + old.shape[1:], dtype=dtype)
+                for d, src, a, length in segments:
+                    if length:
+                        out[d:d + length] = (old if src == "old" else new)[a:a + length]
+                return out
+        else:
+            keep = np.ones(n, dtype=bool)
+            keep[rows] = False
+            keep_modes = np.repeat(keep, self._count)             # old modes kept, in order
+            kc = self._count[keep]
+            dest_keep = np.repeat(off[:-1][keep] - old_off[:-1][keep], kc) + np.flatnonzero(keep_modes)
+            del keep_modes
+            dest_sub = np.repeat(off[rows] - sub_off[:-1], count) + np.arange(int(sub_off[-1]))
 
-        mult = None
+            def merge(old, new, fill, dtype):
+                out = np.empty((total,) + old.shape[1:], dtype=dtype)
+                out[dest_keep] = old[np.repeat(keep, self._count)]
+                out[dest_sub] = new
+                return out
+
         if self._multiplicity is not None or multiplicity is not None:
             old_m = self._multiplicity if self._multiplicity is not None else np.ones(len(self._poses), np.int8)
             new_m = multiplicity if multiplicity is not None else np.ones(len(poses), np.int8)
             mult = merge(old_m, new_m, 1, np.int8)
-            if np.all(mult == 1):
-                mult = None
-        self._set_modes(new_count, merge(self._poses, poses, np.nan, float),
-                        merge(self._residual, residual, np.nan, float), merge(self._aspect, aspect, 0, np.int8),
-                        mult)
+            self._multiplicity = None if np.all(mult == 1) else mult
+        self._poses = merge(self._poses, poses, np.nan, float)
+        self._residual = merge(self._residual, residual, np.nan, float)
+        self._aspect = merge(self._aspect, aspect, 0, np.int8)
+        self._count, self._offsets = new_count, off
+        self.release_padded()
 
     def _rows(self, rows):
         """Distinct row indices (int64 array) in ``0 .. n-1``; negative ones wrap."""

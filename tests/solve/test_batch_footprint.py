@@ -173,7 +173,11 @@ def test_padded_arrays_and_codes_are_read_only():
     assert np.all(res.solver == "numpy")
 
 
-def test_set_modes_round_trip_against_per_row_solves(rng):
+@pytest.mark.parametrize("block_rows", [512, 0], ids=["blocks", "scatter"])
+def test_set_modes_round_trip_against_per_row_solves(rng, monkeypatch, block_rows):
+    from imagespace.solve import results
+
+    monkeypatch.setattr(results, "SPLICE_BLOCK_ROWS", block_rows)      # both rebuilds
     m = isp.examples.stigger_husty()
     Q = random_rows(m, rng, 40)
     Q2 = random_rows(m, rng, 40)
@@ -200,7 +204,11 @@ def test_set_modes_round_trip_against_per_row_solves(rng):
         res.set_modes(len(Q), [])
 
 
-def test_replace_rows_round_trip_against_per_row_solves(rng):
+@pytest.mark.parametrize("block_rows", [512, 0], ids=["blocks", "scatter"])
+def test_replace_rows_round_trip_against_per_row_solves(rng, monkeypatch, block_rows):
+    from imagespace.solve import results
+
+    monkeypatch.setattr(results, "SPLICE_BLOCK_ROWS", block_rows)      # both rebuilds
     m = isp.examples.stigger_husty()
     Q = random_rows(m, rng, 30)
     Q2 = np.concatenate([random_rows(m, rng, 3), [[np.nan, 1.0, 1.0]]])
