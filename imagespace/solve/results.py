@@ -410,7 +410,7 @@ class DKBatchResult:
         self._residual = residual
         self._aspect = aspect
         self._multiplicity = multiplicity
-        self._cache: dict = {}
+        self._cache = {}
 
     def __len__(self):
         return int(self._count.shape[0])
@@ -430,6 +430,8 @@ class DKBatchResult:
         """
         total = sum(v.nbytes for v in vars(self).values() if isinstance(v, np.ndarray))
         return int(total + sum(v.nbytes for v in self._cache.values()))
+
+    _cache: dict
 
     def release_padded(self) -> None:
         """Drop the padded arrays kept from earlier accesses (see :data:`PADDED_CACHE_BYTES`).
@@ -652,8 +654,10 @@ class DKBatchResult:
         [6, 2]
         """
         if np.ndim(rows) == 0:
-            rows, modes = [rows], [modes]
-        r = self._rows(rows)
+            r = self._rows(np.array([rows]))
+            modes = [modes]
+        else:
+            r = self._rows(rows)
         if len(modes) != r.size:
             raise ValueError(f"modes must hold one list per row ({r.size}), got {len(modes)}")
         lists = [list(ms)[:MAX_MODES] for ms in modes]
