@@ -248,7 +248,9 @@ class DKBatchResult:
     certificate_path : (n,) str, read-only, only with ``certify=True``
         ``"discs"`` (vectorised inclusion discs), ``"flint"`` (exact isolation), ``"arb"``,
         ``"uncertified"``, ``"zero"``, ``"continuum"`` or ``"invalid"``; stored as
-        ``certificate_path_code`` (uint8) indexing :data:`CERTIFICATE_PATHS`.
+        ``certificate_path_code``.
+    certificate_path_code : (n,) uint8, read-only, only with ``certify=True``
+        ``CERTIFICATE_PATHS[certificate_path_code[i]] == certificate_path[i]``.
     consistent : (n,) bool, only with ``certify=True``
         The row's modes are accounted for by its certificate: either every certified real root
         (all simple, inclusion discs) holds exactly one float mode and no mode lies outside
@@ -265,6 +267,9 @@ class DKBatchResult:
     multiplicity : (n, 6) int8, read-only
         Multiplicity of each mode's root (1 except on rows solved by the certified path; 1 in
         unused slots as well). Not stored while every mode has multiplicity 1.
+
+    nbytes : int
+        Bytes of the arrays held (see the property).
 
     Certified semantics (``certify=True``): as for :class:`CertifiedModes`, on every row.
 
