@@ -289,9 +289,12 @@ class DKBatchResult:
             raise ValueError(f"valid must have shape (n, {MAX_MODES}), got {valid.shape}")
         cnt = np.count_nonzero(valid, axis=1).astype(np.uint8)
         if count is not None and not np.array_equal(np.asarray(count), cnt):
-            raise ValueError("count must equal the number of valid slots per row")
+            i = int(np.flatnonzero(np.asarray(count) != cnt)[0])
+            raise ValueError(f"count must equal the number of valid slots per row, got count[{i}] = "
+                             f"{np.asarray(count)[i]} with {cnt[i]} valid slots")
         if not np.array_equal(valid, np.arange(MAX_MODES) < cnt[:, None]):
-            raise ValueError("valid slots must come first in each row")
+            i = int(np.flatnonzero(np.any(valid != (np.arange(MAX_MODES) < cnt[:, None]), axis=1))[0])
+            raise ValueError(f"valid slots must come first in each row, got valid[{i}] = {valid[i].tolist()}")
         mult = None
         if multiplicity is not None:
             mc = np.asarray(multiplicity)[valid]
