@@ -163,7 +163,7 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     Q[:, fa] += radius * np.cos(ang)
     Q[:, fb] += radius * np.sin(ang)
     res = manipulator.direct_kinematics_batch(Q, method="numpy")
-    count = np.where(res.row_ok, res.count, -1)
+    count = np.where(res.row_ok, res.count.astype(np.int64), -1)     # count is uint8: widen before -1
     top = count == count.max()
     # the middle of the longest run of maximal count (cyclically)
     idx = np.flatnonzero(top)

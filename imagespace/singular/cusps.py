@@ -184,7 +184,7 @@ def mode_count_map(manipulator, fixed, value, window, resolution=120):
             raise InputError(f"window leaves the domain of joint {i} ({leg.joints}); got values like "
                              f"{Q[~ok, i][0]}")
     res = manipulator.direct_kinematics_batch(Q)
-    counts = np.where(res.row_ok, res.count, -1).reshape(len(a), len(b))
+    counts = np.where(res.row_ok, res.count.astype(np.int64), -1).reshape(len(a), len(b))   # uint8: widen first
     return ModeCountMap(int(fixed), float(value), free_joints(fixed), (a, b), counts)
 
 

@@ -390,6 +390,7 @@ def _disc_certificate(m, Q, res):
         counts, path, ivals = certify_real_roots_batch(F, E, exact, return_intervals=True)
     else:
         counts, path, ivals = np.zeros(0, int), np.zeros(0, str), np.zeros((0, enc.degree, 2))
+    path = path.astype(object)        # later entries ("continuum", "uncertified") are longer
     consistent = np.zeros(n, dtype=bool)
     # disc-certified rows: every real root simple; each must hold exactly one float mode, and
     # no float mode may lie outside them (t = x1/x0 of the normalised image point)
@@ -455,6 +456,7 @@ def certify_batch(m, Q, res, kernel=None):
         counts, path, consistent = _kernel_certificate(kernel, Q, res)
     else:
         counts, path, consistent = _disc_certificate(m, Q, res)
+    redo = {}                     # row -> (modes, solver name), stored in one rebuild after the loop
     for i in np.flatnonzero(res.row_ok & ~consistent):
         try:
             modes = m.direct_kinematics(Q[i], certify=True)
@@ -463,13 +465,9 @@ def certify_batch(m, Q, res, kernel=None):
             res.errors[int(i)] = str(e)
             counts[i] = -1
             path[i] = "continuum"
-            store_modes(res, i, [])
-            if res.solver is not None:
-                res.solver[i] = "invalid"
+            redo[int(i)] = ([], "invalid")
             continue
-        store_modes(res, i, modes)
-        if res.solver is not None:
-            res.solver[i] = "certified"
+        redo[int(i)] = (modes, "certified")
         cert = modes.certificate
         counts[i] = cert.count if cert.certified else -1
         if path[i] != "flint":
@@ -477,5 +475,11 @@ def certify_batch(m, Q, res, kernel=None):
                 "arb" if cert.certified else "uncertified")
         consistent[i] = bool(cert.certified)
         res.near_singular[i] = not cert.certified
+    if redo:
+        store_modes(res, list(redo), [ms for ms, _ in redo.values()])
+        if res.solver is not None:
+            for name in ("invalid", "certified"):
+                res.set_solver([i for i, (_, s) in redo.items() if s == name], name)
     res.near_singular = res.near_singular & ~consistent      # proven rows are not in doubt
     res.certified_roots, res.certificate_path, res.consistent = counts, np.asarray(path).astype(str), consistent
+    res.release_padded()          # the padded image points and masks read above are not kept

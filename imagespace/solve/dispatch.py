@@ -15,16 +15,19 @@ from .._validate import as_count, as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
 from .certified import certified_modes, certify_batch, exact_coefficients, exact_root_count
 from .numpy_path import complex_modes, check_rows, solve_batch
-from .results import AssemblyMode, DKBatchResult, MAX_MODES
+from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 
 _KERNEL_MIN_ROWS = 2000
 
 
 #: Peak bytes per row of a batch, measured with tracemalloc on 20,000 rows of the general 3-RPR
-#: (2026-12-01: numpy path 4.2 kB, kernel 0.7 kB, result 0.49 kB; certify=True adds 3.5 kB),
-#: rounded up; the memory check before a batch multiplies them by the rows.
-BATCH_PEAK_BYTES_PER_ROW = {"numpy": 5000, "kernel": 1000, "certify": 4000}
+#: (2026-12-02, ragged result of 0.14 kB a row: numpy path 4.2 kB; kernel 0.71 kB on one chunk of
+#: 20,000 rows, 0.32 kB on 200,000 rows and 0.25 kB on 10**6 rows of seed 002, its padded arrays
+#: compacted chunk by chunk (KERNEL_CHUNK_ROWS); certify=True on the kernel path 3.1 kB in all, so
+#: it adds 2.4 kB; 2026-12-01 it added 3.5 kB), rounded up; the memory check before a batch
+#: multiplies them by the rows (the large batches it guards are the chunked regime).
+BATCH_PEAK_BYTES_PER_ROW = {"numpy": 5000, "kernel": 500, "certify": 4000}
 
 
 def _have_numba():
@@ -257,7 +260,8 @@ def direct_kinematics_chunks(m: Any, Q: npt.ArrayLike, chunk_size: int = 65536, 
     ----------
     Q : (n, 3) float array (a numpy memmap works)
     chunk_size : int
-        Rows per chunk; the result of one chunk of 65,536 rows takes ~26 MB.
+        Rows per chunk; the result of one chunk of 65,536 rows takes ~8 MB (ragged: ~0.12 kB a row
+        at 3.3 modes a row, 0.21 kB with six).
     certify, method
         As in :meth:`direct_kinematics_batch`.
 
@@ -328,14 +332,18 @@ def _build_batch_kernel(m):
     return build_kernel(m)
 
 
-def _solve_kernel(m, Q, kernel):
-    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags go to
-    the numpy path (``special``) or to the certified per-row path (a root touching the axis)."""
+#: Rows per kernel call in :func:`_solve_kernel`: each chunk's padded arrays (~0.4 kB a row) are
+#: compacted into the ragged result before the next chunk is solved, which bounds the peak memory
+#: of a large batch (a memory knob, not a decision).
+KERNEL_CHUNK_ROWS = 65536
+
+
+def _kernel_chunk(m, Q, row_ok, kernel):
+    """One chunk of :func:`_solve_kernel`: the kernel on the rows ``row_ok`` of ``Q``, compacted."""
     n = Q.shape[0]
     tol = m.tolerances
-    row_ok, errors = check_rows(m, Q)
     ok = np.flatnonzero(row_ok)
-    if ok.size == n:                       # the usual case: the kernel's arrays are the result
+    if ok.size == n:                       # the usual case: the kernel's arrays are the chunk
         X, P, R, A8, cnt, flag = kernel(Q)
     else:                                  # masked rows stay NaN / 0
         X = np.full((n, MAX_MODES, 4), np.nan)
@@ -346,8 +354,7 @@ def _solve_kernel(m, Q, kernel):
         flag = np.zeros(n, dtype=np.int8)
         if ok.size:
             X[ok], P[ok], R[ok], A8[ok], cnt[ok], flag[ok] = kernel(Q[ok])
-    A = A8.astype(int)
-    solver = np.where(row_ok, "kernel", "invalid").astype("<U9")
+    solver = np.where(row_ok, SOLVER_NAMES.index("kernel"), SOLVER_NAMES.index("invalid")).astype(np.uint8)
     special = row_ok & (flag != 0)
     valid = np.arange(MAX_MODES) < cnt[:, None]
     # cheap indicators of a count the kernel may have got wrong: a real root pair closer
@@ -362,20 +369,27 @@ def _solve_kernel(m, Q, kernel):
     close = np.any(np.where(np.isfinite(gaps), gaps, np.inf) < tol.near_singular_gap, axis=1)
     close |= (cnt > 1) & (wrap < tol.near_singular_gap)
     near = row_ok & ((cnt % 2 == 1) | close)
-    res = DKBatchResult(X, P, valid, cnt, R, A, row_ok, errors, special,
-                        near_singular=near, multiplicity=np.ones((n, MAX_MODES), dtype=np.int8))
+    return DKBatchResult.from_padded(P, valid, R, A8, row_ok, count=cnt, special=special,
+                                     solver=solver, near_singular=near)
+
+
+def _solve_kernel(m, Q, kernel):
+    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags go to
+    the numpy path (``special``) or to the certified per-row path (a root touching the axis).
+    The kernel runs on chunks of :data:`KERNEL_CHUNK_ROWS` rows, each compacted at once."""
+    n = Q.shape[0]
+    row_ok, errors = check_rows(m, Q)
+    parts = [_kernel_chunk(m, Q[s:s + KERNEL_CHUNK_ROWS], row_ok[s:s + KERNEL_CHUNK_ROWS], kernel)
+             for s in range(0, max(n, 1), KERNEL_CHUNK_ROWS)]
+    res = parts[0] if len(parts) == 1 else DKBatchResult.concatenate(parts)
+    del parts
+    res.errors = errors
     # rows the kernel could not decide in floating point (flag 1: Cramer denominator small
     # at a root, Newton not converging; flag 2: a root touching the axis) take the numpy path,
     # which solves case (b) per row and computes its own near_singular mask
-    careful = np.flatnonzero(row_ok & (flag != 0))
+    careful = np.flatnonzero(res.special)
     if careful.size:
         sub = solve_batch(m, Q[careful], raise_degenerate=False)
-        for name in ("image_points", "poses", "valid", "count", "residual", "aspect", "row_ok",
-                     "near_singular"):
-            getattr(res, name)[careful] = getattr(sub, name)
-        for k, msg in sub.errors.items():   # only DegenerateDesignError messages (q stated)
-            errors[int(careful[k])] = msg
-        solver[careful] = "numpy"
-    solver[~res.row_ok] = "invalid"
-    res.solver = solver
+        res.replace_rows(careful, sub)      # modes, count, row_ok, near_singular, solver, errors
+        res.special[careful] = True         # the kernel handed them on: special whatever sub says
     return res

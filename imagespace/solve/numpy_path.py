@@ -18,7 +18,7 @@ from ..core.elimination import form_coefficients
 from ..core.quadrics import Quadric, dk_system as _system
 from ..core.roots import real_half_angles
 from ..exceptions import DegenerateDesignError
-from .results import AssemblyMode, DKBatchResult, MAX_MODES
+from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 __all__: list[str] = []
 
@@ -197,21 +197,13 @@ def check_rows(m, Q):
 
 
 def store_modes(res, i, modes):
-    """Output stage: overwrite row ``i`` of a :class:`~imagespace.solve.results.DKBatchResult`
-    with a list of :class:`~imagespace.solve.results.AssemblyMode` (at most the row's width).
-    Used by the numpy path for rows solved one by one and by the certified batch
+    """Output stage: overwrite row ``i`` (or the rows ``i``, with one list of modes each) of a
+    :class:`~imagespace.solve.results.DKBatchResult` with lists of
+    :class:`~imagespace.solve.results.AssemblyMode` (at most the row's width), in one rebuild of
+    the ragged modes (:meth:`~imagespace.solve.results.DKBatchResult.set_modes`). Used by the
+    numpy path for rows solved one by one and by the certified batch
     (:func:`imagespace.solve.certified.certify_batch`) for rows held to their certified count."""
-    k = min(len(modes), res.valid.shape[1])
-    res.image_points[i], res.poses[i], res.residual[i] = np.nan, np.nan, np.nan
-    res.valid[i], res.aspect[i] = False, 0
-    if res.multiplicity is not None:
-        res.multiplicity[i] = 1
-    for j, mm in enumerate(modes[:k]):
-        res.image_points[i, j], res.poses[i, j] = mm.image_point, mm.pose
-        res.residual[i, j], res.aspect[i, j], res.valid[i, j] = mm.residual, mm.aspect, True
-        if res.multiplicity is not None:
-            res.multiplicity[i, j] = mm.multiplicity
-    res.count[i] = k
+    res.set_modes(i, modes)
 
 
 def solve_batch(m, Q, raise_degenerate):
@@ -276,11 +268,13 @@ def solve_batch(m, Q, raise_degenerate):
             for j, x in enumerate(lst):
                 cand[i, j] = x
     res = finish_candidates(m, Q, C, cand, row_ok, errors, special, L)
-    half = np.arctan2(res.image_points[..., 1], res.image_points[..., 0])
+    # the half-angle atan2(x1, x0) of each mode's normalised image point: phi / 2 (pose_of)
+    half = res.poses[..., 2] / 2
     distinct = _distinct_orientations_batch(half, res.valid, tol.duplicate)
     # the spurious orientation phi_c + pi of a PP dyad is a root that carries no mode
     n_real = n_real - _spurious_roots(m, C, theta)
     near = row_ok & ~special & (~separated | (distinct != n_real))
+    continuum = []
     for i, (flag, clusters) in near_special.items():
         # a cluster of k roots the discs cannot separate must carry k modes (case (b): a
         # double root with two positions); anything else is a count not to be trusted
@@ -298,10 +292,13 @@ def solve_batch(m, Q, raise_degenerate):
                     raise
                 row_ok[i] = False
                 errors[int(i)] = str(e)
-                store_modes(res, i, [])
-                res.solver[i] = "invalid"
+                continuum.append(int(i))
                 near[i] = False
+    if continuum:                          # one rebuild for every row found degenerate
+        store_modes(res, continuum, [[] for _ in continuum])
+        res.set_solver(continuum, "invalid")
     res.near_singular = near
+    res.release_padded()                   # poses and valid were read above: keep only the modes
     return res
 
 
@@ -356,26 +353,20 @@ def finish_candidates(m, Q, C, cand, row_ok, errors, special, L):
     aspect = np.where(finite, np.sign(detJ), 0).astype(int)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(detJ) / np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-    X = Xw
-    # sort valid first, by phi
+    # sort valid first, by phi (the image points are not kept: the result derives them from the poses)
     key = np.where(valid, poses[..., 2], np.inf)
     order = np.argsort(key, axis=1, kind="stable")
     take = lambda a: np.take_along_axis(a, order.reshape(order.shape + (1,) * (a.ndim - 2)), axis=1)
-    X, poses, valid, resid, aspect = take(X), take(poses), take(valid), take(resid), take(aspect)
+    poses, valid, resid, aspect = take(poses), take(valid), take(resid), take(aspect)
     ill = np.any(valid & ~(take(ratio) > tol.near_singular_condition), axis=1)
     count = valid.sum(axis=1)
     if np.any(count > MAX_MODES):
         raise DegenerateDesignError(f"more than {MAX_MODES} assembly modes found; the design is degenerate")
     w = MAX_MODES
-    X, poses, valid, resid, aspect = X[:, :w], poses[:, :w], valid[:, :w], resid[:, :w], aspect[:, :w]
-    X = np.where(valid[..., None], X, np.nan)
-    poses = np.where(valid[..., None], poses, np.nan)
-    resid = np.where(valid, resid, np.nan)
-    aspect = np.where(valid, aspect, 0)
-    solver = np.where(row_ok, "numpy", "invalid").astype("<U9")
-    return DKBatchResult(X, poses, valid, count, resid, aspect, row_ok, errors, special,
-                         solver=solver, near_singular=ill & row_ok,
-                         multiplicity=np.ones((n, w), dtype=np.int8))
+    poses, valid, resid, aspect = poses[:, :w], valid[:, :w], resid[:, :w], aspect[:, :w]
+    solver = np.where(row_ok, SOLVER_NAMES.index("numpy"), SOLVER_NAMES.index("invalid")).astype(np.uint8)
+    return DKBatchResult.from_padded(poses, valid, resid, aspect, row_ok, count=count, errors=errors,
+                                     special=special, solver=solver, near_singular=ill & row_ok)
 
 
 def scaled_quadrics(m, Q):
