@@ -117,6 +117,52 @@ def _trig_accuracy_ok():
     return ok
 
 
+def chart_terms(expr, symbols, params=()):
+    """A sympy expression as a polynomial in chart generators: the chart variables ``symbols`` and
+    ``sin``/``cos`` of a rational multiple of one of them.
+
+    Shared with :mod:`imagespace.singular.surface` (not public API). Returns ``(plain, trig,
+    monoms, coefficients)``: the indices of the chart variables that occur as plain generators,
+    the trigonometric generators ``(is_sin, variable index, Rational multiple)``, the exponents
+    ``(T, G)`` (plain generators first) and the ``T`` coefficients, sympy expressions free of the
+    chart variables (they may hold ``params``, e.g. joint symbols, and functions of them).
+
+    Raises
+    ------
+    _Unsupported
+        A shape the rounding-error bound does not cover (a trigonometric argument that is not a
+        rational multiple of one chart variable, a coefficient depending on a chart variable ...).
+    """
+    expr = sp.expand(as_sympy_entry(expr, "expr"))
+    symbols = tuple(symbols)
+    chart = set(symbols)
+    trig_atoms = sorted((a for a in expr.atoms(sp.sin, sp.cos) if a.free_symbols & chart or
+                         (a.free_symbols and not params)), key=sp.default_sort_key)
+    trig = []
+    for a in trig_atoms:
+        coeff, rest = a.args[0].as_coeff_Mul()
+        if rest not in symbols or not coeff.is_Rational or coeff == 0:
+            raise _Unsupported(f"{a}: the argument must be a rational multiple of one chart variable")
+        trig.append((isinstance(a, sp.sin), symbols.index(rest), sp.Rational(coeff)))
+    dummies = {a: sp.Dummy() for a in trig_atoms}
+    free = expr.xreplace(dummies).free_symbols
+    plain = [s_ for s_ in symbols if s_ in free]
+    gens = plain + trig_atoms
+    if not gens:
+        gens = [symbols[0]]
+        plain = [symbols[0]]
+    try:
+        poly = sp.Poly(expr, *gens)
+    except sp.PolynomialError as exc:
+        raise _Unsupported(str(exc)) from None
+    coeffs = poly.coeffs()
+    allowed = set(params)
+    if any(c.free_symbols - allowed for c in coeffs):
+        raise _Unsupported("a coefficient depends on the chart variables")
+    monoms = np.array(poly.monoms(), dtype=np.int64).reshape(len(coeffs), len(gens))
+    return [symbols.index(s_) for s_ in plain], trig, monoms, coeffs
+
+
 class _ProvenSign:
     """Signs of a sympy expression at float points, proven.
 
@@ -130,42 +176,34 @@ class _ProvenSign:
     value is not finite), arb decides at 128 then 512 bits.
     """
 
-    def __init__(self, expr, symbols, coefficient_rel):
-        expr = sp.expand(as_sympy_entry(expr, "expr"))
-        symbols = tuple(symbols)
-        trig = sorted((a for a in expr.atoms(sp.sin, sp.cos) if a.free_symbols), key=sp.default_sort_key)
-        self.trig = []
-        for a in trig:
-            coeff, rest = a.args[0].as_coeff_Mul()
-            if rest not in symbols or not coeff.is_Rational or coeff == 0:
-                raise _Unsupported(f"{a}: the argument must be a rational multiple of one chart variable")
-            self.trig.append((isinstance(a, sp.sin), symbols.index(rest), sp.Rational(coeff)))
-        if self.trig and not _trig_accuracy_ok():
-            raise _Unsupported(f"numpy's sin/cos are not within {TRIG_ULPS} ulp on this machine")
-        dummies = {a: sp.Dummy() for a in trig}
-        free = expr.xreplace(dummies).free_symbols
-        plain = [s for s in symbols if s in free]
-        gens = plain + trig
-        if not gens:
-            gens = [symbols[0]]
-            plain = [symbols[0]]
-        try:
-            poly = sp.Poly(expr, *gens)
-        except sp.PolynomialError as exc:
-            raise _Unsupported(str(exc)) from None
-        coeffs = poly.coeffs()
-        if any(c.free_symbols for c in coeffs):
-            raise _Unsupported("a coefficient depends on the chart variables")
-        self.plain = [symbols.index(s) for s in plain]
-        self.monoms = np.array(poly.monoms(), dtype=np.int64).reshape(len(coeffs), len(gens))
-        self.coeff_exprs = coeffs
-        self._arb_coeffs = {}
-        cf, rel = [], []
+    @classmethod
+    def of_expr(cls, expr, symbols, coefficient_rel):
+        """The evaluator of a sympy expression in the chart ``symbols`` with constant coefficients."""
+        plain, trig, monoms, coeffs = chart_terms(expr, symbols)
         with _flint_precision(_ARB_PRECISIONS[0]):
-            import flint
+            balls = [_arb_constant(c) for c in coeffs]
+        return cls(plain, trig, monoms, balls, lambda prec: [_arb_constant(c) for c in coeffs], coefficient_rel,
+                   names=coeffs)
 
-            for c in coeffs:
-                ball = _arb_constant(c)
+    def __init__(self, plain, trig, monoms, coefficients, arb_coefficients, coefficient_rel, names=None):
+        """From a parsed polynomial (:func:`chart_terms`): ``plain`` the chart-variable indices of the
+        plain generators, ``trig`` the trigonometric ones ``(is_sin, variable index, Rational)``,
+        ``monoms`` ``(T, G)`` exponents, ``coefficients`` ``(T,)`` arb balls at
+        ``_ARB_PRECISIONS[0]`` bits, ``arb_coefficients(prec)`` the balls at another precision;
+        ``names`` (for messages) the coefficients as text."""
+        if trig and not _trig_accuracy_ok():
+            raise _Unsupported(f"numpy's sin/cos are not within {TRIG_ULPS} ulp on this machine")
+        self.trig = list(trig)
+        self.plain = list(plain)
+        self.monoms = np.asarray(monoms, dtype=np.int64).reshape(len(coefficients), len(plain) + len(trig))
+        self._arb_source = arb_coefficients
+        self._arb_coeffs = {_ARB_PRECISIONS[0]: list(coefficients)}
+        names = names if names is not None else [str(c) for c in coefficients]
+        cf, rel = [], []
+        import flint
+
+        with _flint_precision(_ARB_PRECISIONS[0]):
+            for ball, c in zip(coefficients, names):
                 if not ball.is_finite():
                     raise _Unsupported(f"coefficient {c} is not finite")
                 f = float(ball.mid())
@@ -174,6 +212,8 @@ class _ProvenSign:
                     raise _Unsupported(f"coefficient {c} is not well represented in float")
                 cf.append(f)
                 rel.append(err / abs(f))
+        coeffs = cf
+        gens = self.plain + self.trig
         self.coeffs = np.array(cf)
         self.coeff_rel = max(rel, default=0.0)
         d = int(self.monoms.sum(axis=1).max()) if len(coeffs) else 0
@@ -182,7 +222,13 @@ class _ProvenSign:
         # every monomial as its parent times one generator (a chain from 1): one product per node
         nodes = {(0,) * len(gens): 0}
         order = [(0,) * len(gens)]
-        for mono in sorted(map(tuple, self.monoms.tolist()), key=sum):
+        # the monomials of the value and of its derivatives along each generator
+        wanted = set(map(tuple, self.monoms.tolist()))
+        for mono in list(wanted):
+            for j, a in enumerate(mono):
+                if a:
+                    wanted.add(mono[:j] + (a - 1,) + mono[j + 1:])
+        for mono in sorted(wanted, key=lambda m_: (sum(m_), m_)):
             chain = []
             cur = mono
             while cur not in nodes:
@@ -202,6 +248,15 @@ class _ProvenSign:
         for c, mono in zip(self.coeffs, self.monoms.tolist()):
             self.c_full[nodes[tuple(mono)]] = c
         self.terms = np.array([nodes[tuple(m)] for m in self.monoms.tolist()], dtype=np.int64)
+        # d/dg_j of the value: sum of c * a_j * (monomial / g_j) over the terms with a_j > 0
+        self.dterms = []
+        for j in range(len(gens)):
+            idx, cj = [], []
+            for c, mono in zip(self.coeffs, self.monoms.tolist()):
+                if mono[j]:
+                    idx.append(nodes[tuple(mono[:j] + [mono[j] - 1] + mono[j + 1:])])
+                    cj.append(c * mono[j])
+            self.dterms.append((np.array(idx, dtype=np.int64), np.array(cj)))
         self.tiny = float(np.abs(self.coeffs).sum()) * (d + len(gens) + 2) * _TINY + _TINY
         n_plain = len(self.plain)
         self.plain_deg = int(self.monoms[:, :n_plain].sum(axis=1).max()) if len(coeffs) else 0
@@ -211,6 +266,95 @@ class _ProvenSign:
         self.trig_abs = max(2.0 * trig_deg * (TRIG_ULPS + 1) * float(np.abs(self.coeffs).sum()), 1.0) * _TINY
         self.trig_c = [(float(c), 0.0 if _is_power_of_two(c)
                         else float(abs(sp.Rational(float(c)) - c)) * (1 + 4 * UNIT_ROUNDOFF)) for _, _, c in self.trig]
+
+    # values and gradients ----------------------------------------------------------------------
+    def _generator_values(self, P):
+        """``(g (n, G), dg (n, G))``: the generators at chart points ``P`` and each one's derivative
+        along its own chart variable."""
+        vals, ders = [], []
+        for k in self.plain:
+            vals.append(P[:, k])
+            ders.append(np.ones(len(P)))
+        for (is_sin, k, _), (cf, _) in zip(self.trig, self.trig_c):
+            arg = cf * P[:, k]
+            sn, cs = np.sin(arg), np.cos(arg)
+            vals.append(sn if is_sin else cs)
+            ders.append(cf * cs if is_sin else -cf * sn)
+        return np.stack(vals, axis=-1), np.stack(ders, axis=-1)
+
+    def _chain(self, gT, m):
+        """The monomial chain ``(K, m)`` at generator values ``gT`` ``(G, m)``."""
+        K = len(self.parent)
+        M = np.empty((K, m))
+        M[0] = 1.0
+        for i in range(1, K):
+            np.multiply(M[self.parent[i]], gT[self.gen[i]], out=M[i])
+        return M
+
+    def value_and_gradient(self, P, gradient=True):
+        """``F`` (and its gradient in the chart variables, ``(n, 3)``) at chart points ``P`` ``(n, 3)``,
+        evaluated as the monomial sum (the same one the filter bounds)."""
+        n = len(P)
+        F = np.empty(n)
+        G = np.zeros((n, 3)) if gradient else None
+        K = len(self.parent)
+        step = max(1, 2**21 // K)
+        var = self.plain + [k for _, k, _ in self.trig]
+        for s in range(0, n, step):
+            Ps = P[s:s + step]
+            m = len(Ps)
+            g, dg = self._generator_values(Ps)
+            with np.errstate(over="ignore", invalid="ignore"):
+                M = self._chain(np.ascontiguousarray(g.T), m)
+                f = np.zeros(m)
+                tmp = np.empty(m)
+                for i in self.terms:
+                    f += np.multiply(M[i], self.c_full[i], out=tmp)
+                F[s:s + step] = f
+                if gradient:
+                    for j, (idx, cj) in enumerate(self.dterms):
+                        if len(idx) == 0:
+                            continue
+                        d = np.zeros(m)
+                        for i, c in zip(idx.tolist(), cj.tolist()):
+                            d += np.multiply(M[i], c, out=tmp)
+                        G[s:s + step, var[j]] += d * dg[:, j]
+        return F, G
+
+    def degree_in(self, k):
+        """Degree in chart variable ``k`` (``None`` if it enters a trigonometric generator)."""
+        if any(kk == k for _, kk, _ in self.trig):
+            return None
+        if k not in self.plain:
+            return 0
+        return int(self.monoms[:, self.plain.index(k)].max()) if len(self.monoms) else 0
+
+    def grid_coefficients(self, w):
+        """``(monomials, C)`` for a tensor grid: the monomials ``(a, b)`` of ``u**a v**b`` and their
+        coefficients at the values ``w`` of the third chart variable, ``(len(w), len(monomials))``;
+        ``None`` when a generator other than ``u``, ``v`` depends on ``u`` or ``v``."""
+        var = self.plain + [k for _, k, _ in self.trig]
+        if any(k != 2 for k in var[len(self.plain):]):
+            return None
+        ju = var.index(0) if 0 in self.plain else None
+        jv = var.index(1) if 1 in self.plain else None
+        w = np.asarray(w, dtype=float)
+        g, _ = self._generator_values(np.stack([np.zeros_like(w), np.zeros_like(w), w], axis=-1))
+        rest = [j for j in range(len(var)) if j not in (ju, jv)]
+        keys = {}
+        cols = []
+        for c, mono in zip(self.coeffs, self.monoms.tolist()):
+            key = (mono[ju] if ju is not None else 0, mono[jv] if jv is not None else 0)
+            part = np.full(len(w), c)
+            for j in rest:
+                if mono[j]:
+                    part = part * g[:, j] ** mono[j]
+            if key not in keys:
+                keys[key] = len(cols)
+                cols.append(part)
+            else:
+                cols[keys[key]] = cols[keys[key]] + part
+        return list(keys), np.stack(cols, axis=-1) if cols else np.zeros((len(w), 0))
 
     # float filter ----------------------------------------------------------------------------
     def _generators(self, P):
@@ -304,7 +448,7 @@ class _ProvenSign:
         for prec in _ARB_PRECISIONS:
             with _flint_precision(prec):
                 if prec not in self._arb_coeffs:
-                    self._arb_coeffs[prec] = [_arb_constant(c) for c in self.coeff_exprs]
+                    self._arb_coeffs[prec] = self._arb_source(prec)
                 coeffs = self._arb_coeffs[prec]
                 gens = [flint.arb(p[k]) for k in self.plain]
                 for is_sin, k, c in self.trig:
@@ -411,6 +555,20 @@ class Implicit:
     def value(self, P):
         """``F`` at points ``P`` ``(n, 3)``."""
         return self.value_and_gradient(P)[0]
+
+    def degree_in(self, k):
+        """The degree of ``F`` in its ``k``-th variable when ``F`` is a polynomial in it (the others
+        fixed), else ``None`` (the base class: unknown). The mesher then locates vertices on grid
+        edges along that variable from ``degree + 1`` values per edge.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from imagespace.singular.implicit import FunctionImplicit
+        >>> FunctionImplicit(lambda P: (P[:, 0], np.tile([1.0, 0, 0], (len(P), 1)))).degree_in(0) is None
+        True
+        """
+        return None
 
     def value_bound(self, P):
         """``(F, bound, zero)`` at points ``P`` ``(n, 3)``: a float value whose sign is proven where
@@ -551,17 +709,30 @@ class PolynomialImplicit(Implicit):
         extra = expr.free_symbols - set(symbols)
         if extra:
             raise InputError(f"expr has symbols {sorted(map(str, extra))} besides {symbols}")
-        self.expr, self.symbols = expr, symbols
-        u, v, w = symbols
-        self._vg = compile_exprs([expr] + [sp.diff(expr, s) for s in symbols], symbols)
-        self._v = compile_exprs([expr], symbols)
-        try:
-            poly = sp.Poly(sp.expand(expr), u, v)
-            self._monomials = poly.monoms()
-            self._coeffs = compile_exprs(poly.coeffs(), [w])
-        except sp.PolynomialError:
-            self._monomials = None
+        self._expr, self._expr_factory, self.symbols = expr, None, symbols
         self._signs = None
+        self._lambdified = None
+        self._sign_evaluator()          # the monomial table: values, gradients and proven signs
+
+    @classmethod
+    def from_evaluator(cls, evaluator, symbols, expr_factory, tolerances=None):
+        """An implicit function built from a ready monomial table (a given-joints singularity surface
+        evaluated from its design's table general in the joint values), with ``expr_factory()``
+        giving the sympy expression only if someone asks for it. Not public API."""
+        self = cls.__new__(cls)
+        self.tolerances = as_tolerances(tolerances)
+        self._expr, self._expr_factory, self.symbols = None, expr_factory, tuple(symbols)
+        self._signs = evaluator
+        self._sign_note = "rounding-error bound, arb below it"
+        self._lambdified = None
+        return self
+
+    @property
+    def expr(self):
+        """The sympy expression (built on first use for a table-made implicit)."""
+        if self._expr is None:
+            self._expr = self._expr_factory()
+        return self._expr
 
     @property
     def sign_test(self):
@@ -571,12 +742,27 @@ class PolynomialImplicit(Implicit):
     def _sign_evaluator(self):
         if self._signs is None:
             try:
-                self._signs = _ProvenSign(self.expr, self.symbols, self.tolerances.implicit_coefficient)
+                self._signs = _ProvenSign.of_expr(self.expr, self.symbols, self.tolerances.implicit_coefficient)
                 self._sign_note = "rounding-error bound, arb below it"
             except _Unsupported as exc:
                 self._signs = False
                 self._sign_note = f"float signs (not proven against rounding: {exc})"
         return self._signs or None
+
+    def _compiled(self):
+        """The lambdified value and gradient, for expressions without a monomial table."""
+        if self._lambdified is None:
+            expr, symbols = self.expr, self.symbols
+            u, v, w = symbols
+            vg = compile_exprs([expr] + [sp.diff(expr, s_) for s_ in symbols], symbols)
+            val = compile_exprs([expr], symbols)
+            try:
+                poly = sp.Poly(sp.expand(expr), u, v)
+                grid = (poly.monoms(), compile_exprs(poly.coeffs(), [w]))
+            except sp.PolynomialError:
+                grid = None
+            self._lambdified = (vg, val, grid)
+        return self._lambdified
 
     def value_bound(self, P):
         ev = self._sign_evaluator()
@@ -600,28 +786,89 @@ class PolynomialImplicit(Implicit):
 
     def value_and_gradient(self, P):
         P = _points3(P)
-        out = self._vg(P[:, 0], P[:, 1], P[:, 2])
+        ev = self._sign_evaluator()
+        if ev is not None:
+            return ev.value_and_gradient(P)
+        out = self._compiled()[0](P[:, 0], P[:, 1], P[:, 2])
         return out[:, 0], out[:, 1:]
 
     def value(self, P):
         P = _points3(P)
-        return self._v(P[:, 0], P[:, 1], P[:, 2])[:, 0]
+        ev = self._sign_evaluator()
+        if ev is not None:
+            return ev.value_and_gradient(P, gradient=False)[0]
+        return self._compiled()[1](P[:, 0], P[:, 1], P[:, 2])[:, 0]
+
+    def degree_in(self, k):
+        """The degree in the ``k``-th chart variable (``None`` where it enters through sin/cos, or
+        without a monomial table).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from imagespace.singular.implicit import PolynomialImplicit
+        >>> u, v, w = sp.symbols("u v w")
+        >>> f = PolynomialImplicit(u**3 * v + sp.cos(w), (u, v, w))
+        >>> f.degree_in(0), f.degree_in(1), f.degree_in(2)
+        (3, 1, None)
+        """
+        ev = self._sign_evaluator()
+        if ev is None:
+            return None
+        return ev.degree_in(k)
+
+    def grid_coefficients(self, w):
+        """``(monomials, C)``: the monomials ``(a, b)`` of ``u**a v**b`` and their coefficients at the
+        values ``w`` of the third variable (``(len(w), len(monomials))``), or ``None`` when the
+        expression is not polynomial in ``u, v`` with coefficients in ``w`` alone.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from imagespace.singular.implicit import PolynomialImplicit
+        >>> u, v, w = sp.symbols("u v w")
+        >>> mons, C = PolynomialImplicit(u**2 + w * v - 1, (u, v, w)).grid_coefficients([2.0])
+        >>> sorted(zip(mons, C[0].tolist()))
+        [((0, 0), -1.0), ((0, 1), 2.0), ((2, 0), 1.0)]
+        """
+        w = np.atleast_1d(np.asarray(w, dtype=float))
+        ev = self._sign_evaluator()
+        if ev is not None:
+            out = ev.grid_coefficients(w)
+            if out is not None:
+                return out
+        grid = self._compiled()[2]
+        if grid is None:
+            return None
+        return grid[0], grid[1](w)
 
     def grid(self, axes, block=None):
-        if self._monomials is None:
-            return super().grid(axes, block)
         u, v, w = _axes3(axes)
-        C = self._coeffs(w)                                   # (nw, M)
-        M = np.stack([np.multiply.outer(u**a, v**b).ravel() for a, b in self._monomials], axis=-1)
-        out = np.empty((len(u) * len(v), len(w)))
-        n_blocks = max(1, min(len(w), 16))
-        edges = np.linspace(0, len(w), n_blocks + 1).astype(int)
+        table = self.grid_coefficients(w)
+        if table is None:
+            return super().grid(axes, block)
+        monomials, C = table                                  # (nw, M)
+        # Horner in u over Q_a(v, w) = sum_b v**b C_ab(w), slab by slab of u (cache-sized, and no
+        # BLAS product: its threads keep spinning and slow down the single-threaded work after it)
+        top = max((a for a, _ in monomials), default=0)
+        Q = [None] * (top + 1)
+        for (a, b), col in zip(monomials, C.T):
+            term = np.multiply.outer(v**b, col)
+            Q[a] = term if Q[a] is None else Q[a] + term
+        out = np.empty((len(u), len(v), len(w)))
+        n_blocks = max(1, min(len(u), 16))
+        edges = np.linspace(0, len(u), n_blocks + 1).astype(int)
         for k in range(n_blocks):
-            s = slice(edges[k], edges[k + 1])
-            np.matmul(M, C[s].T, out=out[:, s])
+            o = out[edges[k]:edges[k + 1]]
+            uk = u[edges[k]:edges[k + 1], None, None]
+            o[...] = 0.0 if Q[top] is None else Q[top]
+            for a in range(top - 1, -1, -1):
+                o *= uk
+                if Q[a] is not None:
+                    o += Q[a]
             if block:
                 block(k, n_blocks)
-        return out.reshape(len(u), len(v), len(w))
+        return out
 
 
 class FunctionImplicit(Implicit):
@@ -722,10 +969,131 @@ def surface_implicit(surface, chart="image"):
     return surface.cached(("implicit", chart), lambda: _build_implicit(surface, chart))
 
 
+class JointTable:
+    """A design's singularity quartic in one chart, general in the joint values: the chart
+    monomials (plain and trigonometric generators, as in :func:`chart_terms`) with coefficients
+    that are polynomials in the *joint features* (the joint symbols and ``sin``/``cos`` of them)
+    with exact constant coefficients. Derived once per design and chart; :meth:`evaluator` then
+    gives the surface at any joint values ``q`` with no symbolic work: the coefficients as arb
+    balls at the exact ``q`` (python-flint), the float table and its rounding-error bound from
+    them. Not public API (shared with :mod:`imagespace.singular.surface`).
+
+    Raises
+    ------
+    _Unsupported
+        The quartic does not have this shape (the caller then derives per ``q``).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.singular.implicit import JointTable
+    >>> m = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3, 2), actuated=0),
+    ...                         isp.RPR(base=(6, 0), platform=(1, 0)), isp.RPR(base=(2, 5), platform=(0, 1))])
+    >>> table = JointTable(m, "image")
+    >>> ev = table.evaluator((0.5, 5.0, 5.5), 1e-12)
+    >>> len(ev.coeffs) > 0
+    True
+    """
+
+    def __init__(self, manipulator, chart):
+        from .surface import chart_substitution
+
+        self.joint_symbols = tuple(manipulator.joint_symbols)
+        expr, self.symbols = chart_substitution(manipulator.singularity_polynomial().as_expr(), chart)
+        self.plain, self.trig, self.monoms, coeffs = chart_terms(expr, self.symbols, params=self.joint_symbols)
+        joints = set(self.joint_symbols)
+        feats = set()
+        for c in coeffs:
+            feats |= c.free_symbols & joints
+            feats |= {a for a in c.atoms(sp.Function) if a.free_symbols & joints}
+        if any(f.free_symbols - joints for f in feats):
+            raise _Unsupported("a joint-dependent coefficient holds other symbols")
+        self.features = sorted(feats, key=sp.default_sort_key)
+        self.coeff_terms = []                   # per chart coefficient: [(exponents, constant expr)]
+        for c in coeffs:
+            if self.features:
+                try:
+                    poly = sp.Poly(c, *self.features)
+                except sp.PolynomialError as exc:
+                    raise _Unsupported(str(exc)) from None
+                terms = poly.terms()
+            else:
+                terms = [((), c)]
+            if any(k.free_symbols for _, k in terms):
+                raise _Unsupported("a coefficient is not polynomial in the joint features")
+            self.coeff_terms.append(terms)
+        self._constants = {}
+
+    def _balls(self, q, prec):
+        """The chart coefficients at the exact joint values ``q`` as arb balls at ``prec`` bits."""
+        import flint
+
+        with _flint_precision(prec):
+            if prec not in self._constants:
+                self._constants[prec] = [[_arb_constant(k) for _, k in terms] for terms in self.coeff_terms]
+            sub = dict(zip(self.joint_symbols, q))
+            fb = [_arb_constant(f.xreplace(sub)) for f in self.features]
+            out = []
+            for terms, consts in zip(self.coeff_terms, self._constants[prec]):
+                total = flint.arb(0)
+                for (mono, _), k in zip(terms, consts):
+                    t = k
+                    for b, a in zip(fb, mono):
+                        if a:
+                            t = t * b ** int(a)
+                    total = total + t
+                out.append(total)
+        return out
+
+    def evaluator(self, q, coefficient_rel):
+        """The :class:`_ProvenSign` table of the surface at joint values ``q`` (three exact sympy
+        numbers, or floats taken as exact binary rationals). Coefficients that are exactly 0 at
+        ``q`` are dropped (as the derivation at ``q`` drops them).
+
+        Raises
+        ------
+        _Unsupported
+            A coefficient that arb cannot separate from 0 (or not finite): derive at ``q`` instead.
+        """
+        q = tuple(sp.Rational(v) if isinstance(v, float) else sp.sympify(v) for v in q)
+        balls = self._balls(q, _ARB_PRECISIONS[0])
+        keep = [i for i, b in enumerate(balls) if not b.is_zero()]
+        monoms = self.monoms[keep]
+        terms = [self.coeff_terms[i] for i in keep]
+        if not keep:                            # the zero polynomial: as the derivation reports it
+            raise _Unsupported("the surface vanishes identically at these joint values")
+        return _ProvenSign(self.plain, self.trig, monoms, [balls[i] for i in keep],
+                           lambda prec: [self._balls(q, prec)[i] for i in keep], coefficient_rel,
+                           names=[f"{self.monoms[i].tolist()} at q = {[float(v) for v in q]}" for i in keep])
+
+
+def _joint_table(manipulator, chart):
+    """The design's :class:`JointTable` for ``chart``, cached on it (``None`` where the quartic does
+    not have the table's shape)."""
+    def build():
+        try:
+            return JointTable(manipulator, chart)
+        except _Unsupported:
+            return None
+    return manipulator.cached(("singularity joint table", chart), build)
+
+
 def _build_implicit(surface, chart):
     from .surface import image_chart_point, pose_chart_point
 
     to_X = image_chart_point if chart == "image" else pose_chart_point
+    if surface.kind == "given-joints":
+        m = surface.manipulator
+        table = _joint_table(m, chart) if m.is_numeric else None
+        if table is not None:
+            try:
+                ev = table.evaluator(surface.q, m.tolerances.implicit_coefficient)
+            except _Unsupported:
+                ev = None
+            if ev is not None:
+                return PolynomialImplicit.from_evaluator(ev, table.symbols,
+                                                         lambda: surface.chart_expression(chart)[0],
+                                                         tolerances=m.tolerances)
     if surface.is_polynomial:
         expr, syms = surface.chart_expression(chart)
         return PolynomialImplicit(expr, syms, tolerances=surface.manipulator.tolerances)
