@@ -17,6 +17,7 @@ from .._validate import as_tolerances
 from ..core.certify import flint_precision
 from ..core.codegen import compile_exprs
 from ..exceptions import InputError
+from .charts import ARB_PRECISION, UnsupportedShape, arb_constant, chart_terms, grid_coefficients, joint_table
 
 __all__ = ["Implicit", "PolynomialImplicit", "FunctionImplicit", "surface_implicit", "TRIG_ULPS"]
 
@@ -25,7 +26,7 @@ TRIG_ULPS = 2
 0.52 ulp against arb on 140,000 arguments); the rounding-error bound of the pose chart relies on
 it, and a sample is checked against arb at first use (else that chart falls back to float signs)."""
 _FILTER_SAFETY = 2.0              # the rounding-error bound is doubled (second-order terms, rounding of the bound)
-_ARB_PRECISIONS = (128, 512)      # bits; arb decides a sign the float filter left open
+_ARB_PRECISIONS = (ARB_PRECISION, 512)   # bits; arb decides a sign the float filter left open
 _ARB_MAX_POINTS = 20000           # arb evaluations per mesh at most; points beyond stay undecided
 UNIT_ROUNDOFF = np.finfo(float).eps / 2
 """The unit roundoff ``u = 2**-53`` of float64 (shared with :mod:`imagespace.singular.meshing`)."""
@@ -45,50 +46,8 @@ _flint_precision = flint_precision
 
 
 # -- proven signs ---------------------------------------------------------------------------------
-class _Unsupported(Exception):
-    """The expression has a shape the rounding-error bound does not cover."""
-
-
-def _arb_constant(expr):
-    """A sympy constant (no free symbols) as a python-flint arb ball at the current precision."""
-    import flint
-
-    if expr.is_Integer:
-        return flint.arb(int(expr))
-    if expr.is_Rational:
-        return flint.arb(flint.fmpq(int(expr.p), int(expr.q)))
-    if expr.is_Float:
-        r = sp.Rational(expr)          # the exact binary value
-        return flint.arb(flint.fmpq(int(r.p), int(r.q)))
-    if expr is sp.pi:
-        return flint.arb.pi()
-    if expr is sp.E:
-        return flint.arb(1).exp()
-    if expr.is_Add:
-        out = flint.arb(0)
-        for a in expr.args:
-            out = out + _arb_constant(a)
-        return out
-    if expr.is_Mul:
-        out = flint.arb(1)
-        for a in expr.args:
-            out = out * _arb_constant(a)
-        return out
-    if expr.is_Pow:
-        b, e = expr.args
-        if e.is_Integer:
-            base = _arb_constant(b)
-            return base ** int(e) if int(e) >= 0 else 1 / base ** (-int(e))
-        if e.is_Rational:
-            base = _arb_constant(b)
-            root = base.sqrt() if e.q == 2 else base.root(int(e.q))
-            return root ** int(e.p) if e.p >= 0 else 1 / root ** (-int(e.p))
-        raise _Unsupported(f"power {expr}")
-    if isinstance(expr, (sp.sin, sp.cos)):
-        x = _arb_constant(expr.args[0])
-        return x.sin() if isinstance(expr, sp.sin) else x.cos()
-    raise _Unsupported(f"constant {expr}")
-
+_Unsupported = UnsupportedShape          # a shape the rounding-error bound does not cover
+_arb_constant = arb_constant
 
 _TRIG_CHECK = {}
 
@@ -115,52 +74,6 @@ def _trig_accuracy_ok():
                     ok = False
     _TRIG_CHECK["ok"] = ok
     return ok
-
-
-def chart_terms(expr, symbols, params=()):
-    """A sympy expression as a polynomial in chart generators: the chart variables ``symbols`` and
-    ``sin``/``cos`` of a rational multiple of one of them.
-
-    Shared with :mod:`imagespace.singular.surface` (not public API). Returns ``(plain, trig,
-    monoms, coefficients)``: the indices of the chart variables that occur as plain generators,
-    the trigonometric generators ``(is_sin, variable index, Rational multiple)``, the exponents
-    ``(T, G)`` (plain generators first) and the ``T`` coefficients, sympy expressions free of the
-    chart variables (they may hold ``params``, e.g. joint symbols, and functions of them).
-
-    Raises
-    ------
-    _Unsupported
-        A shape the rounding-error bound does not cover (a trigonometric argument that is not a
-        rational multiple of one chart variable, a coefficient depending on a chart variable ...).
-    """
-    expr = sp.expand(as_sympy_entry(expr, "expr"))
-    symbols = tuple(symbols)
-    chart = set(symbols)
-    trig_atoms = sorted((a for a in expr.atoms(sp.sin, sp.cos) if a.free_symbols & chart or
-                         (a.free_symbols and not params)), key=sp.default_sort_key)
-    trig = []
-    for a in trig_atoms:
-        coeff, rest = a.args[0].as_coeff_Mul()
-        if rest not in symbols or not coeff.is_Rational or coeff == 0:
-            raise _Unsupported(f"{a}: the argument must be a rational multiple of one chart variable")
-        trig.append((isinstance(a, sp.sin), symbols.index(rest), sp.Rational(coeff)))
-    dummies = {a: sp.Dummy() for a in trig_atoms}
-    free = expr.xreplace(dummies).free_symbols
-    plain = [s_ for s_ in symbols if s_ in free]
-    gens = plain + trig_atoms
-    if not gens:
-        gens = [symbols[0]]
-        plain = [symbols[0]]
-    try:
-        poly = sp.Poly(expr, *gens)
-    except sp.PolynomialError as exc:
-        raise _Unsupported(str(exc)) from None
-    coeffs = poly.coeffs()
-    allowed = set(params)
-    if any(c.free_symbols - allowed for c in coeffs):
-        raise _Unsupported("a coefficient depends on the chart variables")
-    monoms = np.array(poly.monoms(), dtype=np.int64).reshape(len(coeffs), len(gens))
-    return [symbols.index(s_) for s_ in plain], trig, monoms, coeffs
 
 
 class _ProvenSign:
@@ -330,31 +243,8 @@ class _ProvenSign:
         return int(self.monoms[:, self.plain.index(k)].max()) if len(self.monoms) else 0
 
     def grid_coefficients(self, w):
-        """``(monomials, C)`` for a tensor grid: the monomials ``(a, b)`` of ``u**a v**b`` and their
-        coefficients at the values ``w`` of the third chart variable, ``(len(w), len(monomials))``;
-        ``None`` when a generator other than ``u``, ``v`` depends on ``u`` or ``v``."""
-        var = self.plain + [k for _, k, _ in self.trig]
-        if any(k != 2 for k in var[len(self.plain):]):
-            return None
-        ju = var.index(0) if 0 in self.plain else None
-        jv = var.index(1) if 1 in self.plain else None
-        w = np.asarray(w, dtype=float)
-        g, _ = self._generator_values(np.stack([np.zeros_like(w), np.zeros_like(w), w], axis=-1))
-        rest = [j for j in range(len(var)) if j not in (ju, jv)]
-        keys = {}
-        cols = []
-        for c, mono in zip(self.coeffs, self.monoms.tolist()):
-            key = (mono[ju] if ju is not None else 0, mono[jv] if jv is not None else 0)
-            part = np.full(len(w), c)
-            for j in rest:
-                if mono[j]:
-                    part = part * g[:, j] ** mono[j]
-            if key not in keys:
-                keys[key] = len(cols)
-                cols.append(part)
-            else:
-                cols[keys[key]] = cols[keys[key]] + part
-        return list(keys), np.stack(cols, axis=-1) if cols else np.zeros((len(w), 0))
+        """``(monomials, C)`` for a tensor grid (:func:`imagespace.singular.charts.grid_coefficients`)."""
+        return grid_coefficients(self.plain, self.trig, self.monoms, self.coeffs, w)
 
     # float filter ----------------------------------------------------------------------------
     def _generators(self, P):
@@ -969,113 +859,16 @@ def surface_implicit(surface, chart="image"):
     return surface.cached(("implicit", chart), lambda: _build_implicit(surface, chart))
 
 
-class JointTable:
-    """A design's singularity quartic in one chart, general in the joint values: the chart
-    monomials (plain and trigonometric generators, as in :func:`chart_terms`) with coefficients
-    that are polynomials in the *joint features* (the joint symbols and ``sin``/``cos`` of them)
-    with exact constant coefficients. Derived once per design and chart; :meth:`evaluator` then
-    gives the surface at any joint values ``q`` with no symbolic work: the coefficients as arb
-    balls at the exact ``q`` (python-flint), the float table and its rounding-error bound from
-    them. Not public API (shared with :mod:`imagespace.singular.surface`).
-
-    Raises
-    ------
-    _Unsupported
-        The quartic does not have this shape (the caller then derives per ``q``).
-
-    Examples
-    --------
-    >>> import imagespace as isp
-    >>> from imagespace.singular.implicit import JointTable
-    >>> m = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3, 2), actuated=0),
-    ...                         isp.RPR(base=(6, 0), platform=(1, 0)), isp.RPR(base=(2, 5), platform=(0, 1))])
-    >>> table = JointTable(m, "image")
-    >>> ev = table.evaluator((0.5, 5.0, 5.5), 1e-12)
-    >>> len(ev.coeffs) > 0
-    True
-    """
-
-    def __init__(self, manipulator, chart):
-        from .surface import chart_substitution
-
-        self.joint_symbols = tuple(manipulator.joint_symbols)
-        expr, self.symbols = chart_substitution(manipulator.singularity_polynomial().as_expr(), chart)
-        self.plain, self.trig, self.monoms, coeffs = chart_terms(expr, self.symbols, params=self.joint_symbols)
-        joints = set(self.joint_symbols)
-        feats = set()
-        for c in coeffs:
-            feats |= c.free_symbols & joints
-            feats |= {a for a in c.atoms(sp.Function) if a.free_symbols & joints}
-        if any(f.free_symbols - joints for f in feats):
-            raise _Unsupported("a joint-dependent coefficient holds other symbols")
-        self.features = sorted(feats, key=sp.default_sort_key)
-        self.coeff_terms = []                   # per chart coefficient: [(exponents, constant expr)]
-        for c in coeffs:
-            if self.features:
-                try:
-                    poly = sp.Poly(c, *self.features)
-                except sp.PolynomialError as exc:
-                    raise _Unsupported(str(exc)) from None
-                terms = poly.terms()
-            else:
-                terms = [((), c)]
-            if any(k.free_symbols for _, k in terms):
-                raise _Unsupported("a coefficient is not polynomial in the joint features")
-            self.coeff_terms.append(terms)
-        self._constants = {}
-
-    def _balls(self, q, prec):
-        """The chart coefficients at the exact joint values ``q`` as arb balls at ``prec`` bits."""
-        import flint
-
-        with _flint_precision(prec):
-            if prec not in self._constants:
-                self._constants[prec] = [[_arb_constant(k) for _, k in terms] for terms in self.coeff_terms]
-            sub = dict(zip(self.joint_symbols, q))
-            fb = [_arb_constant(f.xreplace(sub)) for f in self.features]
-            out = []
-            for terms, consts in zip(self.coeff_terms, self._constants[prec]):
-                total = flint.arb(0)
-                for (mono, _), k in zip(terms, consts):
-                    t = k
-                    for b, a in zip(fb, mono):
-                        if a:
-                            t = t * b ** int(a)
-                    total = total + t
-                out.append(total)
-        return out
-
-    def evaluator(self, q, coefficient_rel):
-        """The :class:`_ProvenSign` table of the surface at joint values ``q`` (three exact sympy
-        numbers, or floats taken as exact binary rationals). Coefficients that are exactly 0 at
-        ``q`` are dropped (as the derivation at ``q`` drops them).
-
-        Raises
-        ------
-        _Unsupported
-            A coefficient that arb cannot separate from 0 (or not finite): derive at ``q`` instead.
-        """
-        q = tuple(sp.Rational(v) if isinstance(v, float) else sp.sympify(v) for v in q)
-        balls = self._balls(q, _ARB_PRECISIONS[0])
-        keep = [i for i, b in enumerate(balls) if not b.is_zero()]
-        monoms = self.monoms[keep]
-        terms = [self.coeff_terms[i] for i in keep]
-        if not keep:                            # the zero polynomial: as the derivation reports it
-            raise _Unsupported("the surface vanishes identically at these joint values")
-        return _ProvenSign(self.plain, self.trig, monoms, [balls[i] for i in keep],
-                           lambda prec: [self._balls(q, prec)[i] for i in keep], coefficient_rel,
-                           names=[f"{self.monoms[i].tolist()} at q = {[float(v) for v in q]}" for i in keep])
-
-
-def _joint_table(manipulator, chart):
-    """The design's :class:`JointTable` for ``chart``, cached on it (``None`` where the quartic does
-    not have the table's shape)."""
-    def build():
-        try:
-            return JointTable(manipulator, chart)
-        except _Unsupported:
-            return None
-    return manipulator.cached(("singularity joint table", chart), build)
+def _joint_evaluator(table, q, coefficient_rel):
+    """The :class:`_ProvenSign` table of a design's surface at joint values ``q`` from its
+    :class:`~imagespace.singular.charts.JointTable` (no symbolic work), or ``None`` where a
+    coefficient at ``q`` is not separated from 0 by arb (the caller derives at ``q`` instead)."""
+    try:
+        monoms, balls, source = table.at(q)
+        names = [f"{mm} at q = {[float(v) for v in q]}" for mm in monoms.tolist()]
+        return _ProvenSign(table.plain, table.trig, monoms, balls, source, coefficient_rel, names=names)
+    except _Unsupported:
+        return None
 
 
 def _build_implicit(surface, chart):
@@ -1084,16 +877,11 @@ def _build_implicit(surface, chart):
     to_X = image_chart_point if chart == "image" else pose_chart_point
     if surface.kind == "given-joints":
         m = surface.manipulator
-        table = _joint_table(m, chart) if m.is_numeric else None
-        if table is not None:
-            try:
-                ev = table.evaluator(surface.q, m.tolerances.implicit_coefficient)
-            except _Unsupported:
-                ev = None
-            if ev is not None:
-                return PolynomialImplicit.from_evaluator(ev, table.symbols,
-                                                         lambda: surface.chart_expression(chart)[0],
-                                                         tolerances=m.tolerances)
+        table = joint_table(m, chart)
+        ev = None if table is None else _joint_evaluator(table, surface.q, m.tolerances.implicit_coefficient)
+        if ev is not None:
+            return PolynomialImplicit.from_evaluator(ev, table.symbols, lambda: surface.chart_expression(chart)[0],
+                                                     tolerances=m.tolerances)
     if surface.is_polynomial:
         expr, syms = surface.chart_expression(chart)
         return PolynomialImplicit(expr, syms, tolerances=surface.manipulator.tolerances)

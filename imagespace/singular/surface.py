@@ -49,6 +49,7 @@ from ..exceptions import InputError
 from ..core.kinematic_map import pose_of
 from ..core.mechanism import check_mechanism
 from .._html import latex_collected
+from .charts import UnsupportedShape, chart_substitution, grid_coefficients, joint_table
 
 __all__ = ["SingularitySurface", "ConicSection", "singularity_surface", "singularity_surfaces",
            "pose_chart_point", "image_chart_point"]
@@ -545,15 +546,19 @@ class SingularitySurface:
 
     def _section_functions(self):
         """The monomials in ``(x, y)`` of the pose-chart quartic and their coefficients as a
-        function of ``phi``: from the pose-chart implicit's monomial table (for a given-joints
-        surface, the design's table general in the joint values at ``q``: no derivation per
-        ``q``), else compiled from the expression."""
-        from .implicit import surface_implicit
-
-        f = surface_implicit(self, "pose")
-        probe = f.grid_coefficients(np.zeros(1))
-        if probe is not None:
-            return probe[0], lambda phi: f.grid_coefficients(phi)[1]
+        function of ``phi``: for a given-joints surface from the design's table general in the
+        joint values (:class:`~imagespace.singular.charts.JointTable`, no derivation per ``q``),
+        else compiled from the expression."""
+        if self.kind == "given-joints":
+            table = joint_table(self.manipulator, "pose")
+            try:
+                monoms, coeffs = table.float_coefficients(self.q) if table is not None else (None, None)
+            except UnsupportedShape:
+                monoms = None
+            if monoms is not None:
+                probe = grid_coefficients(table.plain, table.trig, monoms, coeffs, np.zeros(1))
+                if probe is not None:
+                    return probe[0], lambda phi: grid_coefficients(table.plain, table.trig, monoms, coeffs, phi)[1]
         expr, (x, y, w) = self.chart_expression("pose")
         poly = sp.Poly(sp.expand(expr), x, y)
         return poly.monoms(), compile_exprs(poly.coeffs(), [w])
@@ -633,32 +638,6 @@ class _PolynomialAttribute:
 
 
 SingularitySurface.polynomial = _PolynomialAttribute()  # type: ignore[assignment]
-
-
-def chart_substitution(expr, chart):
-    """An expression in ``x0..x3`` written in chart coordinates, expanded: ``(expr, (u, v, w))``.
-
-    Shared by :meth:`SingularitySurface.chart_expression` and the joint-value tables of
-    :mod:`imagespace.singular.implicit` (not public API). ``chart="image"``: ``(x2/x0, x3/x0,
-    x1/x0)`` (``x0 = 1``); ``chart="pose"``: ``(x, y, phi)`` at ``(x0, x1) = (cos(phi/2),
-    sin(phi/2))``.
-
-    Examples
-    --------
-    >>> from imagespace.singular.surface import chart_substitution
-    >>> from imagespace.core.quadrics import image_symbols
-    >>> x0, x1, x2, x3 = image_symbols()
-    >>> chart_substitution(x0**2 * x2 + x1 * x3, "image")[0]
-    u + v*w
-    """
-    u, v, w = sp.symbols("u v w", real=True)
-    x0, x1, x2, x3 = image_symbols()
-    if chart == "image":
-        sub = {x0: 1, x1: w, x2: u, x3: v}
-    else:
-        c, s = sp.cos(w / 2), sp.sin(w / 2)
-        sub = {x0: c, x1: s, x2: (s * u - c * v) / 2, x3: (c * u + s * v) / 2}
-    return sp.expand(expr.xreplace(sub)), (u, v, w)
 
 
 def _dependent_legs(manipulator):

@@ -17,10 +17,12 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
+import imagespace.singular.charts as charts_mod
 import imagespace.singular.implicit as implicit_mod
 import imagespace.singular.surface as surface_mod
 from imagespace.core.quadrics import image_symbols
-from imagespace.singular.implicit import JointTable, PolynomialImplicit, surface_implicit
+from imagespace.singular.charts import JointTable
+from imagespace.singular.implicit import PolynomialImplicit, surface_implicit
 from imagespace.singular.meshing import mesh_surface
 
 BOX = [(-12, 12), (-12, 12), (-3, 3)]
@@ -140,11 +142,12 @@ def exact_ball_overlaps(ball, c):
 
 
 def check_table_against(table, derived, q, chart, m):
-    expr, syms = surface_mod.chart_substitution(derived.as_expr(), chart)
-    plain, trig, monoms, coeffs = implicit_mod.chart_terms(expr, syms)
-    ev = table.evaluator(q, m.tolerances.implicit_coefficient)
-    assert ev.plain == plain and ev.trig == trig
-    mine = {tuple(mm): (c, b) for mm, c, b in zip(ev.monoms.tolist(), ev.coeffs, ev._arb_coeffs[128])}
+    expr, syms = charts_mod.chart_substitution(derived.as_expr(), chart)
+    plain, trig, monoms, coeffs = charts_mod.chart_terms(expr, syms)
+    assert table.plain == plain and table.trig == trig
+    tm, balls, _ = table.at(q)
+    _, floats = table.float_coefficients(q)
+    mine = {tuple(mm): (c, b) for mm, c, b in zip(tm.tolist(), floats, balls)}
     assert set(mine) == {tuple(mm) for mm in monoms.tolist()}
     for mm, c in zip(monoms.tolist(), coeffs):
         f, ball = mine[tuple(mm)]
@@ -219,10 +222,10 @@ def test_new_q_does_no_symbolic_work(rng, monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("symbolic work at a new q")
 
-    monkeypatch.setattr(surface_mod, "chart_substitution", refuse)
-    monkeypatch.setattr(surface_mod, "compile_exprs", refuse)
-    monkeypatch.setattr(implicit_mod, "compile_exprs", refuse)
-    monkeypatch.setattr(implicit_mod, "chart_terms", refuse)
+    for mod, name in ((surface_mod, "chart_substitution"), (charts_mod, "chart_substitution"),
+                      (surface_mod, "compile_exprs"), (implicit_mod, "compile_exprs"),
+                      (charts_mod, "chart_terms"), (implicit_mod, "chart_terms")):
+        monkeypatch.setattr(mod, name, refuse)
     S2 = m.singularity_surface(q=q2)
     mesh = mesh_surface(S2, BOX, resolution=16)
     assert len(mesh.faces) > 0 and mesh.metadata["imagespace"]["uncertified"] == 0
