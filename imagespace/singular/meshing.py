@@ -288,8 +288,9 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     t0 = time.perf_counter()
     G = func.grid(axes, block=lambda k, n: bar.step(16 / n))
     times["grid"] = time.perf_counter() - t0
-    finite = np.isfinite(G)
-    all_finite = bool(finite.all())
+    g_min, g_max = float(G.min()), float(G.max())         # NaN or inf among them unless all finite
+    all_finite = bool(np.isfinite(g_min) and np.isfinite(g_max))
+    finite = np.isfinite(G) if not all_finite else None
     meta = {"resolution": list(res), "box": b.tolist(), "tol": tol, "size": size,
             "sign_test": func.sign_test}
     def empty_mesh(note):
@@ -305,10 +306,11 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
         warnings.warn("mesh_implicit: func is NaN or infinite at every grid point of the box; the mesh "
                       "is empty", UserWarning, stacklevel=2)
         return empty_mesh("the function is not finite anywhere on the grid")
-    g_min, g_max = (float(G.min()), float(G.max())) if all_finite else (np.nanmin(G), np.nanmax(G))
+    if not all_finite:
+        g_min, g_max = np.nanmin(G), np.nanmax(G)
     if g_min > 0 or g_max < 0:
         return empty_mesh("the surface does not meet the box")
-    if not (G.any() if all_finite else np.any(G[finite] != 0)):
+    if (g_min == g_max == 0) if all_finite else not np.any(G[finite] != 0):
         bar.close()
         raise InputError("func is 0 at every grid point of the box: its zero set is not a surface there "
                          "(e.g. a function that vanishes identically, or a singularity surface of an "
@@ -555,7 +557,9 @@ def _project_edges_polynomial(func, verts, axis, origin, h, tol_abs, G):
         fl, fh, bl, bh = f[:m], f[m:], b[:m], b[m:]
         proven = (np.abs(fl) > bl) & (np.abs(fh) > bh) & (np.sign(fl) * np.sign(fh) < 0)
         Vk = ak + (0.5 * (pl + ph))[:, None] * ek
-        bk = np.maximum(np.linalg.norm(Vk - Pl, axis=1), np.linalg.norm(Vk - Ph, axis=1)) * (1 + 8 * UNIT_ROUNDOFF)
+        # the three points differ in coordinate k only (the others are ak's, exactly): the
+        # distances are the differences there
+        bk = np.maximum(np.abs(Vk[:, k] - Pl[:, k]), np.abs(Vk[:, k] - Ph[:, k])) * (1 + 8 * UNIT_ROUNDOFF)
         good = proven & (bk <= tol_abs)
         V[rows[good]], bound[rows[good]] = Vk[good], bk[good]
     return V, bound
