@@ -111,17 +111,26 @@ def chart_terms(expr, symbols, params=()):
     """A sympy expression as a polynomial in chart generators: the chart variables ``symbols`` and
     ``sin``/``cos`` of a rational multiple of one of them.
 
-    Not public API. Returns ``(plain, trig,
-    monoms, coefficients)``: the indices of the chart variables that occur as plain generators,
-    the trigonometric generators ``(is_sin, variable index, Rational multiple)``, the exponents
-    ``(T, G)`` (plain generators first) and the ``T`` coefficients, sympy expressions free of the
-    chart variables (they may hold ``params``, e.g. joint symbols, and functions of them).
+    Not public API. Returns ``(plain, trig, monoms, coefficients)``: the indices of the chart
+    variables that occur as plain generators, the trigonometric generators ``(is_sin, variable
+    index, Rational multiple)``, the exponents ``(T, G)`` (plain generators first) and the ``T``
+    coefficients, sympy expressions free of the chart variables (they may hold ``params``, e.g.
+    joint symbols, and functions of them).
 
     Raises
     ------
     UnsupportedShape
         A shape the rounding-error bound does not cover (a trigonometric argument that is not a
         rational multiple of one chart variable, a coefficient depending on a chart variable ...).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace.singular.charts import chart_terms
+    >>> u, v, w = sp.symbols("u v w")
+    >>> plain, trig, monoms, coeffs = chart_terms(3 * u**2 * sp.sin(w / 2) - v, (u, v, w))
+    >>> plain, trig, monoms.tolist(), coeffs
+    ([0, 1], [(True, 2, 1/2)], [[2, 0, 1], [0, 1, 0]], [3, -1])
     """
     expr = sp.expand(as_sympy_entry(expr, "expr"))
     symbols = tuple(symbols)
@@ -238,6 +247,16 @@ class JointTable:
         ------
         UnsupportedShape
             Every coefficient is exactly 0 at ``q`` (the surface vanishes identically).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.singular.charts import JointTable
+        >>> m = isp.PlanarParallel([isp.PRR(base=(0, 0), axis=(1, 0), platform=(0, 0), length=3),
+        ...                         isp.RPR(base=(6, 0), platform=(1, 0)), isp.RPR(base=(2, 5), platform=(0, 1))])
+        >>> monoms, balls, source = JointTable(m, "image").at((1.5, 5.0, 5.5))
+        >>> len(monoms) == len(balls) == len(source(256))
+        True
         """
         q = tuple(sp.Rational(v) if isinstance(v, float) else sp.sympify(v) for v in q)
         balls = self._balls(q, ARB_PRECISION)

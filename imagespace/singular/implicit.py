@@ -608,7 +608,18 @@ class PolynomialImplicit(Implicit):
     def from_evaluator(cls, evaluator, symbols, expr_factory, tolerances=None):
         """An implicit function built from a ready monomial table (a given-joints singularity surface
         evaluated from its design's table general in the joint values), with ``expr_factory()``
-        giving the sympy expression only if someone asks for it. Not public API."""
+        giving the sympy expression only if someone asks for it. Not public API.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from imagespace.singular.implicit import PolynomialImplicit
+        >>> u, v, w = sp.symbols("u v w")
+        >>> f = PolynomialImplicit(u**2 + v**2 + w**2 - 1, (u, v, w))
+        >>> g = PolynomialImplicit.from_evaluator(f._sign_evaluator(), (u, v, w), lambda: f.expr)
+        >>> g.value([[1.0, 1.0, 1.0]]).tolist(), g.expr == f.expr
+        ([2.0], True)
+        """
         self = cls.__new__(cls)
         self.tolerances = as_tolerances(tolerances)
         self._expr, self._expr_factory, self.symbols = None, expr_factory, tuple(symbols)
@@ -619,7 +630,16 @@ class PolynomialImplicit(Implicit):
 
     @property
     def expr(self):
-        """The sympy expression (built on first use for a table-made implicit)."""
+        """The sympy expression (built on first use for a table-made implicit).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from imagespace.singular.implicit import PolynomialImplicit
+        >>> u, v, w = sp.symbols("u v w")
+        >>> PolynomialImplicit(u - v * w, (u, v, w)).expr
+        u - v*w
+        """
         if self._expr is None:
             self._expr = self._expr_factory()
         return self._expr
