@@ -76,6 +76,33 @@ def _trig_accuracy_ok():
     return ok
 
 
+def _monomial_chain(monos, n_gens, extra=()):
+    """``(nodes, parent, gen)``: every monomial of ``monos``, then of ``extra`` (and those on the way)
+    as a node that is its parent node times generator ``gen``, node 0 the monomial 1; ``nodes``
+    maps exponents to nodes. The nodes of ``monos`` do not depend on ``extra`` (the same products,
+    the same rounding)."""
+    nodes = {(0,) * n_gens: 0}
+    order = [(0,) * n_gens]
+    key = lambda m_: (sum(m_), m_)                     # noqa: E731
+    for mono in sorted(monos, key=key) + sorted(set(extra) - set(monos), key=key):
+        chain = []
+        cur = mono
+        while cur not in nodes:
+            chain.append(cur)
+            j = next(i for i, a in enumerate(cur) if a)
+            cur = cur[:j] + (cur[j] - 1,) + cur[j + 1:]
+        for c in reversed(chain):
+            nodes[c] = len(order)
+            order.append(c)
+    parent = np.zeros(len(order), dtype=np.int64)
+    gen = np.zeros(len(order), dtype=np.int64)
+    for i, mono in enumerate(order[1:], start=1):
+        j = next(k for k, a in enumerate(mono) if a)
+        parent[i] = nodes[mono[:j] + (mono[j] - 1,) + mono[j + 1:]]
+        gen[i] = j
+    return nodes, parent, gen
+
+
 class _ProvenSign:
     """Signs of a sympy expression at float points, proven.
 
@@ -133,41 +160,25 @@ class _ProvenSign:
         # roundings per monomial: powers and products (<= d + G), the coefficient, the sum of N terms
         self.gamma = _gamma(len(coeffs) + d + len(gens) + 2)
         # every monomial as its parent times one generator (a chain from 1): one product per node
-        nodes = {(0,) * len(gens): 0}
-        order = [(0,) * len(gens)]
-        # the monomials of the value and of its derivatives along each generator
-        wanted = set(map(tuple, self.monoms.tolist()))
-        for mono in list(wanted):
-            for j, a in enumerate(mono):
-                if a:
-                    wanted.add(mono[:j] + (a - 1,) + mono[j + 1:])
-        for mono in sorted(wanted, key=lambda m_: (sum(m_), m_)):
-            chain = []
-            cur = mono
-            while cur not in nodes:
-                chain.append(cur)
-                j = next(i for i, a in enumerate(cur) if a)
-                cur = cur[:j] + (cur[j] - 1,) + cur[j + 1:]
-            for c in reversed(chain):
-                nodes[c] = len(order)
-                order.append(c)
-        self.parent = np.zeros(len(order), dtype=np.int64)
-        self.gen = np.zeros(len(order), dtype=np.int64)
-        for i, mono in enumerate(order[1:], start=1):
-            j = next(k for k, a in enumerate(mono) if a)
-            self.parent[i] = nodes[mono[:j] + (mono[j] - 1,) + mono[j + 1:]]
-            self.gen[i] = j
-        self.c_full = np.zeros(len(order))
+        # every monomial as its parent times one generator (a chain from 1): one product per node;
+        # the value's chain (the filter's), and a second one that also holds the monomials of the
+        # derivatives along each generator
+        nodes, self.parent, self.gen = _monomial_chain(list(map(tuple, self.monoms.tolist())), len(gens))
+        self.c_full = np.zeros(len(self.parent))
         for c, mono in zip(self.coeffs, self.monoms.tolist()):
             self.c_full[nodes[tuple(mono)]] = c
         self.terms = np.array([nodes[tuple(m)] for m in self.monoms.tolist()], dtype=np.int64)
+        term_monos = list(map(tuple, self.monoms.tolist()))
+        wanted = {mono[:j] + (a - 1,) + mono[j + 1:] for mono in term_monos for j, a in enumerate(mono) if a}
+        g_nodes, self.g_parent, self.g_gen = _monomial_chain(term_monos, len(gens), extra=wanted)
+        self.g_terms = np.array([g_nodes[tuple(m)] for m in self.monoms.tolist()], dtype=np.int64)
         # d/dg_j of the value: sum of c * a_j * (monomial / g_j) over the terms with a_j > 0
         self.dterms = []
         for j in range(len(gens)):
             idx, cj = [], []
             for c, mono in zip(self.coeffs, self.monoms.tolist()):
                 if mono[j]:
-                    idx.append(nodes[tuple(mono[:j] + [mono[j] - 1] + mono[j + 1:])])
+                    idx.append(g_nodes[tuple(mono[:j] + [mono[j] - 1] + mono[j + 1:])])
                     cj.append(c * mono[j])
             self.dterms.append((np.array(idx, dtype=np.int64), np.array(cj)))
         self.tiny = float(np.abs(self.coeffs).sum()) * (d + len(gens) + 2) * _TINY + _TINY
@@ -195,13 +206,14 @@ class _ProvenSign:
             ders.append(cf * cs if is_sin else -cf * sn)
         return np.stack(vals, axis=-1), np.stack(ders, axis=-1)
 
-    def _chain(self, gT, m):
+    @staticmethod
+    def _chain(parent, gen, gT, m):
         """The monomial chain ``(K, m)`` at generator values ``gT`` ``(G, m)``."""
-        K = len(self.parent)
+        K = len(parent)
         M = np.empty((K, m))
         M[0] = 1.0
         for i in range(1, K):
-            np.multiply(M[self.parent[i]], gT[self.gen[i]], out=M[i])
+            np.multiply(M[parent[i]], gT[gen[i]], out=M[i])
         return M
 
     def value_and_gradient(self, P, gradient=True):
@@ -210,7 +222,7 @@ class _ProvenSign:
         n = len(P)
         F = np.empty(n)
         G = np.zeros((n, 3)) if gradient else None
-        K = len(self.parent)
+        K = len(self.g_parent)
         step = max(1, 2**21 // K)
         var = self.plain + [k for _, k, _ in self.trig]
         for s in range(0, n, step):
@@ -218,11 +230,17 @@ class _ProvenSign:
             m = len(Ps)
             g, dg = self._generator_values(Ps)
             with np.errstate(over="ignore", invalid="ignore"):
-                M = self._chain(np.ascontiguousarray(g.T), m)
+                gT = np.ascontiguousarray(g.T)
                 f = np.zeros(m)
                 tmp = np.empty(m)
-                for i in self.terms:
-                    f += np.multiply(M[i], self.c_full[i], out=tmp)
+                if gradient:
+                    M = self._chain(self.g_parent, self.g_gen, gT, m)
+                    for c, i in zip(self.coeffs.tolist(), self.g_terms.tolist()):
+                        f += np.multiply(M[i], c, out=tmp)
+                else:
+                    M = self._chain(self.parent, self.gen, gT, m)
+                    for i in self.terms:
+                        f += np.multiply(M[i], self.c_full[i], out=tmp)
                 F[s:s + step] = f
                 if gradient:
                     for j, (idx, cj) in enumerate(self.dterms):
