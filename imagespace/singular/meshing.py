@@ -492,6 +492,7 @@ def _project_edges_polynomial(func, verts, axis, origin, h, tol_abs, G):
     Returns ``(V, bound)`` with ``bound = inf`` where this found no certificate (those go through
     :func:`_project_edges`)."""
     n = len(verts)
+    G = np.ascontiguousarray(G, dtype=float)            # flat indices below assume C order
     a, e, s0 = _edge_frames(verts, axis, origin, h)
     node = np.round((a - origin) / h).astype(np.int64)
     V = a + np.clip(s0, 0.0, 1.0)[:, None] * e
