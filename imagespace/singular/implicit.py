@@ -17,6 +17,7 @@ from .._validate import as_tolerances
 from ..core.certify import flint_precision
 from ..core.codegen import compile_exprs
 from ..exceptions import InputError
+from .charts import ARB_PRECISION, UnsupportedShape, arb_constant, chart_terms, grid_coefficients, joint_table
 
 __all__ = ["Implicit", "PolynomialImplicit", "FunctionImplicit", "surface_implicit", "TRIG_ULPS"]
 
@@ -25,7 +26,7 @@ TRIG_ULPS = 2
 0.52 ulp against arb on 140,000 arguments); the rounding-error bound of the pose chart relies on
 it, and a sample is checked against arb at first use (else that chart falls back to float signs)."""
 _FILTER_SAFETY = 2.0              # the rounding-error bound is doubled (second-order terms, rounding of the bound)
-_ARB_PRECISIONS = (128, 512)      # bits; arb decides a sign the float filter left open
+_ARB_PRECISIONS = (ARB_PRECISION, 512)   # bits; arb decides a sign the float filter left open
 _ARB_MAX_POINTS = 20000           # arb evaluations per mesh at most; points beyond stay undecided
 UNIT_ROUNDOFF = np.finfo(float).eps / 2
 """The unit roundoff ``u = 2**-53`` of float64 (shared with :mod:`imagespace.singular.meshing`)."""
@@ -45,50 +46,8 @@ _flint_precision = flint_precision
 
 
 # -- proven signs ---------------------------------------------------------------------------------
-class _Unsupported(Exception):
-    """The expression has a shape the rounding-error bound does not cover."""
-
-
-def _arb_constant(expr):
-    """A sympy constant (no free symbols) as a python-flint arb ball at the current precision."""
-    import flint
-
-    if expr.is_Integer:
-        return flint.arb(int(expr))
-    if expr.is_Rational:
-        return flint.arb(flint.fmpq(int(expr.p), int(expr.q)))
-    if expr.is_Float:
-        r = sp.Rational(expr)          # the exact binary value
-        return flint.arb(flint.fmpq(int(r.p), int(r.q)))
-    if expr is sp.pi:
-        return flint.arb.pi()
-    if expr is sp.E:
-        return flint.arb(1).exp()
-    if expr.is_Add:
-        out = flint.arb(0)
-        for a in expr.args:
-            out = out + _arb_constant(a)
-        return out
-    if expr.is_Mul:
-        out = flint.arb(1)
-        for a in expr.args:
-            out = out * _arb_constant(a)
-        return out
-    if expr.is_Pow:
-        b, e = expr.args
-        if e.is_Integer:
-            base = _arb_constant(b)
-            return base ** int(e) if int(e) >= 0 else 1 / base ** (-int(e))
-        if e.is_Rational:
-            base = _arb_constant(b)
-            root = base.sqrt() if e.q == 2 else base.root(int(e.q))
-            return root ** int(e.p) if e.p >= 0 else 1 / root ** (-int(e.p))
-        raise _Unsupported(f"power {expr}")
-    if isinstance(expr, (sp.sin, sp.cos)):
-        x = _arb_constant(expr.args[0])
-        return x.sin() if isinstance(expr, sp.sin) else x.cos()
-    raise _Unsupported(f"constant {expr}")
-
+_Unsupported = UnsupportedShape          # a shape the rounding-error bound does not cover
+_arb_constant = arb_constant
 
 _TRIG_CHECK = {}
 
@@ -117,6 +76,33 @@ def _trig_accuracy_ok():
     return ok
 
 
+def _monomial_chain(monos, n_gens, extra=()):
+    """``(nodes, parent, gen)``: every monomial of ``monos``, then of ``extra`` (and those on the way)
+    as a node that is its parent node times generator ``gen``, node 0 the monomial 1; ``nodes``
+    maps exponents to nodes. The nodes of ``monos`` do not depend on ``extra`` (the same products,
+    the same rounding)."""
+    nodes = {(0,) * n_gens: 0}
+    order = [(0,) * n_gens]
+    key = lambda m_: (sum(m_), m_)                     # noqa: E731
+    for mono in sorted(monos, key=key) + sorted(set(extra) - set(monos), key=key):
+        chain = []
+        cur = mono
+        while cur not in nodes:
+            chain.append(cur)
+            j = next(i for i, a in enumerate(cur) if a)
+            cur = cur[:j] + (cur[j] - 1,) + cur[j + 1:]
+        for c in reversed(chain):
+            nodes[c] = len(order)
+            order.append(c)
+    parent = np.zeros(len(order), dtype=np.int64)
+    gen = np.zeros(len(order), dtype=np.int64)
+    for i, mono in enumerate(order[1:], start=1):
+        j = next(k for k, a in enumerate(mono) if a)
+        parent[i] = nodes[mono[:j] + (mono[j] - 1,) + mono[j + 1:]]
+        gen[i] = j
+    return nodes, parent, gen
+
+
 class _ProvenSign:
     """Signs of a sympy expression at float points, proven.
 
@@ -130,42 +116,34 @@ class _ProvenSign:
     value is not finite), arb decides at 128 then 512 bits.
     """
 
-    def __init__(self, expr, symbols, coefficient_rel):
-        expr = sp.expand(as_sympy_entry(expr, "expr"))
-        symbols = tuple(symbols)
-        trig = sorted((a for a in expr.atoms(sp.sin, sp.cos) if a.free_symbols), key=sp.default_sort_key)
-        self.trig = []
-        for a in trig:
-            coeff, rest = a.args[0].as_coeff_Mul()
-            if rest not in symbols or not coeff.is_Rational or coeff == 0:
-                raise _Unsupported(f"{a}: the argument must be a rational multiple of one chart variable")
-            self.trig.append((isinstance(a, sp.sin), symbols.index(rest), sp.Rational(coeff)))
-        if self.trig and not _trig_accuracy_ok():
-            raise _Unsupported(f"numpy's sin/cos are not within {TRIG_ULPS} ulp on this machine")
-        dummies = {a: sp.Dummy() for a in trig}
-        free = expr.xreplace(dummies).free_symbols
-        plain = [s for s in symbols if s in free]
-        gens = plain + trig
-        if not gens:
-            gens = [symbols[0]]
-            plain = [symbols[0]]
-        try:
-            poly = sp.Poly(expr, *gens)
-        except sp.PolynomialError as exc:
-            raise _Unsupported(str(exc)) from None
-        coeffs = poly.coeffs()
-        if any(c.free_symbols for c in coeffs):
-            raise _Unsupported("a coefficient depends on the chart variables")
-        self.plain = [symbols.index(s) for s in plain]
-        self.monoms = np.array(poly.monoms(), dtype=np.int64).reshape(len(coeffs), len(gens))
-        self.coeff_exprs = coeffs
-        self._arb_coeffs = {}
-        cf, rel = [], []
+    @classmethod
+    def of_expr(cls, expr, symbols, coefficient_rel):
+        """The evaluator of a sympy expression in the chart ``symbols`` with constant coefficients."""
+        plain, trig, monoms, coeffs = chart_terms(expr, symbols)
         with _flint_precision(_ARB_PRECISIONS[0]):
-            import flint
+            balls = [_arb_constant(c) for c in coeffs]
+        return cls(plain, trig, monoms, balls, lambda prec: [_arb_constant(c) for c in coeffs], coefficient_rel,
+                   names=coeffs)
 
-            for c in coeffs:
-                ball = _arb_constant(c)
+    def __init__(self, plain, trig, monoms, coefficients, arb_coefficients, coefficient_rel, names=None):
+        """From a parsed polynomial (:func:`chart_terms`): ``plain`` the chart-variable indices of the
+        plain generators, ``trig`` the trigonometric ones ``(is_sin, variable index, Rational)``,
+        ``monoms`` ``(T, G)`` exponents, ``coefficients`` ``(T,)`` arb balls at
+        ``_ARB_PRECISIONS[0]`` bits, ``arb_coefficients(prec)`` the balls at another precision;
+        ``names`` (for messages) the coefficients as text."""
+        if trig and not _trig_accuracy_ok():
+            raise _Unsupported(f"numpy's sin/cos are not within {TRIG_ULPS} ulp on this machine")
+        self.trig = list(trig)
+        self.plain = list(plain)
+        self.monoms = np.asarray(monoms, dtype=np.int64).reshape(len(coefficients), len(plain) + len(trig))
+        self._arb_source = arb_coefficients
+        self._arb_coeffs = {_ARB_PRECISIONS[0]: list(coefficients)}
+        names = names if names is not None else [str(c) for c in coefficients]
+        cf, rel = [], []
+        import flint
+
+        with _flint_precision(_ARB_PRECISIONS[0]):
+            for ball, c in zip(coefficients, names):
                 if not ball.is_finite():
                     raise _Unsupported(f"coefficient {c} is not finite")
                 f = float(ball.mid())
@@ -174,34 +152,35 @@ class _ProvenSign:
                     raise _Unsupported(f"coefficient {c} is not well represented in float")
                 cf.append(f)
                 rel.append(err / abs(f))
+        coeffs = cf
+        gens = self.plain + self.trig
         self.coeffs = np.array(cf)
         self.coeff_rel = max(rel, default=0.0)
         d = int(self.monoms.sum(axis=1).max()) if len(coeffs) else 0
         # roundings per monomial: powers and products (<= d + G), the coefficient, the sum of N terms
         self.gamma = _gamma(len(coeffs) + d + len(gens) + 2)
         # every monomial as its parent times one generator (a chain from 1): one product per node
-        nodes = {(0,) * len(gens): 0}
-        order = [(0,) * len(gens)]
-        for mono in sorted(map(tuple, self.monoms.tolist()), key=sum):
-            chain = []
-            cur = mono
-            while cur not in nodes:
-                chain.append(cur)
-                j = next(i for i, a in enumerate(cur) if a)
-                cur = cur[:j] + (cur[j] - 1,) + cur[j + 1:]
-            for c in reversed(chain):
-                nodes[c] = len(order)
-                order.append(c)
-        self.parent = np.zeros(len(order), dtype=np.int64)
-        self.gen = np.zeros(len(order), dtype=np.int64)
-        for i, mono in enumerate(order[1:], start=1):
-            j = next(k for k, a in enumerate(mono) if a)
-            self.parent[i] = nodes[mono[:j] + (mono[j] - 1,) + mono[j + 1:]]
-            self.gen[i] = j
-        self.c_full = np.zeros(len(order))
+        # every monomial as its parent times one generator (a chain from 1): one product per node;
+        # the value's chain (the filter's), and a second one that also holds the monomials of the
+        # derivatives along each generator
+        nodes, self.parent, self.gen = _monomial_chain(list(map(tuple, self.monoms.tolist())), len(gens))
+        self.c_full = np.zeros(len(self.parent))
         for c, mono in zip(self.coeffs, self.monoms.tolist()):
             self.c_full[nodes[tuple(mono)]] = c
         self.terms = np.array([nodes[tuple(m)] for m in self.monoms.tolist()], dtype=np.int64)
+        term_monos = list(map(tuple, self.monoms.tolist()))
+        wanted = {mono[:j] + (a - 1,) + mono[j + 1:] for mono in term_monos for j, a in enumerate(mono) if a}
+        g_nodes, self.g_parent, self.g_gen = _monomial_chain(term_monos, len(gens), extra=wanted)
+        self.g_terms = np.array([g_nodes[tuple(m)] for m in self.monoms.tolist()], dtype=np.int64)
+        # d/dg_j of the value: sum of c * a_j * (monomial / g_j) over the terms with a_j > 0
+        self.dterms = []
+        for j in range(len(gens)):
+            idx, cj = [], []
+            for c, mono in zip(self.coeffs, self.monoms.tolist()):
+                if mono[j]:
+                    idx.append(g_nodes[tuple(mono[:j] + [mono[j] - 1] + mono[j + 1:])])
+                    cj.append(c * mono[j])
+            self.dterms.append((np.array(idx, dtype=np.int64), np.array(cj)))
         self.tiny = float(np.abs(self.coeffs).sum()) * (d + len(gens) + 2) * _TINY + _TINY
         n_plain = len(self.plain)
         self.plain_deg = int(self.monoms[:, :n_plain].sum(axis=1).max()) if len(coeffs) else 0
@@ -211,6 +190,79 @@ class _ProvenSign:
         self.trig_abs = max(2.0 * trig_deg * (TRIG_ULPS + 1) * float(np.abs(self.coeffs).sum()), 1.0) * _TINY
         self.trig_c = [(float(c), 0.0 if _is_power_of_two(c)
                         else float(abs(sp.Rational(float(c)) - c)) * (1 + 4 * UNIT_ROUNDOFF)) for _, _, c in self.trig]
+
+    # values and gradients ----------------------------------------------------------------------
+    def _generator_values(self, P):
+        """``(g (n, G), dg (n, G))``: the generators at chart points ``P`` and each one's derivative
+        along its own chart variable."""
+        vals, ders = [], []
+        for k in self.plain:
+            vals.append(P[:, k])
+            ders.append(np.ones(len(P)))
+        for (is_sin, k, _), (cf, _) in zip(self.trig, self.trig_c):
+            arg = cf * P[:, k]
+            sn, cs = np.sin(arg), np.cos(arg)
+            vals.append(sn if is_sin else cs)
+            ders.append(cf * cs if is_sin else -cf * sn)
+        return np.stack(vals, axis=-1), np.stack(ders, axis=-1)
+
+    @staticmethod
+    def _chain(parent, gen, gT, m):
+        """The monomial chain ``(K, m)`` at generator values ``gT`` ``(G, m)``."""
+        K = len(parent)
+        M = np.empty((K, m))
+        M[0] = 1.0
+        for i in range(1, K):
+            np.multiply(M[parent[i]], gT[gen[i]], out=M[i])
+        return M
+
+    def value_and_gradient(self, P, gradient=True):
+        """``F`` (and its gradient in the chart variables, ``(n, 3)``) at chart points ``P`` ``(n, 3)``,
+        evaluated as the monomial sum (the same one the filter bounds)."""
+        n = len(P)
+        F = np.empty(n)
+        G = np.zeros((n, 3)) if gradient else None
+        K = len(self.g_parent)
+        step = max(1, 2**21 // K)
+        var = self.plain + [k for _, k, _ in self.trig]
+        for s in range(0, n, step):
+            Ps = P[s:s + step]
+            m = len(Ps)
+            g, dg = self._generator_values(Ps)
+            with np.errstate(over="ignore", invalid="ignore"):
+                gT = np.ascontiguousarray(g.T)
+                f = np.zeros(m)
+                tmp = np.empty(m)
+                if gradient:
+                    M = self._chain(self.g_parent, self.g_gen, gT, m)
+                    for c, i in zip(self.coeffs.tolist(), self.g_terms.tolist()):
+                        f += np.multiply(M[i], c, out=tmp)
+                else:
+                    M = self._chain(self.parent, self.gen, gT, m)
+                    for i in self.terms:
+                        f += np.multiply(M[i], self.c_full[i], out=tmp)
+                F[s:s + step] = f
+                if gradient:
+                    for j, (idx, cj) in enumerate(self.dterms):
+                        if len(idx) == 0:
+                            continue
+                        d = np.zeros(m)
+                        for i, c in zip(idx.tolist(), cj.tolist()):
+                            d += np.multiply(M[i], c, out=tmp)
+                        G[s:s + step, var[j]] += d * dg[:, j]
+        return F, G
+
+    def degree_in(self, k):
+        """Degree in chart variable ``k`` (``None`` if it enters a trigonometric generator)."""
+        if any(kk == k for _, kk, _ in self.trig):
+            return None
+        if k not in self.plain:
+            return 0
+        return int(self.monoms[:, self.plain.index(k)].max()) if len(self.monoms) else 0
+
+    def grid_coefficients(self, w):
+        """``(monomials, C)`` for a tensor grid (:func:`imagespace.singular.charts.grid_coefficients`)."""
+        return grid_coefficients(self.plain, self.trig, self.monoms, self.coeffs, w)
 
     # float filter ----------------------------------------------------------------------------
     def _generators(self, P):
@@ -304,7 +356,7 @@ class _ProvenSign:
         for prec in _ARB_PRECISIONS:
             with _flint_precision(prec):
                 if prec not in self._arb_coeffs:
-                    self._arb_coeffs[prec] = [_arb_constant(c) for c in self.coeff_exprs]
+                    self._arb_coeffs[prec] = self._arb_source(prec)
                 coeffs = self._arb_coeffs[prec]
                 gens = [flint.arb(p[k]) for k in self.plain]
                 for is_sin, k, c in self.trig:
@@ -411,6 +463,20 @@ class Implicit:
     def value(self, P):
         """``F`` at points ``P`` ``(n, 3)``."""
         return self.value_and_gradient(P)[0]
+
+    def degree_in(self, k):
+        """The degree of ``F`` in its ``k``-th variable when ``F`` is a polynomial in it (the others
+        fixed), else ``None`` (the base class: unknown). The mesher then locates vertices on grid
+        edges along that variable from ``degree + 1`` values per edge.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from imagespace.singular.implicit import FunctionImplicit
+        >>> FunctionImplicit(lambda P: (P[:, 0], np.tile([1.0, 0, 0], (len(P), 1)))).degree_in(0) is None
+        True
+        """
+        return None
 
     def value_bound(self, P):
         """``(F, bound, zero)`` at points ``P`` ``(n, 3)``: a float value whose sign is proven where
@@ -551,17 +617,50 @@ class PolynomialImplicit(Implicit):
         extra = expr.free_symbols - set(symbols)
         if extra:
             raise InputError(f"expr has symbols {sorted(map(str, extra))} besides {symbols}")
-        self.expr, self.symbols = expr, symbols
-        u, v, w = symbols
-        self._vg = compile_exprs([expr] + [sp.diff(expr, s) for s in symbols], symbols)
-        self._v = compile_exprs([expr], symbols)
-        try:
-            poly = sp.Poly(sp.expand(expr), u, v)
-            self._monomials = poly.monoms()
-            self._coeffs = compile_exprs(poly.coeffs(), [w])
-        except sp.PolynomialError:
-            self._monomials = None
+        self._expr, self._expr_factory, self.symbols = expr, None, symbols
         self._signs = None
+        self._lambdified = None
+        self._sign_evaluator()          # the monomial table: values, gradients and proven signs
+
+    @classmethod
+    def from_evaluator(cls, evaluator, symbols, expr_factory, tolerances=None):
+        """An implicit function built from a ready monomial table (a given-joints singularity surface
+        evaluated from its design's table general in the joint values), with ``expr_factory()``
+        giving the sympy expression only if someone asks for it. Not public API.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from imagespace.singular.implicit import PolynomialImplicit
+        >>> u, v, w = sp.symbols("u v w")
+        >>> f = PolynomialImplicit(u**2 + v**2 + w**2 - 1, (u, v, w))
+        >>> g = PolynomialImplicit.from_evaluator(f._sign_evaluator(), (u, v, w), lambda: f.expr)
+        >>> g.value([[1.0, 1.0, 1.0]]).tolist(), g.expr == f.expr
+        ([2.0], True)
+        """
+        self = cls.__new__(cls)
+        self.tolerances = as_tolerances(tolerances)
+        self._expr, self._expr_factory, self.symbols = None, expr_factory, tuple(symbols)
+        self._signs = evaluator
+        self._sign_note = "rounding-error bound, arb below it"
+        self._lambdified = None
+        return self
+
+    @property
+    def expr(self):
+        """The sympy expression (built on first use for a table-made implicit).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from imagespace.singular.implicit import PolynomialImplicit
+        >>> u, v, w = sp.symbols("u v w")
+        >>> PolynomialImplicit(u - v * w, (u, v, w)).expr
+        u - v*w
+        """
+        if self._expr is None:
+            self._expr = self._expr_factory()
+        return self._expr
 
     @property
     def sign_test(self):
@@ -571,12 +670,27 @@ class PolynomialImplicit(Implicit):
     def _sign_evaluator(self):
         if self._signs is None:
             try:
-                self._signs = _ProvenSign(self.expr, self.symbols, self.tolerances.implicit_coefficient)
+                self._signs = _ProvenSign.of_expr(self.expr, self.symbols, self.tolerances.implicit_coefficient)
                 self._sign_note = "rounding-error bound, arb below it"
             except _Unsupported as exc:
                 self._signs = False
                 self._sign_note = f"float signs (not proven against rounding: {exc})"
         return self._signs or None
+
+    def _compiled(self):
+        """The lambdified value and gradient, for expressions without a monomial table."""
+        if self._lambdified is None:
+            expr, symbols = self.expr, self.symbols
+            u, v, w = symbols
+            vg = compile_exprs([expr] + [sp.diff(expr, s_) for s_ in symbols], symbols)
+            val = compile_exprs([expr], symbols)
+            try:
+                poly = sp.Poly(sp.expand(expr), u, v)
+                grid = (poly.monoms(), compile_exprs(poly.coeffs(), [w]))
+            except sp.PolynomialError:
+                grid = None
+            self._lambdified = (vg, val, grid)
+        return self._lambdified
 
     def value_bound(self, P):
         ev = self._sign_evaluator()
@@ -600,28 +714,89 @@ class PolynomialImplicit(Implicit):
 
     def value_and_gradient(self, P):
         P = _points3(P)
-        out = self._vg(P[:, 0], P[:, 1], P[:, 2])
+        ev = self._sign_evaluator()
+        if ev is not None:
+            return ev.value_and_gradient(P)
+        out = self._compiled()[0](P[:, 0], P[:, 1], P[:, 2])
         return out[:, 0], out[:, 1:]
 
     def value(self, P):
         P = _points3(P)
-        return self._v(P[:, 0], P[:, 1], P[:, 2])[:, 0]
+        ev = self._sign_evaluator()
+        if ev is not None:
+            return ev.value_and_gradient(P, gradient=False)[0]
+        return self._compiled()[1](P[:, 0], P[:, 1], P[:, 2])[:, 0]
+
+    def degree_in(self, k):
+        """The degree in the ``k``-th chart variable (``None`` where it enters through sin/cos, or
+        without a monomial table).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from imagespace.singular.implicit import PolynomialImplicit
+        >>> u, v, w = sp.symbols("u v w")
+        >>> f = PolynomialImplicit(u**3 * v + sp.cos(w), (u, v, w))
+        >>> f.degree_in(0), f.degree_in(1), f.degree_in(2)
+        (3, 1, None)
+        """
+        ev = self._sign_evaluator()
+        if ev is None:
+            return None
+        return ev.degree_in(k)
+
+    def grid_coefficients(self, w):
+        """``(monomials, C)``: the monomials ``(a, b)`` of ``u**a v**b`` and their coefficients at the
+        values ``w`` of the third variable (``(len(w), len(monomials))``), or ``None`` when the
+        expression is not polynomial in ``u, v`` with coefficients in ``w`` alone.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from imagespace.singular.implicit import PolynomialImplicit
+        >>> u, v, w = sp.symbols("u v w")
+        >>> mons, C = PolynomialImplicit(u**2 + w * v - 1, (u, v, w)).grid_coefficients([2.0])
+        >>> sorted(zip(mons, C[0].tolist()))
+        [((0, 0), -1.0), ((0, 1), 2.0), ((2, 0), 1.0)]
+        """
+        w = np.atleast_1d(np.asarray(w, dtype=float))
+        ev = self._sign_evaluator()
+        if ev is not None:
+            out = ev.grid_coefficients(w)
+            if out is not None:
+                return out
+        grid = self._compiled()[2]
+        if grid is None:
+            return None
+        return grid[0], grid[1](w)
 
     def grid(self, axes, block=None):
-        if self._monomials is None:
-            return super().grid(axes, block)
         u, v, w = _axes3(axes)
-        C = self._coeffs(w)                                   # (nw, M)
-        M = np.stack([np.multiply.outer(u**a, v**b).ravel() for a, b in self._monomials], axis=-1)
-        out = np.empty((len(u) * len(v), len(w)))
-        n_blocks = max(1, min(len(w), 16))
-        edges = np.linspace(0, len(w), n_blocks + 1).astype(int)
+        table = self.grid_coefficients(w)
+        if table is None:
+            return super().grid(axes, block)
+        monomials, C = table                                  # (nw, M)
+        # Horner in u over Q_a(v, w) = sum_b v**b C_ab(w), slab by slab of u (cache-sized, and no
+        # BLAS product: its threads keep spinning and slow down the single-threaded work after it)
+        top = max((a for a, _ in monomials), default=0)
+        Q = [None] * (top + 1)
+        for (a, b), col in zip(monomials, C.T):
+            term = np.multiply.outer(v**b, col)
+            Q[a] = term if Q[a] is None else Q[a] + term
+        out = np.empty((len(u), len(v), len(w)))
+        n_blocks = max(1, min(len(u), 16))
+        edges = np.linspace(0, len(u), n_blocks + 1).astype(int)
         for k in range(n_blocks):
-            s = slice(edges[k], edges[k + 1])
-            np.matmul(M, C[s].T, out=out[:, s])
+            o = out[edges[k]:edges[k + 1]]
+            uk = u[edges[k]:edges[k + 1], None, None]
+            o[...] = 0.0 if Q[top] is None else Q[top]
+            for a in range(top - 1, -1, -1):
+                o *= uk
+                if Q[a] is not None:
+                    o += Q[a]
             if block:
                 block(k, n_blocks)
-        return out.reshape(len(u), len(v), len(w))
+        return out
 
 
 class FunctionImplicit(Implicit):
@@ -722,10 +897,29 @@ def surface_implicit(surface, chart="image"):
     return surface.cached(("implicit", chart), lambda: _build_implicit(surface, chart))
 
 
+def _joint_evaluator(table, q, coefficient_rel):
+    """The :class:`_ProvenSign` table of a design's surface at joint values ``q`` from its
+    :class:`~imagespace.singular.charts.JointTable` (no symbolic work), or ``None`` where a
+    coefficient at ``q`` is not separated from 0 by arb (the caller derives at ``q`` instead)."""
+    try:
+        monoms, balls, source = table.at(q)
+        names = [f"{mm} at q = {[float(v) for v in q]}" for mm in monoms.tolist()]
+        return _ProvenSign(table.plain, table.trig, monoms, balls, source, coefficient_rel, names=names)
+    except _Unsupported:
+        return None
+
+
 def _build_implicit(surface, chart):
     from .surface import image_chart_point, pose_chart_point
 
     to_X = image_chart_point if chart == "image" else pose_chart_point
+    if surface.kind == "given-joints":
+        m = surface.manipulator
+        table = joint_table(m, chart)
+        ev = None if table is None else _joint_evaluator(table, surface.q, m.tolerances.implicit_coefficient)
+        if ev is not None:
+            return PolynomialImplicit.from_evaluator(ev, table.symbols, lambda: surface.chart_expression(chart)[0],
+                                                     tolerances=m.tolerances)
     if surface.is_polynomial:
         expr, syms = surface.chart_expression(chart)
         return PolynomialImplicit(expr, syms, tolerances=surface.manipulator.tolerances)

@@ -92,6 +92,7 @@ _SEARCH_STEPS = (0.25, 0.5, 1.0)  # neighbourhood search: points at these multip
 _BISECT_TRIES = (0.5, 0.375, 0.625, 0.25, 0.75)  # tried in turn while a bisection point's sign is undecided
 _BISECT_STEPS = 80                # bisection steps of the neighbourhood search (2 cells -> tol needs ~25)
 _ORIENT_SAMPLE = 4096             # faces sampled to decide the orientation
+_FIT_MAX_DEGREE = 8               # edges are located from a polynomial fit up to this degree in the edge variable
 
 
 # -- meshing ------------------------------------------------------------------------------------
@@ -287,7 +288,9 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     t0 = time.perf_counter()
     G = func.grid(axes, block=lambda k, n: bar.step(16 / n))
     times["grid"] = time.perf_counter() - t0
-    finite = np.isfinite(G)
+    g_min, g_max = float(G.min()), float(G.max())         # NaN or inf among them unless all finite
+    all_finite = bool(np.isfinite(g_min) and np.isfinite(g_max))
+    finite = np.isfinite(G) if not all_finite else None
     meta = {"resolution": list(res), "box": b.tolist(), "tol": tol, "size": size,
             "sign_test": func.sign_test}
     def empty_mesh(note):
@@ -299,20 +302,23 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
         mesh.vertex_attributes["distance_bound"] = np.zeros(0)
         return mesh
 
-    if not finite.any():
+    if not all_finite and not finite.any():
         warnings.warn("mesh_implicit: func is NaN or infinite at every grid point of the box; the mesh "
                       "is empty", UserWarning, stacklevel=2)
         return empty_mesh("the function is not finite anywhere on the grid")
-    if np.nanmin(G) > 0 or np.nanmax(G) < 0:
+    if not all_finite:
+        g_min, g_max = np.nanmin(G), np.nanmax(G)
+    if g_min > 0 or g_max < 0:
         return empty_mesh("the surface does not meet the box")
-    if not np.any(G[finite] != 0):
+    if (g_min == g_max == 0) if all_finite else not np.any(G[finite] != 0):
         bar.close()
         raise InputError("func is 0 at every grid point of the box: its zero set is not a surface there "
                          "(e.g. a function that vanishes identically, or a singularity surface of an "
                          "architecture-singular design); nothing to mesh")
     t0 = time.perf_counter()
     kw = {}
-    if not finite.all():
+    G_values = G                    # float64, NaN where not finite: the projection's starting guesses
+    if not all_finite:
         kw["mask"] = _cube_mask(finite)
         G = np.where(finite, G, 0.0)
     verts, faces = _marching_cubes(marching_cubes, G, kw)
@@ -325,7 +331,7 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     bar.step()
     t0 = time.perf_counter()
     budget = ArbBudget()
-    V, bound, resid, searched = _project(func, verts, b[:, 0], h, tol * size, budget, tols.mesh_on_grid)
+    V, bound, resid, searched = _project(func, verts, b[:, 0], h, tol * size, budget, tols.mesh_on_grid, G_values)
     times["projection"] = time.perf_counter() - t0
     bar.step()
     t0 = time.perf_counter()
@@ -356,13 +362,19 @@ def _marching_cubes(marching_cubes, G, kw):
     non-zero below 1e-38) is first scaled by its largest value, and what would still underflow
     is kept at +-1e-30 so that no sign is lost; only the starting points of the projection depend
     on these values, the certified vertices do not."""
-    amax = float(np.max(np.abs(G)))
-    nz = np.abs(G[G != 0])
-    if amax > 1e30 or (nz.size and float(nz.min()) < 1e-30):
+    # the float32 copy marching cubes would make anyway; the range checks run on it (cheap), and a
+    # non-zero value below 1e-30 shows as more small entries than exact zeros of G
+    with np.errstate(over="ignore"):
+        G32 = G.astype(np.float32)
+    amax = max(float(G32.max()), -float(G32.min()))
+    if amax > 1e30 or np.count_nonzero(np.abs(G32) < 1e-30) > G.size - np.count_nonzero(G):
+        amax = float(np.max(np.abs(G)))
         G = G / amax
         tiny = (G != 0) & (np.abs(G) < 1e-30)
         if tiny.any():
             G = np.where(tiny, np.sign(G) * 1e-30, G)
+        G32 = G.astype(np.float32)
+    G = G32
     try:
         verts, faces, _, _ = marching_cubes(G, level=0.0, allow_degenerate=False, **kw)
     except RuntimeError as exc:
@@ -416,7 +428,7 @@ def _cube_mask(finite):
     return m
 
 
-def _project(func, verts, origin, h, tol_abs, budget, on_grid):
+def _project(func, verts, origin, h, tol_abs, budget, on_grid, grid):
     """Move marching-cubes vertices onto the surface and certify each.
 
     Returns ``(V, bound, resid, searched)``: the vertices ``(n, 3)``, the certified distance bound
@@ -436,6 +448,11 @@ def _project(func, verts, origin, h, tol_abs, budget, on_grid):
     axis = np.argmax(frac, axis=1)
     k = np.flatnonzero(on_edge)
     if k.size:
+        # edges along a variable F is a polynomial in: its restriction, fitted per edge
+        Ve, be = _project_edges_polynomial(func, verts[k], axis[k], origin, h, tol_abs, grid)
+        V[k], bound[k] = Ve, be
+        k = k[~(be <= tol_abs)]
+    if k.size:
         Ve, be = _project_edges(func, verts[k], axis[k], origin, h, tol_abs, budget)
         V[k], bound[k] = Ve, be
     first = np.where(on_edge, axis, -1)
@@ -451,10 +468,9 @@ def _project(func, verts, origin, h, tol_abs, budget, on_grid):
     return V, bound, resid, int(rest.size)
 
 
-def _project_edges(func, verts, axis, origin, h, tol_abs, budget):
-    """Safeguarded Newton along the marching-cubes edge of each vertex, certified by two points
-    about ``tol_abs / 2`` on either side whose signs are proven (:meth:`Implicit.proven_sign`).
-    Returns ``(V, bound)``."""
+def _edge_frames(verts, axis, origin, h):
+    """Per marching-cubes vertex: the lower grid node ``a`` of its edge, the edge vector ``e`` and
+    the vertex's edge parameter ``s`` in ``[0, 1]``."""
     n = len(verts)
     rows = np.arange(n)
     lo_idx = np.round(verts).astype(float)
@@ -463,6 +479,99 @@ def _project_edges(func, verts, axis, origin, h, tol_abs, budget):
     e = np.zeros((n, 3))
     e[rows, axis] = h[axis]
     s = verts[rows, axis] - lo_idx[rows, axis]
+    return a, e, s
+
+
+def _project_edges_polynomial(func, verts, axis, origin, h, tol_abs, G):
+    """Vertices on edges along a variable in which ``func`` is a polynomial of degree ``d``
+    (:meth:`Implicit.degree_in`): its restriction to the grid line through the edge is the
+    interpolant of ``d + 1`` consecutive grid values ``G`` on that line (the edge's two nodes among
+    them), its root in the edge located by safeguarded Newton on that interpolant, and the vertex
+    certified exactly as in :func:`_project_edges`, by proven opposite signs of ``func`` itself at
+    two points about ``tol_abs / 2`` on either side. The interpolant only proposes where to look.
+    Returns ``(V, bound)`` with ``bound = inf`` where this found no certificate (those go through
+    :func:`_project_edges`)."""
+    n = len(verts)
+    G = np.ascontiguousarray(G, dtype=float)            # flat indices below assume C order
+    a, e, s0 = _edge_frames(verts, axis, origin, h)
+    node = np.round((a - origin) / h).astype(np.int64)
+    V = a + np.clip(s0, 0.0, 1.0)[:, None] * e
+    bound = np.full(n, np.inf)
+    for k in range(3):
+        d = func.degree_in(k)
+        rows = np.flatnonzero(axis == k)
+        N = G.shape[k]
+        if d is None or d < 1 or d > _FIT_MAX_DEGREE or d + 1 > N or rows.size == 0:
+            continue
+        i = node[rows, k]
+        start = np.clip(i - (d - 1) // 2, 0, N - 1 - d)
+        off = start - i                                    # the window's first node, relative to the edge's
+        stride = G.strides[k] // G.itemsize
+        flat = np.ravel_multi_index(tuple(node[rows].T), G.shape) + off * stride
+        Gf = G.reshape(-1)
+        F = np.stack([Gf[flat + j * stride] for j in range(d + 1)], axis=-1)
+        f0 = F[np.arange(rows.size), -off]
+        f1 = F[np.arange(rows.size), 1 - off]
+        ok = np.isfinite(F).all(axis=1) & (f0 != 0) & (f1 != 0) & (np.sign(f0) != np.sign(f1))
+        rows, F, off, f0 = rows[ok], F[ok], off[ok], f0[ok]
+        if rows.size == 0:
+            continue
+        C = np.empty_like(F)                               # power basis in the edge parameter
+        for o in np.unique(off):
+            sel = off == o
+            # by einsum, not a BLAS product (its threads keep spinning after small products)
+            C[sel] = np.einsum("ij,kj->ik", F[sel], np.linalg.inv(np.vander(o + np.arange(d + 1.0), increasing=True)))
+        ak, ek = a[rows], e[rows]
+        sg_lo = np.sign(f0)
+        delta = tol_abs / h[k]
+        s = np.clip(s0[rows], 0.0, 1.0)
+        lo, hi = np.zeros(rows.size), np.ones(rows.size)
+        act = np.arange(rows.size)
+        full = True                                        # whole arrays while most rows still move
+        for _ in range(_NEWTON_STEPS):
+            if act.size == 0:
+                break
+            if full and 4 * act.size < rows.size:
+                full = False
+            if full:
+                act = np.arange(rows.size)
+            sa, Ca = s[act], C[act]
+            p = Ca[:, d].copy()
+            dp = np.zeros(act.size)
+            for j in range(d - 1, -1, -1):                # Horner for the value and the derivative
+                dp = dp * sa + p
+                p = p * sa + Ca[:, j]
+            same = np.sign(p) == sg_lo[act]
+            lo[act] = np.where(same, sa, lo[act])
+            hi[act] = np.where(~same & (p != 0), sa, hi[act])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                sn = sa - p / dp
+            inside = np.isfinite(sn) & (sn > lo[act]) & (sn < hi[act])
+            sn = np.where(p == 0, sa, np.where(inside, sn, 0.5 * (lo[act] + hi[act])))
+            s[act] = sn
+            act = act[~((np.abs(sn - sa) < _NEWTON_SMALL * delta) | (p == 0) | (hi[act] - lo[act] <= delta))]
+        pl = np.maximum(s - 0.5 * delta, 0.0)
+        ph = np.minimum(s + 0.5 * delta, 1.0)
+        Pl, Ph = ak + pl[:, None] * ek, ak + ph[:, None] * ek
+        f, b, _ = func.value_bound(np.concatenate([Pl, Ph]))
+        m = rows.size
+        fl, fh, bl, bh = f[:m], f[m:], b[:m], b[m:]
+        proven = (np.abs(fl) > bl) & (np.abs(fh) > bh) & (np.sign(fl) * np.sign(fh) < 0)
+        Vk = ak + (0.5 * (pl + ph))[:, None] * ek
+        # the three points differ in coordinate k only (the others are ak's, exactly): the
+        # distances are the differences there
+        bk = np.maximum(np.abs(Vk[:, k] - Pl[:, k]), np.abs(Vk[:, k] - Ph[:, k])) * (1 + 8 * UNIT_ROUNDOFF)
+        good = proven & (bk <= tol_abs)
+        V[rows[good]], bound[rows[good]] = Vk[good], bk[good]
+    return V, bound
+
+
+def _project_edges(func, verts, axis, origin, h, tol_abs, budget):
+    """Safeguarded Newton along the marching-cubes edge of each vertex, certified by two points
+    about ``tol_abs / 2`` on either side whose signs are proven (:meth:`Implicit.proven_sign`).
+    Returns ``(V, bound)``."""
+    n = len(verts)
+    a, e, s = _edge_frames(verts, axis, origin, h)
     delta = tol_abs / h[axis]                    # wanted bracket width in the edge parameter
 
     lo, hi = np.zeros(n), np.ones(n)
@@ -667,8 +776,12 @@ def _orient(func, mesh):
     if len(mesh.faces) == 0:
         return 1.0
     pick = np.random.default_rng(0).choice(len(mesh.faces), min(len(mesh.faces), _ORIENT_SAMPLE), replace=False)
-    _, g = func.value_and_gradient(mesh.triangles_center[pick])
-    dots = np.einsum("ij,ij->i", mesh.face_normals[pick], g)
+    T = np.asarray(mesh.vertices)[np.asarray(mesh.faces)[pick]]          # only the sampled triangles
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    length = np.linalg.norm(n, axis=1)
+    n = n / np.where(length > 0, length, 1.0)[:, None]        # a degenerate face: a zero normal
+    _, g = func.value_and_gradient(T.mean(axis=1))
+    dots = np.einsum("ij,ij->i", n, g)
     ok = np.isfinite(dots)
     agree = float(np.mean(dots[ok] > 0)) if ok.any() else 1.0
     if agree < 0.5:

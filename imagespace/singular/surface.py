@@ -49,6 +49,7 @@ from ..exceptions import InputError
 from ..core.kinematic_map import pose_of
 from ..core.mechanism import check_mechanism
 from .._html import latex_collected
+from .charts import UnsupportedShape, chart_substitution, grid_coefficients, joint_table
 
 __all__ = ["SingularitySurface", "ConicSection", "singularity_surface", "singularity_surfaces",
            "pose_chart_point", "image_chart_point"]
@@ -544,8 +545,20 @@ class SingularitySurface:
         return out
 
     def _section_functions(self):
-        """The monomials in ``(x, y)`` of the pose-chart quartic and their coefficients compiled
-        as functions of ``phi``."""
+        """The monomials in ``(x, y)`` of the pose-chart quartic and their coefficients as a
+        function of ``phi``: for a given-joints surface from the design's table general in the
+        joint values (:class:`~imagespace.singular.charts.JointTable`, no derivation per ``q``),
+        else compiled from the expression."""
+        if self.kind == "given-joints":
+            table = joint_table(self.manipulator, "pose")
+            try:
+                monoms, coeffs = table.float_coefficients(self.q) if table is not None else (None, None)
+            except UnsupportedShape:
+                monoms = None
+            if monoms is not None:
+                probe = grid_coefficients(table.plain, table.trig, monoms, coeffs, np.zeros(1))
+                if probe is not None:
+                    return probe[0], lambda phi: grid_coefficients(table.plain, table.trig, monoms, coeffs, phi)[1]
         expr, (x, y, w) = self.chart_expression("pose")
         poly = sp.Poly(sp.expand(expr), x, y)
         return poly.monoms(), compile_exprs(poly.coeffs(), [w])
@@ -578,16 +591,9 @@ class SingularitySurface:
                              f"'given-joints'), got kind {self.kind!r}")
         if not isinstance(chart, str):
             raise TypeError(f"chart must be 'image' or 'pose', got {type(chart).__name__} {_short(chart)}")
-        u, v, w = sp.symbols("u v w", real=True)
-        x0, x1, x2, x3 = image_symbols()
-        if chart == "image":
-            sub = {x0: 1, x1: w, x2: u, x3: v}
-        elif chart == "pose":
-            c, s = sp.cos(w / 2), sp.sin(w / 2)
-            sub = {x0: c, x1: s, x2: (s * u - c * v) / 2, x3: (c * u + s * v) / 2}
-        else:
+        if chart not in ("image", "pose"):
             raise InputError(f"chart must be 'image' or 'pose', got {chart!r}")
-        return sp.expand(self.expr().xreplace(sub)), (u, v, w)
+        return chart_substitution(self.expr(), chart)
 
     def _repr_latex_(self):
         """The quartic ``S = 0`` collected by powers of ``x0, x1``, for Jupyter.
@@ -604,6 +610,34 @@ class SingularitySurface:
         (True, True)
         """
         return rf"$\displaystyle {latex_collected(self.polynomial, by=('x0', 'x1'))} = 0$"
+
+
+class _Deferred:
+    """A value built on first read (the polynomial of a given-joints surface: meshing and sections
+    of such a surface come from the design's table general in the joint values and never need it)."""
+
+    def __init__(self, factory):
+        self.factory = factory
+
+
+class _PolynomialAttribute:
+    """``SingularitySurface.polynomial``: stored as given, or built on first read from a
+    :class:`_Deferred`."""
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self
+        value = obj.__dict__["_polynomial"]
+        if isinstance(value, _Deferred):
+            value = value.factory()
+            obj.__dict__["_polynomial"] = value
+        return value
+
+    def __set__(self, obj, value):
+        obj.__dict__["_polynomial"] = value
+
+
+SingularitySurface.polynomial = _PolynomialAttribute()  # type: ignore[assignment]
 
 
 def _dependent_legs(manipulator):
@@ -660,7 +694,7 @@ def singularity_surface(manipulator, q=None, working_modes=None):
     if not depends:
         return SingularitySurface(manipulator, P, "joint-free")
     if qs is not None:
-        Pq = sp.Poly(P.as_expr().xreplace(dict(zip(joint_syms, qs))), *image_symbols())
+        Pq = _Deferred(lambda: sp.Poly(P.as_expr().xreplace(dict(zip(joint_syms, qs))), *image_symbols()))
         return SingularitySurface(manipulator, Pq, "given-joints", q=tuple(qs))
     if working_modes is None:
         legs = ", ".join(f"legs[{i}] ({manipulator.legs[i].joints}, {manipulator.legs[i].n_branches} branches)"
