@@ -419,7 +419,7 @@ def _kernel_certificate(kernel, Q, res):
     ok = res.row_ok
     counts, lo, hi, chart = kernel.certified_counts(np.where(ok[:, None], Q, 0.0))
     counts = np.where(ok, counts.astype(int), -1)
-    path = np.where(ok, np.where(counts >= 0, "kernel", "undecided"), "invalid").astype(object)
+    path = np.where(ok, np.where(counts >= 0, "kernel", "uncertified"), "invalid").astype(object)
     consistent = np.zeros(n, dtype=bool)
     rows = np.flatnonzero(ok & (counts >= 0))
     if rows.size:

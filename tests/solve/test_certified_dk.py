@@ -237,7 +237,10 @@ def test_certified_batch_near_the_discriminant(rng):
     assert np.array_equal(b.certified_roots, exact)
     # every root carries one mode (3-RPR, Cramer denominator non-zero): modes = roots
     assert np.array_equal(b.count, exact) and b.consistent.all() and not b.near_singular.any()
-    assert np.sum(b.solver == "certified") > 0 and np.sum(b.certificate_path == "discs") > 1000
+    # most rows proven by the vectorised certificate (inclusion discs before issue [12], the
+    # in-kernel proof since), the rest re-solved root by root
+    vectorised = np.isin(b.certificate_path, ["discs", "kernel"])
+    assert np.sum(b.solver == "certified") > 0 and np.sum(vectorised) > 1000
 
 
 @pytest.mark.slow
