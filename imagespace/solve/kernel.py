@@ -66,7 +66,7 @@ from ..core.codegen import KernelCacheWarning, kernel_cache_dir, load_cached_mod
 from ..core.bounded_trig import cos_sin_bounded
 from ..core.elimination import (ELIMINATION_ROW_SIZE, ELIMINATION_WORK_SIZE, ROW_F,  # noqa: F401
                                 eliminate_row as _eliminate_row_py)
-from ..core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row  # noqa: F401
+from ..core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row
 from ..core.quadrics import dk_system_row
 from ..tolerances import TOLERANCES
 
@@ -90,9 +90,9 @@ _CONDITIONED = 1e-2          # |det J| above this times Hadamard's bound is not 
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
 # into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
 # polynomial p, up to 12 chart candidates, the scaled quadrics Cs and Newton's val, dx, X, J.
-_WORK_SIZES = (49, 8, 8, 7, 6, 7, 48, 24, 4, 4, 4, 16)
+_WORK_SIZES = (49, 8, 8, 7, 6, 7, 48, 24, 4, 4, 4, 16, ISOLATE_WORK_SIZE, 6, 6, 6, 7)
 (_W_W, _W_PTS, _W_VALS, _W_NEW, _W_RTS, _W_P, _W_CAND, _W_CS, _W_VAL, _W_DX, _W_X,
- _W_J) = (0, *itertools.accumulate(_WORK_SIZES[:-1]))
+ _W_J, _W_ISO, _W_ILO, _W_IHI, _W_ICH, _W_E0) = (0, *itertools.accumulate(_WORK_SIZES[:-1]))
 _WORK_SIZE = sum(_WORK_SIZES)
 
 # The kernel's decision thresholds arrive as one float array (from the design's Tolerances, see
@@ -442,43 +442,43 @@ def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
         dn = max(dn, abs(buf[oD + k]))
     if dn == 0.0:
         return 0, 1
-    # two charts: t = x1/x0 on [-1, 1] and s = x0/x1 on [-1, 1] (each searched a little beyond
-    # and deduplicated where they overlap), so half-turns are ordinary roots and every root is
-    # found where its chart is well conditioned
+    # the real roots of F on the projective line, in two charts (t = x1/x0 on [-1, 1], s = x0/x1
+    # on (-1, 1), so half-turns are ordinary roots and every root is found where its chart is
+    # well conditioned): isolated by Descartes' rule in the Bernstein basis with the float
+    # coefficients taken as exact (core.isolate; a row it cannot decide, close or multiple
+    # roots, goes to the certified path), then each refined by Newton kept inside its isolating
+    # interval, on whose ends the polynomial has opposite signs
+    E0 = work[_W_E0:_W_E0 + 7]
+    for k in range(7):
+        E0[k] = 0.0
+    ich = work[_W_ICH:_W_ICH + 6]
+    nr = count_real_roots_row(buf[oF:oF + dF + 1], E0, dF, work[_W_ILO:_W_ILO + 6],
+                              work[_W_IHI:_W_IHI + 6], ich, work[_W_ISO:_W_ISO + ISOLATE_WORK_SIZE])
+    if nr < 0:
+        return 0, 2
     ncand = 0
-    suspect = False
-    for chart in range(2):
+    for m in range(nr):
+        chart = 0 if ich[m] == 0.0 else 1
         for k in range(dF + 1):
             p[k] = buf[oF + k] / fn if chart == 0 else buf[oF + dF - k] / fn
         deg = dF
         while deg > 0 and p[deg] == 0.0:
             deg -= 1
-        if deg == 0:
-            continue
-        nr, sus = _interval_roots(p, deg, -_REACH, _REACH, W, pts, vals, new, rts)
-        suspect = suspect or sus
-        for m in range(nr):
-            t = rts[m]
-            if abs(t) > 1.0 + tol[_T_CHART_OVERLAP]:    # chart roots kept up to this; overlap deduplicated
-                continue
-            h = 1.0 / math.sqrt(1.0 + t * t)
-            x0 = h if chart == 0 else t * h
-            x1 = t * h if chart == 0 else h
-            if x0 < 0.0 or (x0 == 0.0 and x1 < 0.0):
-                x0, x1 = -x0, -x1
-            dup = False
-            for j in range(ncand):
-                if abs(cand[j, 0] * x1 - cand[j, 1] * x0) <= tol[_T_CHART_DUPLICATE]:
-                    dup = True
-            if dup:
-                continue
-            if ncand >= 12:
-                return 0, 1
-            cand[ncand, 0] = x0
-            cand[ncand, 1] = x1
-            ncand += 1
-    if suspect:
-        return 0, 2
+        a = work[_W_ILO + m]
+        b = work[_W_IHI + m]
+        fa = _horner(p, deg, a)
+        fb = _horner(p, deg, b)
+        if deg == 0 or not (fa * fb < 0.0):
+            return 0, 1          # rounding hid the sign change the isolation proved: careful path
+        t = _monotone_root(p, deg, a, b, fa, fb, False, False, False)
+        h = 1.0 / math.sqrt(1.0 + t * t)
+        x0 = h if chart == 0 else t * h
+        x1 = t * h if chart == 0 else h
+        if x0 < 0.0 or (x0 == 0.0 and x1 < 0.0):
+            x0, x1 = -x0, -x1
+        cand[ncand, 0] = x0
+        cand[ncand, 1] = x1
+        ncand += 1
     count = 0
     for j in range(ncand):
         x0, x1 = cand[j, 0], cand[j, 1]
