@@ -276,6 +276,15 @@ def _fast_exact_forms(m, q_exact):
     return P, D, X2, X3
 
 
+def _exact_at(enc, q, q_exact):
+    """Exact values (sympy numbers) of a :class:`CoefficientEnclosure` at rational joint values."""
+    if enc.rational:
+        from fractions import Fraction
+
+        return [sp.Rational(v.numerator, v.denominator) for v in enc.exact([Fraction(float(v)) for v in q])]
+    return enc.exact_sympy(q_exact)
+
+
 def exact_coefficients(m, q):
     """Exact coefficients (sympy numbers) of the kinematic polynomial at the joint vector ``q``
     (floats as the binary rationals they are): from the general-q forms where they are rational,
@@ -286,8 +295,17 @@ def exact_coefficients(m, q):
     DegenerateDesignError
         The kinematic polynomial vanishes identically at ``q`` (a continuum of modes)."""
     q_exact = [as_exact(float(v), f"q[{i}]") for i, v in enumerate(q)]
-    fast = _fast_exact_forms(m, q_exact)
-    return list(fast[0]) if fast is not None else form_coefficients(m.exact_forms(q_exact)[0])
+    if not any(leg.actuated_is_angle for leg in m.legs):
+        ev = m.cached("exact_evaluators", lambda: _exact_evaluators(m))
+        if ev is not None:              # the polynomial and D alone (not X2, X3) from the general forms
+            from ..core.codegen import CoefficientEnclosure
+
+            D_ev = m.cached("exact_cramer_denominator", lambda: CoefficientEnclosure(
+                list(m.exact_forms(None)[1].D), m.joint_symbols))
+            P, D = (_exact_at(e, q, q_exact) for e in (ev[0], D_ev))
+            if not all(v == 0 for v in D) and not all(exact_is_zero(v) for v in P):
+                return P
+    return form_coefficients(m.exact_forms(q_exact)[0])
 
 
 def exact_root_count(m, q):
