@@ -70,7 +70,8 @@ from ..core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row
 from ..core.quadrics import dk_system_row
 from ..tolerances import TOLERANCES
 
-__all__ = ["BatchKernel", "KernelCacheWarning", "build_kernel", "real_roots_cascade", "HAVE_NUMBA"]
+__all__ = ["BatchKernel", "DesignTables", "KernelCacheWarning", "build_kernel", "design_tables", "design_row",
+           "real_roots_cascade", "HAVE_NUMBA", "MAX_MONOMIALS"]
 
 _REACH = 1.0 + 1.0 / 64      # each chart searches a little beyond 1
 _MAX = 6
@@ -612,11 +613,27 @@ class DesignTables:
 
     @property
     def degree(self):
-        """Degree of the eliminated form ``F`` (6, or 4 when no leg has an RR dyad)."""
+        """Degree of the eliminated form ``F`` (6, or 4 when no leg has an RR dyad).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.solve.kernel import design_tables
+        >>> design_tables(isp.examples.choi_3ppr()).degree
+        4
+        """
         return 4 if self.plan[6] == 1 else 6
 
     def arrays(self):
-        """The arrays in the order the kernel takes them."""
+        """The arrays in the order the kernel takes them.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.solve.kernel import design_tables
+        >>> len(design_tables(isp.examples.general_3rpr()).arrays())
+        6
+        """
         return self.expo, self.coef, self.cerr, self.nmono, self.trig, self.plan
 
 
@@ -699,7 +716,21 @@ def design_row(qr, expo, coef, cerr, nmono, trig, bounded, buf, Ce, acc):
     also rigorous bounds ``Ce`` (24,) on the error of ``buf[0:24]`` (``acc``: 8 floats of scratch).
 
     The joint values are exact binary rationals; ``cos q``, ``sin q`` come with rigorous bounds
-    from :func:`imagespace.core.bounded_trig.cos_sin_bounded` when ``bounded``, else from libm."""
+    from :func:`imagespace.core.bounded_trig.cos_sin_bounded` when ``bounded``, else from libm.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import imagespace as isp
+    >>> from imagespace.solve.kernel import design_row, design_tables
+    >>> m = isp.examples.general_3rpr()
+    >>> t = design_tables(m)
+    >>> buf, Ce, acc = np.zeros(48), np.zeros(24), np.zeros(8)
+    >>> design_row(np.array(m.q_example_float), t.expo, t.coef, t.cerr, t.nmono, t.trig, True, buf, Ce, acc)
+    >>> quads = m.quadrics(m.q_example_float)
+    >>> bool(np.allclose(buf[:24], [float(v) for qd in quads for v in qd.coefficients()]))
+    True
+    """
     for i in range(3):
         q = qr[i]
         cq = 0.0
@@ -991,6 +1022,16 @@ class BatchKernel:
             and in ``s = x0/x1`` where it is 1.
         chart : (n, 6) int8
             -1 in unused slots.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import imagespace as isp
+        >>> from imagespace.solve.dispatch import batch_kernel
+        >>> m = isp.examples.general_3rpr()
+        >>> counts, lo, hi, chart = batch_kernel(m).certified_counts(np.array([m.q_example_float]))
+        >>> counts.tolist(), int((chart[0] >= 0).sum())
+        ([6], 6)
         """
         Q = np.ascontiguousarray(Q, dtype=float)
         n = Q.shape[0]
