@@ -246,8 +246,10 @@ class DKBatchResult:
         Proven number of distinct real roots of the kinematic polynomial per row (-1 where the
         row is not valid).
     certificate_path : (n,) str, read-only, only with ``certify=True``
-        ``"discs"`` (vectorised inclusion discs), ``"flint"`` (exact isolation), ``"arb"``,
-        ``"uncertified"``, ``"zero"``, ``"continuum"`` or ``"invalid"``; stored as
+        ``"kernel"`` (proven inside the compiled kernel: bounded elimination and Bernstein
+        isolation), ``"discs"`` (vectorised inclusion discs, designs the kernel does not take),
+        ``"flint"`` (exact isolation), ``"arb"``, ``"uncertified"``, ``"zero"``, ``"continuum"``
+        or ``"invalid"``; stored as
         ``certificate_path_code``.
     certificate_path_code : (n,) uint8, read-only, only with ``certify=True``
         ``CERTIFICATE_PATHS[certificate_path_code[i]] == certificate_path[i]``.
