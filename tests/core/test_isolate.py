@@ -141,6 +141,7 @@ def test_simple_forms():
     assert k == 1 and chart.tolist() == [1] and lo[0] <= 1 / 3 <= hi[0]
 
 
+@pytest.mark.slow
 def test_random_integer_forms(rng):
     decided = 0
     for _ in range(300):
@@ -253,6 +254,7 @@ def test_complex_pairs_close_to_the_axis(eps, rng):
         assert decided == 20
 
 
+@pytest.mark.slow
 def test_boxes_count_every_form_inside(rng):
     """E > 0: a decided count is the exact count of any form in the box (here: random exact
     rational forms inside it, not its centre)."""
@@ -284,6 +286,7 @@ def test_leading_and_trailing_coefficients_zero(rng):
         assert check_row(F) >= 0
 
 
+@pytest.mark.slow
 def test_scale_does_not_matter(rng):
     for _ in range(10):
         F = rng.normal(size=7)
@@ -348,6 +351,7 @@ def forms(draw):
     return exact, with_box
 
 
+@pytest.mark.slow
 @settings(max_examples=250)
 @given(forms())
 def test_property_decided_counts_are_exact(case):
