@@ -15,22 +15,23 @@ kernel then
    forms ``D, X2, X3`` and the form ``F`` of :mod:`imagespace.core.elimination`
    (:func:`imagespace.core.elimination.eliminate_row`, the compiled twin of ``eliminate``; ``F``
    keeps its factors ``x0**2 + x1**2``, which have no real roots),
-3. finds the real roots of ``F`` on the projective line in two charts, ``t = x1/x0`` with
-   ``|t| <= 1`` and ``s = x0/x1`` with ``|s| <= 1``, so half-turns are ordinary roots and no
-   chart sees a root beyond 1. Roots come from the derivative cascade restricted to the chart's
-   interval: the real roots of ``F^(k)`` split it into pieces where ``F^(k-1)`` is monotone,
-   each solved by Newton kept inside its bracket. No eigenvalues, no complex arithmetic,
+3. finds the real roots of ``F`` on the projective line in two charts, ``t = x1/x0`` in
+   ``[-1, 1]`` and ``s = x0/x1`` in ``(-1, 1)``, so half-turns are ordinary roots and no chart
+   sees a root beyond 1. The roots are isolated by Descartes' rule in the Bernstein basis with
+   the float coefficients taken as exact (:func:`imagespace.core.isolate.count_real_roots_row`),
+   each then refined by Newton kept inside its isolating interval. No eigenvalues, no complex
+   arithmetic (the derivative cascade of earlier versions stays as :func:`real_roots_cascade`),
 4. back-substitutes ``x2 = X2/D, x3 = X3/D``, polishes ``(x0..x3)`` by Newton on
    ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` (4x4 Gaussian elimination with partial pivoting) unless the
    residual is at rounding level already, and checks every mode: relative constraint residual
    below ``1e-9``, joint residual ``max_i |Q_i| / |dQ_i/dq_i|`` reported,
 5. writes normalised image points, poses, aspects (sign of the 4x4 determinant) sorted by ``phi``.
 
-A row is flagged instead of guessed when a float computation cannot decide it: a root met at a
-critical point without a sign change (a double root, or a complex pair within rounding of the
-axis: ``suspect``), or the Cramer denominator vanishing at a root, a vanishing polynomial, a
-Newton step that does not converge (``special``). The caller re-solves flagged rows with the
-careful and certified per-row paths.
+A row is flagged instead of guessed when a float computation cannot decide it: roots the
+isolation cannot separate (a double root, or a complex pair within rounding of the axis:
+``suspect``), or the Cramer denominator vanishing at a root, a vanishing polynomial, a Newton
+step that does not converge (``special``). The caller re-solves flagged rows with the numpy
+path, which marks the rows whose count it cannot separate ``near_singular``.
 
 The same tables drive the certified counts (:meth:`BatchKernel.certified_counts`): steps 1 and 2
 with a rigorous error bound on every value (``cos``/``sin`` enclosed by
