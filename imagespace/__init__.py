@@ -47,6 +47,7 @@ _ATTRIBUTES = {
     "design.mobility": ["gruebler", "manipulator_mobility", "mechanism_mobility"],
     "design.sweep": ["fuzzy_minmax", "sweep"],
     "tolerances": ["TOLERANCES", "Tolerances"],
+    "spatial.gough_stewart": ["GoughStewart"],
 }
 _lazy_getattr, _lazy_dir, _ = _lazy.attach(__name__, submodules=_SUBMODULES, submod_attrs=_ATTRIBUTES)
 
@@ -101,4 +102,5 @@ __all__ = [
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError", "NearSingularWarning",
     "Tolerances", "TOLERANCES",
+    "GoughStewart",
 ]

@@ -194,6 +194,16 @@ class Tolerances:
         ``choi_3ppr_closed_form``): a quantity within ``closed_form_ulps * eps * scale`` of zero
         (``eps`` the float64 machine epsilon, ``scale`` the size of its terms) is zero, so a
         boundary case reached through rounding is the boundary case.
+    rotation_matrix : float
+        :func:`imagespace.spatial.study.quaternion_from_matrix`: a matrix is accepted as a rotation
+        when ``|R^T R - I|`` and ``|det R - 1|`` are at most this (absolute).
+    planar_subspace : float
+        :func:`imagespace.spatial.study.study_to_planar`: a Study point is planar when
+        ``x1, x2, y0, y3`` are at most this times ``max |s|``.
+    spatial_collinear : float
+        :class:`imagespace.spatial.GoughStewart`: the base (or platform) anchors lie on one line,
+        a degenerate design, when the second singular value of the centred anchors is at most this
+        times ``max(1, max |coordinate|)``.
 
     The compiled kernel also reads ``cramer_small`` (a root with ``|D| <= cramer_small max|D|``
     sends the row to the numpy path) and ``newton_stop`` (its 4x4 solve's pivot threshold); it
@@ -251,6 +261,9 @@ class Tolerances:
     timelaw_root: float = 1e-12
     timelaw_monotone: float = 1e-12
     closed_form_ulps: float = 16
+    rotation_matrix: float = 1e-9
+    planar_subspace: float = 1e-12
+    spatial_collinear: float = 1e-12
 
     def __post_init__(self):
         for name, value in self.__dict__.items():

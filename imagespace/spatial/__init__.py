@@ -1,3 +1,21 @@
-"""The spatial side: screw theory today (:mod:`imagespace.spatial.screws`); the Study quadric
-and Stewart-Gough platforms grow here. Imports ``core`` only.
+"""The spatial side: screw theory (:mod:`~imagespace.spatial.screws`) and the spatial kinematic image
+space: Study's map (:mod:`~imagespace.spatial.study`), constraint quadrics in ``P^7``
+(:mod:`~imagespace.spatial.quadrics`) and the Gough-Stewart platform
+(:mod:`~imagespace.spatial.gough_stewart`). Imports ``core`` only.
 """
+
+import lazy_loader as _lazy
+
+_ATTRIBUTES = {
+    "study": ["study_symbols", "quaternion_multiply", "quaternion_conjugate", "quaternion_from_matrix",
+              "matrix_from_quaternion", "study_point", "rotation_matrix", "translation",
+              "transform_matrix", "transform_points", "study_condition", "normalize_study",
+              "compose_study", "inverse_study", "planar_to_study", "study_to_planar"],
+    "quadrics": ["study_quadric_matrix", "form_matrix", "quadric_value", "sphere_quadric_symbolic",
+                 "sphere_quadric", "point_on_plane_quadric", "point_on_line_quadrics",
+                 "landed_point_times_n"],
+    "gough_stewart": ["GoughStewart"],
+}
+__getattr__, __dir__, _ = _lazy.attach(__name__, submodules=["screws", "study", "quadrics", "gough_stewart"],
+                                       submod_attrs=_ATTRIBUTES)
+__all__ = sorted({n for names in _ATTRIBUTES.values() for n in names})

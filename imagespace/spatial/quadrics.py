@@ -1,0 +1,372 @@
+r"""Constraint quadrics in Study coordinates: each geometric condition as ``z^T Q z = 0`` in ``P^7``.
+
+``z = (x0, x1, x2, x3, y0, y1, y2, y3)`` is a Study point (:mod:`imagespace.spatial.study`); a
+quadric is stored as its symmetric ``8 x 8`` matrix ``Q``. With ``N = x . x``, the platform point
+``p`` lands at ``X = (x p x~ + 2 y x~) / N``, so any condition polynomial in ``X`` becomes a form in
+``z`` after multiplying by a power of ``N``.
+
+The sphere condition (an S-S or S-P-S leg of length ``L``: the platform point ``b`` at distance
+``L`` from the base point ``a``). Expanding ``|R b + t - a|^2 = L^2`` with ``R b = x b x~ / N``,
+``t = 2 y x~ / N`` and the identity ``(p x~) . (q x~) = N (p . q)`` (right multiplication by ``x~``
+is ``sqrt(N)`` times an isometry of the quaternions) gives, after multiplying by ``N``,
+
+.. math::
+
+    (|a|^2 + |b|^2 - L^2)\,N + 4\,y \cdot y + 4\,(x b) \cdot y - 4\,a \cdot (y \tilde x)
+    - 2\,a \cdot (x b \tilde x) = 0,
+
+where ``.`` is the Euclidean inner product of quaternions as 4-vectors and ``a``, ``b`` are pure
+quaternions. The one step that uses Study's quadric is ``|t|^2 = 4 y . y / N``: the scalar part of
+``2 y x~`` is ``2 x . y``, so the form equals ``N (|X - a|^2 - L^2) + 4 (x . y)^2 / N``; on Study's
+quadric the two agree. This is Husty's sphere condition (1996), derived here in our convention.
+The form is ``(..) N + 4 y.y + (bilinear in x, y) + (quadratic in x)``: the difference of two
+sphere conditions is linear in ``y``.
+
+A point on a plane ``n . (X - c) = 0`` and a point on a line ``(X - c) x d = 0`` are linear in
+``X``: multiplying by ``N`` gives quadrics with no reduction at all.
+
+Each matrix is derived once with sympy (:func:`sphere_quadric_symbolic` ...) and compiled from
+that derivation (:func:`imagespace.core.codegen.compile_exprs`) for the numeric face.
+
+References
+----------
+M. L. Husty, An algorithm for solving the direct kinematics of general Stewart-Gough platforms,
+Mechanism and Machine Theory 31(4), 365-379, 1996, doi:10.1016/0094-114X(95)00091-C.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+
+from .._validate import as_float_array, is_symbolic
+from ..exceptions import InputError
+from .study import quaternion_multiply, quaternion_conjugate, study_symbols
+
+__all__ = [
+    "study_quadric_matrix",
+    "form_matrix",
+    "quadric_value",
+    "sphere_quadric_symbolic",
+    "sphere_quadric",
+    "point_on_plane_quadric",
+    "point_on_line_quadrics",
+    "landed_point_times_n",
+]
+
+
+def form_matrix(expr):
+    """The symmetric ``8 x 8`` matrix ``Q`` of a quadratic form in the Study symbols.
+
+    Parameters
+    ----------
+    expr : sympy expression
+        Homogeneous of degree 2 in ``x0..x3, y0..y3``.
+
+    Returns
+    -------
+    sympy.Matrix (8, 8)
+        ``z^T Q z == expr``.
+
+    Raises
+    ------
+    InputError
+        If ``expr`` is not a quadratic form in the Study symbols.
+
+    Examples
+    --------
+    >>> x0, x1 = study_symbols()[:2]
+    >>> form_matrix(x0 * x1)[0, 1]
+    1/2
+    """
+    z = study_symbols()
+    P = sp.Poly(sp.expand(expr), *z)
+    if not P.is_homogeneous or P.total_degree() not in (2, -sp.oo) and not P.is_zero:
+        raise InputError(f"expr must be a quadratic form in {z}, got degree {P.total_degree()}")
+    Q = sp.zeros(8, 8)
+    for mon, c in P.terms():
+        idx = [i for i, e in enumerate(mon) for _ in range(e)]
+        if len(idx) != 2:
+            raise InputError(f"expr must be a quadratic form in {z}, got the monomial {mon}")
+        i, j = idx
+        if i == j:
+            Q[i, i] += c
+        else:
+            Q[i, j] += c / 2
+            Q[j, i] += c / 2
+    return Q
+
+
+def study_quadric_matrix():
+    """The matrix of Study's quadric ``x0 y0 + x1 y1 + x2 y2 + x3 y3``.
+
+    Returns
+    -------
+    (8, 8) float
+        ``[[0, I/2], [I/2, 0]]``.
+
+    Examples
+    --------
+    >>> float(study_quadric_matrix()[0, 4])
+    0.5
+    """
+    out = np.zeros((8, 8))
+    out[:4, 4:] = out[4:, :4] = 0.5 * np.eye(4)
+    return out
+
+
+def quadric_value(Q, s):
+    """``z^T Q z`` for Study points ``z``.
+
+    Parameters
+    ----------
+    Q : (8, 8) or (k, 8, 8) float
+        One quadric or a stack of them.
+    s : (8,) or (n, 8) float
+
+    Returns
+    -------
+    float, (n,), (k,) or (n, k) float
+        Points first, quadrics last.
+
+    Raises
+    ------
+    InputError
+        On wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> quadric_value(study_quadric_matrix(), [1, 0, 0, 0, 0, 1, 0, 0])
+    0.0
+    """
+    Q = np.asarray(Q, dtype=float)
+    if Q.shape[-2:] != (8, 8) or Q.ndim > 3:
+        raise InputError(f"Q must have shape (8, 8) or (k, 8, 8), got {Q.shape}")
+    z = as_float_array(s, "s", last=8)
+    out = np.einsum("...i,kij,...j->...k", z, Q.reshape(-1, 8, 8), z).reshape(z.shape[:-1] + Q.shape[:-2])
+    return float(out) if out.ndim == 0 else out
+
+
+def _pure(v):
+    return np.array([sp.Integer(0)] + [sp.sympify(c) for c in v], dtype=object)
+
+
+def _dot(p, q):
+    return sum(pi * qi for pi, qi in zip(p, q))
+
+
+def landed_point_times_n(point):
+    """``N X`` as quaternion forms in the Study symbols: ``x p x~ + 2 y x~`` for a platform point ``p``.
+
+    Its scalar part is ``2 x . y`` (zero on Study's quadric); its vector part is ``N (R p + t)``.
+
+    Parameters
+    ----------
+    point : 3 numbers or sympy expressions
+
+    Returns
+    -------
+    sympy.Matrix (4,)
+
+    Examples
+    --------
+    >>> landed_point_times_n([0, 0, 0])[1]
+    2*x0*y1 - 2*x1*y0 + 2*x2*y3 - 2*x3*y2
+    """
+    z = study_symbols()
+    x, y = list(z[:4]), list(z[4:])
+    xc = list(quaternion_conjugate(x))
+    xp = list(quaternion_multiply(x, list(_pure(point))))
+    rot = quaternion_multiply(xp, xc)
+    tr = quaternion_multiply(y, xc)
+    return sp.Matrix([sp.expand(r + 2 * t) for r, t in zip(rot, tr)])
+
+
+@lru_cache(maxsize=1)
+def sphere_quadric_symbolic():
+    """The sphere condition's matrix with symbolic geometry: ``a1..a3``, ``b1..b3``, ``L``.
+
+    Returns
+    -------
+    Q : sympy.Matrix (8, 8)
+        Entries polynomial in the base point ``a``, the platform point ``b`` and ``L``.
+    symbols : tuple
+        ``(a1, a2, a3, b1, b2, b3, L)``.
+
+    Examples
+    --------
+    >>> Q, syms = sphere_quadric_symbolic()
+    >>> Q[4, 4]
+    4
+    """
+    a = sp.symbols("a1:4")
+    b = sp.symbols("b1:4")
+    L = sp.Symbol("L")
+    z = study_symbols()
+    x, y = list(z[:4]), list(z[4:])
+    N = _dot(x, x)
+    xb = list(quaternion_multiply(x, list(_pure(b))))
+    yxc = list(quaternion_multiply(y, list(quaternion_conjugate(x))))
+    xbxc = list(quaternion_multiply(xb, list(quaternion_conjugate(x))))
+    A, B = _pure(a), _pure(b)
+    form = ((_dot(A, A) + _dot(B, B) - L ** 2) * N + 4 * _dot(y, y) + 4 * _dot(xb, y)
+            - 4 * _dot(A, yxc) - 2 * _dot(A, xbxc))
+    return form_matrix(form), tuple(a) + tuple(b) + (L,)
+
+
+@lru_cache(maxsize=1)
+def _sphere_compiled():
+    from ..core.codegen import compile_exprs
+    Q, syms = sphere_quadric_symbolic()
+    return compile_exprs(list(Q), syms)
+
+
+def sphere_quadric(base_point, platform_point, length):
+    """The quadric of "platform point ``b`` at distance ``L`` from base point ``a``".
+
+    Parameters
+    ----------
+    base_point : (3,) or (n, 3) float, or sympy
+        ``a`` in the base frame.
+    platform_point : (3,) or (n, 3) float, or sympy
+        ``b`` in the moving frame.
+    length : float or (n,) float, or sympy
+        ``L >= 0``.
+
+    Returns
+    -------
+    (8, 8) or (n, 8, 8) float, or sympy.Matrix
+        ``z^T Q z = N (|R b + t - a|^2 - L^2)`` on Study's quadric, ``N = x . x``.
+
+    Raises
+    ------
+    InputError
+        On wrong shapes, non-finite entries or a negative length.
+
+    Examples
+    --------
+    >>> from imagespace.spatial.study import study_point
+    >>> Q = sphere_quadric([0, 0, 0], [1, 0, 0], 3.0)
+    >>> s = study_point([1, 0, 0, 0], [2.0, 0, 0])      # b lands at (3, 0, 0)
+    >>> round(float(s @ Q @ s), 12)
+    0.0
+    """
+    if is_symbolic(base_point) or is_symbolic(platform_point) or is_symbolic(length):
+        Q, syms = sphere_quadric_symbolic()
+        vals = [sp.sympify(v) for v in list(base_point) + list(platform_point)] + [sp.sympify(length)]
+        if len(vals) != 7:
+            raise InputError("base_point and platform_point must have 3 entries each")
+        return Q.subs(dict(zip(syms, vals)))
+    a = as_float_array(base_point, "base_point", last=3)
+    b = as_float_array(platform_point, "platform_point", last=3)
+    L = np.asarray(length, dtype=float)
+    if not np.all(np.isfinite(L)):
+        raise InputError(f"length must be finite, got {length!r}")
+    if np.any(L < 0):
+        raise InputError(f"length must be >= 0, got {float(np.min(L))}")
+    shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1], L.shape)
+    args = [np.broadcast_to(a[..., i], shape) for i in range(3)] + \
+           [np.broadcast_to(b[..., i], shape) for i in range(3)] + [np.broadcast_to(L, shape)]
+    return _sphere_compiled()(*args).reshape(shape + (8, 8))
+
+
+def _exact_or_float(v):
+    """Float entries as their exact binary rationals (the matrix is computed exactly, rounded once)."""
+    return [sp.Rational(float(c)) for c in v]
+
+
+def point_on_plane_quadric(platform_point, plane_point, plane_normal):
+    """The quadric of "platform point ``b`` on the fixed plane through ``c`` with normal ``n``".
+
+    ``n . (X - c) = 0`` times ``N``: ``n . vec(x b x~ + 2 y x~) - (n . c) N = 0`` (no reduction).
+
+    Parameters
+    ----------
+    platform_point : (3,) float or sympy
+    plane_point : (3,) float or sympy
+    plane_normal : (3,) float or sympy
+        Non-zero.
+
+    Returns
+    -------
+    (8, 8) float, or sympy.Matrix when any input is symbolic
+
+    Raises
+    ------
+    InputError
+        On wrong shapes, non-finite entries or a zero normal.
+
+    Examples
+    --------
+    >>> from imagespace.spatial.study import study_point
+    >>> Q = point_on_plane_quadric([1, 0, 0], [0, 0, 0], [1, 0, 0])
+    >>> s = study_point([1, 0, 0, 0], [-1.0, 5.0, 2.0])       # b lands at (0, 5, 2)
+    >>> float(s @ Q @ s)
+    0.0
+    """
+    symbolic = any(is_symbolic(v) for v in (platform_point, plane_point, plane_normal))
+    if not symbolic:
+        b = as_float_array(platform_point, "platform_point", last=3, allow_batch=False)
+        c = as_float_array(plane_point, "plane_point", last=3, allow_batch=False)
+        n = as_float_array(plane_normal, "plane_normal", last=3, allow_batch=False)
+        if not np.any(n != 0):
+            raise InputError("plane_normal must be non-zero, got (0, 0, 0)")
+        b, c, n = (_exact_or_float(v) for v in (b, c, n))
+    else:
+        b, c, n = ([sp.sympify(v) for v in w] for w in (platform_point, plane_point, plane_normal))
+    z = study_symbols()
+    X = landed_point_times_n(b)
+    N = _dot(z[:4], z[:4])
+    Q = form_matrix(sum(ni * Xi for ni, Xi in zip(n, X[1:])) - _dot(n, c) * N)
+    return Q if symbolic else np.array(Q.tolist(), dtype=float)
+
+
+def point_on_line_quadrics(platform_point, line_point, line_direction):
+    """The three quadrics of "platform point ``b`` on the fixed line through ``c`` along ``d``".
+
+    ``(X - c) x d = 0`` times ``N``; two of the three are independent where ``d`` has a non-zero
+    component.
+
+    Parameters
+    ----------
+    platform_point : (3,) float or sympy
+    line_point : (3,) float or sympy
+    line_direction : (3,) float or sympy
+        Non-zero.
+
+    Returns
+    -------
+    (3, 8, 8) float, or list of 3 sympy.Matrix when any input is symbolic
+
+    Raises
+    ------
+    InputError
+        On wrong shapes, non-finite entries or a zero direction.
+
+    Examples
+    --------
+    >>> from imagespace.spatial.study import study_point
+    >>> Qs = point_on_line_quadrics([0, 0, 0], [0, 0, 0], [0, 0, 1])
+    >>> s = study_point([1, 0, 0, 0], [0.0, 0.0, 7.0])
+    >>> [float(s @ Q @ s) + 0.0 for Q in Qs]
+    [0.0, 0.0, 0.0]
+    """
+    symbolic = any(is_symbolic(v) for v in (platform_point, line_point, line_direction))
+    if not symbolic:
+        b = as_float_array(platform_point, "platform_point", last=3, allow_batch=False)
+        c = as_float_array(line_point, "line_point", last=3, allow_batch=False)
+        d = as_float_array(line_direction, "line_direction", last=3, allow_batch=False)
+        if not np.any(d != 0):
+            raise InputError("line_direction must be non-zero, got (0, 0, 0)")
+        b, c, d = (_exact_or_float(v) for v in (b, c, d))
+    else:
+        b, c, d = ([sp.sympify(v) for v in w] for w in (platform_point, line_point, line_direction))
+    z = study_symbols()
+    N = _dot(z[:4], z[:4])
+    X = landed_point_times_n(b)
+    V = [X[1 + i] - c[i] * N for i in range(3)]
+    cross = [V[1] * d[2] - V[2] * d[1], V[2] * d[0] - V[0] * d[2], V[0] * d[1] - V[1] * d[0]]
+    Qs = [form_matrix(e) for e in cross]
+    return Qs if symbolic else np.array([np.array(Q.tolist(), dtype=float) for Q in Qs])

@@ -1,0 +1,620 @@
+r"""Study's kinematic map: spatial displacements <-> points of Study's quadric in P^7.
+
+Convention. A displacement with rotation quaternion ``x = x0 + x1 i + x2 j + x3 k`` and
+translation ``t = (tx, ty, tz)`` has the Study parameters ``(x0 : x1 : x2 : x3 : y0 : y1 : y2 : y3)``
+with the dual part ``y = (1/2) t x`` (quaternion product, ``t`` as the pure quaternion
+``tx i + ty j + tz k``). A platform point ``p`` lands at ``X = R p + t`` with
+
+.. math::
+
+    R p = \frac{x\,p\,\tilde x}{x \tilde x}, \qquad t = \frac{2\,y\,\tilde x}{x \tilde x},
+
+``~`` the quaternion conjugate. Every displacement lies on Study's quadric
+``x0 y0 + x1 y1 + x2 y2 + x3 y3 = 0`` and has ``x != 0``; the points of the quadric with
+``x = 0`` (the exceptional generator) are not displacements and are refused. Any non-zero multiple
+is the same displacement; the normalised representative has ``x . x = 1`` and the first non-zero
+of ``(x0, x1, x2, x3)`` positive. Half-turns (``x0 = 0``) are ordinary displacements.
+
+The planar image space of :mod:`imagespace.core.kinematic_map` is the subspace
+``x1 = x2 = y0 = y3 = 0``: a planar pose ``(x, y, phi)`` (rotation about ``z`` by ``phi``,
+translation ``(x, y, 0)``) with planar image point ``(p0, p1, p2, p3)`` has the Study point
+``(p0, 0, 0, p1, 0, p3, -p2, 0)``.
+
+Every function has a numeric face (numpy, a point ``(8,)`` or a batch ``(n, 8)``) and works on
+sympy objects too (a list or ``sympy.Matrix`` of 8 expressions in, a ``sympy.Matrix`` out).
+
+References
+----------
+E. Study, *Geometrie der Dynamen*, Teubner 1903.
+M. L. Husty, A. Karger, H. Sachs, W. Steinhilper, *Kinematik und Robotik*, Springer 1997,
+doi:10.1007/978-3-642-59029-0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from .._validate import as_float_array, is_symbolic
+from ..exceptions import InputError
+from ..tolerances import Tolerances
+
+__all__ = [
+    "study_symbols",
+    "quaternion_multiply",
+    "quaternion_conjugate",
+    "quaternion_from_matrix",
+    "matrix_from_quaternion",
+    "study_point",
+    "rotation_matrix",
+    "translation",
+    "transform_matrix",
+    "transform_points",
+    "study_condition",
+    "normalize_study",
+    "compose_study",
+    "inverse_study",
+    "planar_to_study",
+    "study_to_planar",
+]
+
+
+def study_symbols():
+    """The eight Study parameters as sympy symbols ``x0, x1, x2, x3, y0, y1, y2, y3``.
+
+    Returns
+    -------
+    tuple of 8 sympy.Symbol
+
+    Examples
+    --------
+    >>> study_symbols()
+    (x0, x1, x2, x3, y0, y1, y2, y3)
+    """
+    return tuple(sp.symbols("x0:4")) + tuple(sp.symbols("y0:4"))
+
+
+# --------------------------------------------------------------------------- quaternions
+
+def _qmul(p, q):
+    """Hamilton product on the last axis (works for numpy arrays and lists of sympy objects)."""
+    a0, a1, a2, a3 = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
+    b0, b1, b2, b3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+                     a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+                     a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+                     a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
+
+
+def _sym(value, n, name):
+    items = list(value)
+    if len(items) != n:
+        raise InputError(f"{name} must have {n} entries, got {len(items)}")
+    return np.array([sp.sympify(v) for v in items], dtype=object)
+
+
+def _conj(q):
+    return q * np.array([1, -1, -1, -1], dtype=q.dtype if q.dtype != object else object)
+
+
+def quaternion_multiply(p, q):
+    """The Hamilton product ``p q`` of quaternions ``(w, x, y, z)``.
+
+    Parameters
+    ----------
+    p, q : (4,) or (n, 4) float, or 4 sympy expressions
+        Quaternions, scalar part first; batches broadcast.
+
+    Returns
+    -------
+    (4,) or (n, 4) float, or sympy.Matrix
+
+    Raises
+    ------
+    InputError
+        If an argument does not have 4 entries on its last axis or is not finite.
+
+    Examples
+    --------
+    >>> quaternion_multiply([0, 1, 0, 0], [0, 0, 1, 0])     # i j = k
+    array([0., 0., 0., 1.])
+    """
+    if is_symbolic(p) or is_symbolic(q):
+        return sp.Matrix(list(_qmul(_sym(p, 4, "p"), _sym(q, 4, "q"))))
+    return _qmul(as_float_array(p, "p", last=4), as_float_array(q, "q", last=4))
+
+
+def quaternion_conjugate(q):
+    """The conjugate ``(w, -x, -y, -z)`` of a quaternion.
+
+    Parameters
+    ----------
+    q : (4,) or (n, 4) float, or 4 sympy expressions
+
+    Returns
+    -------
+    (4,) or (n, 4) float, or sympy.Matrix
+
+    Raises
+    ------
+    InputError
+        If ``q`` does not have 4 entries on its last axis or is not finite.
+
+    Examples
+    --------
+    >>> quaternion_conjugate([1.0, 2.0, 3.0, 4.0])
+    array([ 1., -2., -3., -4.])
+    """
+    if is_symbolic(q):
+        return sp.Matrix(list(_conj(_sym(q, 4, "q"))))
+    return _conj(as_float_array(q, "q", last=4))
+
+
+def _rotation_of(x):
+    """``R`` with ``R p = x p x~ / (x x~)`` from quaternions ``(..., 4)`` (numpy or object)."""
+    x0, x1, x2, x3 = x[..., 0], x[..., 1], x[..., 2], x[..., 3]
+    n = x0 * x0 + x1 * x1 + x2 * x2 + x3 * x3
+    rows = [[x0 * x0 + x1 * x1 - x2 * x2 - x3 * x3, 2 * (x1 * x2 - x0 * x3), 2 * (x1 * x3 + x0 * x2)],
+            [2 * (x1 * x2 + x0 * x3), x0 * x0 - x1 * x1 + x2 * x2 - x3 * x3, 2 * (x2 * x3 - x0 * x1)],
+            [2 * (x1 * x3 - x0 * x2), 2 * (x2 * x3 + x0 * x1), x0 * x0 - x1 * x1 - x2 * x2 + x3 * x3]]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2) / n[..., None, None]
+
+
+def matrix_from_quaternion(q):
+    """The rotation matrix of a (not necessarily unit) quaternion: ``R p = q p q~ / (q q~)``.
+
+    Parameters
+    ----------
+    q : (4,) or (n, 4) float, or 4 sympy expressions
+        Non-zero quaternions.
+
+    Returns
+    -------
+    (3, 3) or (n, 3, 3) float, or sympy.Matrix
+
+    Raises
+    ------
+    InputError
+        If ``q`` is zero, not finite, or not of length 4 on its last axis.
+
+    Examples
+    --------
+    >>> R = matrix_from_quaternion([0.0, 0.0, 0.0, 1.0])     # a half-turn about z
+    >>> R.round(12) + 0.0
+    array([[-1.,  0.,  0.],
+           [ 0., -1.,  0.],
+           [ 0.,  0.,  1.]])
+    """
+    if is_symbolic(q):
+        x = _sym(q, 4, "q")
+        return sp.Matrix(3, 3, [sp.simplify(v) for v in _rotation_of(x).ravel()])
+    x = as_float_array(q, "q", last=4)
+    if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
+        raise InputError("q must be a non-zero quaternion, got zero")
+    return _rotation_of(x)
+
+
+def quaternion_from_matrix(R, tolerances=None):
+    """The unit quaternion of a rotation matrix (scalar part first, first non-zero entry positive).
+
+    Parameters
+    ----------
+    R : (3, 3) or (n, 3, 3) float
+        Rotation matrices: orthogonal with determinant +1 to within
+        ``Tolerances.rotation_matrix`` (on ``|R^T R - I|`` and ``|det R - 1|``).
+    tolerances : Tolerances, optional
+
+    Returns
+    -------
+    (4,) or (n, 4) float
+
+    Raises
+    ------
+    InputError
+        If ``R`` is not a rotation matrix.
+
+    Examples
+    --------
+    >>> quaternion_from_matrix(np.diag([1.0, -1.0, -1.0]))     # a half-turn about x
+    array([0., 1., 0., 0.])
+    """
+    tol = (tolerances or Tolerances()).rotation_matrix
+    R = np.asarray(R, dtype=float) if not isinstance(R, np.ndarray) else R.astype(float)
+    if R.shape[-2:] != (3, 3):
+        raise InputError(f"R must have shape (3, 3) or (n, 3, 3), got {R.shape}")
+    if not np.all(np.isfinite(R)):
+        raise InputError("R must be finite, got NaN or inf entries")
+    err = np.abs(np.einsum("...ji,...jk->...ik", R, R) - np.eye(3)).max(axis=(-2, -1))
+    if np.any(err > tol) or np.any(np.abs(np.linalg.det(R) - 1.0) > tol):
+        raise InputError(f"R must be a rotation matrix (orthogonal, det +1, to {tol:g}), "
+                         f"got |R^T R - I| up to {float(np.max(err)):.3g}")
+    # the four candidate squared components; take the largest for a stable root
+    tr = np.trace(R, axis1=-2, axis2=-1)
+    sq = np.stack([1 + tr, 1 + 2 * R[..., 0, 0] - tr, 1 + 2 * R[..., 1, 1] - tr,
+                   1 + 2 * R[..., 2, 2] - tr], axis=-1) / 4
+    k = np.argmax(sq, axis=-1)
+    off = np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1],
+                    R[..., 0, 1] + R[..., 1, 0], R[..., 0, 2] + R[..., 2, 0], R[..., 1, 2] + R[..., 2, 1]],
+                   axis=-1) / 4
+    # products q_i q_j: (0,1)(0,2)(0,3)(1,2)(1,3)(2,3) in the order of `off`
+    pair = {(0, 1): 0, (0, 2): 1, (0, 3): 2, (1, 2): 3, (1, 3): 4, (2, 3): 5}
+    q = np.zeros(R.shape[:-2] + (4,))
+    flat_q, flat_k = q.reshape(-1, 4), np.reshape(k, -1)
+    flat_sq, flat_off = sq.reshape(-1, 4), off.reshape(-1, 6)
+    for r in range(flat_q.shape[0]):
+        i = int(flat_k[r])
+        qi = np.sqrt(flat_sq[r, i])
+        flat_q[r, i] = qi
+        for j in range(4):
+            if j != i:
+                flat_q[r, j] = flat_off[r, pair[(min(i, j), max(i, j))]] / qi
+    return _normalise_sign(q)
+
+
+def _normalise_sign(x):
+    """Flip each quaternion (or Study point, on its first 4 entries) so its first non-zero is > 0."""
+    lead = np.take_along_axis(x[..., :4], np.argmax(x[..., :4] != 0, axis=-1)[..., None], axis=-1)
+    return np.where(lead < 0, -x, x)
+
+
+# --------------------------------------------------------------------------- the map
+
+def study_point(rotation, translation):
+    """The Study parameters ``(x0:x1:x2:x3:y0:y1:y2:y3)`` of a displacement.
+
+    Parameters
+    ----------
+    rotation : (4,) / (n, 4) quaternion, or (3, 3) / (n, 3, 3) rotation matrix, or sympy
+        The orientation. A quaternion need not be a unit quaternion (its rotation is
+        ``q p q~ / (q q~)``); it is used as it is, so exact sympy input stays exact.
+    translation : (3,) or (n, 3) float, or 3 sympy expressions
+        The position of the moving frame's origin.
+
+    Returns
+    -------
+    (8,) or (n, 8) float, or sympy.Matrix
+        ``(x, y)`` with ``x`` the quaternion and ``y = t x / 2``; numeric output is normalised
+        (see :func:`normalize_study`).
+
+    Raises
+    ------
+    InputError
+        On wrong shapes, non-finite entries, a zero quaternion or a non-rotation matrix.
+
+    Examples
+    --------
+    >>> study_point([1.0, 0.0, 0.0, 0.0], [2.0, 0.0, 0.0])      # a pure translation
+    array([1., 0., 0., 0., 0., 1., 0., 0.])
+    """
+    if is_symbolic(rotation) or is_symbolic(translation):
+        items = list(rotation)
+        if len(items) != 4:
+            raise InputError("rotation must be a quaternion of 4 sympy entries on the symbolic face, "
+                             f"got {len(items)} entries")
+        x = _sym(items, 4, "rotation")
+        t = _sym(translation, 3, "translation")
+        y = _qmul(np.concatenate([[sp.Integer(0)], t]), x) / 2
+        return sp.Matrix([sp.expand(v) for v in np.concatenate([x, y])])
+    rot = np.asarray(rotation, dtype=float)
+    if rot.shape[-2:] == (3, 3):
+        x = quaternion_from_matrix(rot)
+    else:
+        x = as_float_array(rotation, "rotation", last=4)
+        if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
+            raise InputError("rotation must be a non-zero quaternion, got zero")
+    t = as_float_array(translation, "translation", last=3)
+    shape = np.broadcast_shapes(x.shape[:-1], t.shape[:-1])
+    x, t = np.broadcast_to(x, shape + (4,)), np.broadcast_to(t, shape + (3,))
+    tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t], axis=-1)
+    y = _qmul(tq, x) / 2
+    return normalize_study(np.concatenate([np.broadcast_to(x, y.shape), y], axis=-1))
+
+
+def _check_study(s, name="s"):
+    s = as_float_array(s, name, last=8)
+    n = np.einsum("...i,...i->...", s[..., :4], s[..., :4])
+    if np.any(n == 0.0):
+        raise InputError(f"{name} must have x = (x0, x1, x2, x3) != 0 (points with x = 0 are not "
+                         "displacements), got x = 0")
+    return s, n
+
+
+def rotation_matrix(s):
+    """The rotation matrix ``R`` of a Study point: ``R p = x p x~ / (x x~)``.
+
+    Parameters
+    ----------
+    s : (8,) or (n, 8) float, or 8 sympy expressions
+
+    Returns
+    -------
+    (3, 3) or (n, 3, 3) float, or sympy.Matrix
+
+    Raises
+    ------
+    InputError
+        If ``x = 0``, on wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> rotation_matrix([0, 0, 0, 1, 0, 0, 0, 0]).round(12) + 0.0
+    array([[-1.,  0.,  0.],
+           [ 0., -1.,  0.],
+           [ 0.,  0.,  1.]])
+    """
+    if is_symbolic(s):
+        z = _sym(s, 8, "s")
+        return sp.Matrix(3, 3, [sp.cancel(v) for v in _rotation_of(z[:4]).ravel()])
+    z, _ = _check_study(s)
+    return _rotation_of(z[..., :4])
+
+
+def translation(s):
+    """The translation ``t = 2 y x~ / (x x~)`` of a Study point.
+
+    Parameters
+    ----------
+    s : (8,) or (n, 8) float, or 8 sympy expressions
+        Should lie on Study's quadric; the scalar part of ``2 y x~`` is dropped.
+
+    Returns
+    -------
+    (3,) or (n, 3) float, or sympy.Matrix
+
+    Raises
+    ------
+    InputError
+        If ``x = 0``, on wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> translation([1, 0, 0, 0, 0, 1, 0, 0])
+    array([2., 0., 0.])
+    """
+    if is_symbolic(s):
+        z = _sym(s, 8, "s")
+        n = sum(v * v for v in z[:4])
+        t = 2 * _qmul(z[4:], _conj(z[:4]))
+        return sp.Matrix([sp.cancel(v / n) for v in t[1:]])
+    z, n = _check_study(s)
+    return 2 * _qmul(z[..., 4:], _conj(z[..., :4]))[..., 1:] / n[..., None]
+
+
+def transform_matrix(s):
+    """The homogeneous ``4 x 4`` matrix ``[[R, t], [0, 1]]`` of a Study point.
+
+    Parameters
+    ----------
+    s : (8,) or (n, 8) float
+
+    Returns
+    -------
+    (4, 4) or (n, 4, 4) float
+
+    Raises
+    ------
+    InputError
+        If ``x = 0``, on wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> transform_matrix([1, 0, 0, 0, 0, 1, 0, 0])[:3, 3]
+    array([2., 0., 0.])
+    """
+    R, t = rotation_matrix(s), translation(s)
+    out = np.zeros(R.shape[:-2] + (4, 4))
+    out[..., :3, :3] = R
+    out[..., :3, 3] = t
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def transform_points(s, points):
+    """Platform points ``p`` (moving frame) in the base frame: ``X = R p + t``.
+
+    Parameters
+    ----------
+    s : (8,) float
+        One Study point.
+    points : (3,) or (m, 3) float
+
+    Returns
+    -------
+    (3,) or (m, 3) float
+
+    Raises
+    ------
+    InputError
+        If ``x = 0``, on wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> transform_points([0, 0, 0, 1, 0, 0, 0, 0], [1.0, 0.0, 0.0]).round(12) + 0.0
+    array([-1.,  0.,  0.])
+    """
+    R, t = rotation_matrix(as_float_array(s, "s", last=8, allow_batch=False)), translation(s)
+    p = as_float_array(points, "points", last=3)
+    return p @ R.T + t
+
+
+def study_condition(s):
+    """The value of Study's quadric ``x0 y0 + x1 y1 + x2 y2 + x3 y3`` (zero for displacements).
+
+    Parameters
+    ----------
+    s : (8,) or (n, 8) float, or 8 sympy expressions
+
+    Returns
+    -------
+    float or (n,) float, or sympy expression
+
+    Raises
+    ------
+    InputError
+        On wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> float(study_condition(study_point([1.0, 2.0, 3.0, 4.0], [1.0, -2.0, 0.5])))
+    0.0
+    """
+    if is_symbolic(s):
+        z = _sym(s, 8, "s")
+        return sp.expand(sum(z[i] * z[i + 4] for i in range(4)))
+    z = as_float_array(s, "s", last=8)
+    return np.einsum("...i,...i->...", z[..., :4], z[..., 4:])
+
+
+def normalize_study(s):
+    """The normalised representative: ``x . x = 1``, first non-zero of ``x`` positive.
+
+    Parameters
+    ----------
+    s : (8,) or (n, 8) float
+
+    Returns
+    -------
+    (8,) or (n, 8) float
+
+    Raises
+    ------
+    InputError
+        If ``x = 0``, on wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> normalize_study([0, 0, 0, -2, 0, 0, 1, 0])
+    array([ 0. ,  0. ,  0. ,  1. ,  0. ,  0. , -0.5,  0. ])
+    """
+    z, n = _check_study(s)
+    return _normalise_sign(z / np.sqrt(n)[..., None]) + 0.0
+
+
+def _dual_mul(a, b):
+    """Dual-quaternion product ``(xa + eps ya)(xb + eps yb)`` on the last axis."""
+    return np.concatenate([_qmul(a[..., :4], b[..., :4]),
+                           _qmul(a[..., :4], b[..., 4:]) + _qmul(a[..., 4:], b[..., :4])], axis=-1)
+
+
+def compose_study(a, b):
+    """The displacement "first ``b``, then ``a``": ``X = R_a (R_b p + t_b) + t_a``.
+
+    It is the dual-quaternion product ``(x_a + eps y_a)(x_b + eps y_b)``.
+
+    Parameters
+    ----------
+    a, b : (8,) or (n, 8) float, or 8 sympy expressions
+
+    Returns
+    -------
+    (8,) or (n, 8) float (normalised), or sympy.Matrix
+
+    Raises
+    ------
+    InputError
+        If ``x = 0`` in either, on wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> a = study_point([1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+    >>> translation(compose_study(a, a))
+    array([2., 0., 0.])
+    """
+    if is_symbolic(a) or is_symbolic(b):
+        return sp.Matrix([sp.expand(v) for v in _dual_mul(_sym(a, 8, "a"), _sym(b, 8, "b"))])
+    za, _ = _check_study(a, "a")
+    zb, _ = _check_study(b, "b")
+    return normalize_study(_dual_mul(za, zb))
+
+
+def inverse_study(s):
+    """The inverse displacement: the conjugate dual quaternion ``(x~, y~)``.
+
+    Parameters
+    ----------
+    s : (8,) or (n, 8) float, or 8 sympy expressions
+
+    Returns
+    -------
+    (8,) or (n, 8) float (normalised), or sympy.Matrix
+
+    Raises
+    ------
+    InputError
+        If ``x = 0``, on wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> s = study_point([1.0, 2.0, 3.0, 4.0], [1.0, -2.0, 0.5])
+    >>> np.allclose(compose_study(s, inverse_study(s)), [1, 0, 0, 0, 0, 0, 0, 0])
+    True
+    """
+    sign = np.array([1, -1, -1, -1, 1, -1, -1, -1])
+    if is_symbolic(s):
+        return sp.Matrix(list(_sym(s, 8, "s") * sign))
+    z, _ = _check_study(s)
+    return normalize_study(z * sign)
+
+
+def planar_to_study(image_point):
+    """Embed planar image points ``(p0, p1, p2, p3)`` as Study points ``(p0, 0, 0, p1, 0, p3, -p2, 0)``.
+
+    Parameters
+    ----------
+    image_point : (4,) or (n, 4) float, or 4 sympy expressions
+
+    Returns
+    -------
+    (8,) or (n, 8) float, or sympy.Matrix
+
+    Raises
+    ------
+    InputError
+        On wrong shapes or non-finite entries.
+
+    Examples
+    --------
+    >>> planar_to_study([1.0, 0.0, 0.0, 0.5])       # the planar translation (1, 0)
+    array([1. , 0. , 0. , 0. , 0. , 0.5, 0. , 0. ])
+    """
+    if is_symbolic(image_point):
+        p = _sym(image_point, 4, "image_point")
+        z = sp.Integer(0)
+        return sp.Matrix([p[0], z, z, p[1], z, p[3], -p[2], z])
+    p = as_float_array(image_point, "image_point", last=4)
+    out = np.zeros(p.shape[:-1] + (8,))
+    out[..., 0], out[..., 3], out[..., 5], out[..., 6] = p[..., 0], p[..., 1], p[..., 3], -p[..., 2]
+    return out + 0.0
+
+
+def study_to_planar(s, tolerances=None):
+    """The planar image point ``(x0, x3, -y2, y1)`` of a Study point of a planar displacement.
+
+    Parameters
+    ----------
+    s : (8,) or (n, 8) float
+        Study points with ``x1 = x2 = y0 = y3 = 0`` to within ``Tolerances.planar_subspace``
+        relative to ``|s|``.
+    tolerances : Tolerances, optional
+
+    Returns
+    -------
+    (4,) or (n, 4) float
+
+    Raises
+    ------
+    InputError
+        If a point is not planar (rotation about ``z``, translation in ``z = 0``).
+
+    Examples
+    --------
+    >>> study_to_planar([1.0, 0, 0, 0, 0, 0.5, 0, 0])
+    array([1. , 0. , 0. , 0.5])
+    """
+    tol = (tolerances or Tolerances()).planar_subspace
+    z = as_float_array(s, "s", last=8)
+    off = np.abs(z[..., [1, 2, 4, 7]]).max(axis=-1)
+    if np.any(off > tol * np.abs(z).max(axis=-1)):
+        raise InputError(f"s must be a planar displacement (x1 = x2 = y0 = y3 = 0), got components "
+                         f"up to {float(np.max(off)):.3g} there")
+    return np.stack([z[..., 0], z[..., 3], -z[..., 6], z[..., 5]], axis=-1) + 0.0
