@@ -51,6 +51,7 @@ __all__ = [
     "quadric_value",
     "sphere_quadric_symbolic",
     "sphere_quadric",
+    "sphere_quadric_exact",
     "point_on_plane_quadric",
     "point_on_line_quadrics",
     "landed_point_times_n",
@@ -221,6 +222,40 @@ def _sphere_compiled():
     from ..core.codegen import compile_exprs
     Q, syms = sphere_quadric_symbolic()
     return compile_exprs(list(Q), syms)
+
+
+@lru_cache(maxsize=1)
+def _sphere_exact_compiled():
+    Q, syms = sphere_quadric_symbolic()
+    # twice the matrix has integer coefficients: the generated code is integer arithmetic, so
+    # Fraction arguments give exact Fractions
+    return sp.lambdify(syms, list(2 * Q), modules=[{}, "math"])
+
+
+def sphere_quadric_exact(base_point, platform_point, length):
+    """The sphere quadric in exact rational arithmetic (floats enter as their binary rationals).
+
+    Compiled from the same derivation as :func:`sphere_quadric`.
+
+    Parameters
+    ----------
+    base_point, platform_point : 3 numbers (float, int or Fraction)
+    length : float, int or Fraction
+
+    Returns
+    -------
+    (8, 8) object array of Fraction
+
+    Examples
+    --------
+    >>> sphere_quadric_exact([0, 0, 0], [1, 0, 0], 0.1)[4, 4]
+    Fraction(4, 1)
+    """
+    from fractions import Fraction
+
+    vals = [Fraction(v) for v in list(base_point) + list(platform_point) + [length]]
+    twice = _sphere_exact_compiled()(*vals)
+    return np.array([Fraction(v) / 2 for v in twice], dtype=object).reshape(8, 8)
 
 
 def sphere_quadric(base_point, platform_point, length):
