@@ -189,10 +189,10 @@ def _exact_expr(value, name):
     elif not isinstance(value, sp.Basic):
         raise TypeError(f"{name} must be a sympy polynomial or expression, got "
                         f"{type(value).__name__}")
+    if value.has(sp.nan, sp.oo, -sp.oo, sp.zoo):
+        raise InputError(f"{name} has a non-finite coefficient (nan or infinity): {value}; "
+                         f"expected finite numbers")
     floats = value.atoms(sp.Float)
-    for f in floats:
-        if not f.is_finite:
-            raise InputError(f"{name} has the non-finite coefficient {f}; expected finite numbers")
     return value.xreplace({f: sp.Rational(f) for f in floats})
 
 
