@@ -199,16 +199,20 @@ def _exact_expr(value, name):
 def _integer_terms(value, symbols, name):
     """``{exponents: int}`` of a polynomial over Q, denominators cleared, content removed."""
     sp = _sympy()
-    expr = _exact_expr(value, name)
-    stray = expr.free_symbols - set(symbols)
-    if stray:
-        raise InputError(f"{name} contains {sorted(map(str, stray))}, which are not among the "
-                         f"variables {[str(s) for s in symbols]}")
-    try:
-        poly = sp.Poly(expr, *symbols)
-    except sp.PolynomialError as exc:
-        raise InputError(f"{name} must be a polynomial in {[str(s) for s in symbols]}, got "
-                         f"{expr}") from exc
+    if isinstance(value, sp.Poly) and value.gens == tuple(symbols) and \
+            (value.get_domain().is_ZZ or value.get_domain().is_QQ):
+        poly = value                # already exact, in these variables: no conversion
+    else:
+        expr = _exact_expr(value, name)
+        stray = expr.free_symbols - set(symbols)
+        if stray:
+            raise InputError(f"{name} contains {sorted(map(str, stray))}, which are not among "
+                             f"the variables {[str(s) for s in symbols]}")
+        try:
+            poly = sp.Poly(expr, *symbols)
+        except sp.PolynomialError as exc:
+            raise InputError(f"{name} must be a polynomial in {[str(s) for s in symbols]}, got "
+                             f"{expr}") from exc
     domain = poly.get_domain()
     if not (domain.is_ZZ or domain.is_QQ):
         raise InputError(f"{name} has coefficients in {domain}; expected rational numbers "
@@ -300,7 +304,7 @@ def _read_output(text):
 
 # --------------------------------------------------------------------------- the result
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class MsolveResult:
     """What msolve found for a polynomial system over Q.
 
@@ -314,7 +318,8 @@ class MsolveResult:
     boxes : list of tuple of (Fraction, Fraction)
         One isolating box per distinct real solution: a tuple with one ``(lo, hi)`` pair per
         variable, ``lo <= coordinate <= hi`` (``lo == hi`` when the coordinate is that exact
-        dyadic number). Empty when there is no real solution or the dimension is positive.
+        dyadic number); sorted lexicographically by centre. Empty when there is no real
+        solution or the dimension is positive.
     complex_count : int or None
         Number of complex solutions counted with multiplicity (the degree of the zero-dimensional
         ideal, read from msolve's rational parametrisation); ``0`` when ``dimension == -1``,
@@ -332,6 +337,15 @@ class MsolveResult:
     complex_count: object = None
     distinct_count: object = None
     seconds: float = 0.0
+
+    def __repr__(self):
+        names = ", ".join(self.variables[:8]) + (", ..." if len(self.variables) > 8 else "")
+        if self.positive_dimensional:
+            what = "infinitely many complex solutions"
+        else:
+            what = (f"{self.count} real of {self.complex_count} complex solutions "
+                    f"({self.distinct_count} distinct)")
+        return f"MsolveResult({what} in ({names}); {self.seconds:.3f} s)"
 
     @property
     def positive_dimensional(self) -> bool:
@@ -397,6 +411,8 @@ def _solutions(res, names):
                 raise MsolveError(f"an empty interval {raw[k]!r} in msolve's output")
             box.append((lo, hi))
         boxes.append(tuple(box))
+    # msolve lists them along its separating linear form, which may be random: sort by centre
+    boxes.sort(key=lambda b: tuple(lo + hi for lo, hi in b))
     return dict(dimension=0, boxes=boxes, complex_count=degree, distinct_count=distinct)
 
 
@@ -414,7 +430,8 @@ def solve_real(polys, variables, *, timeout=DEFAULT_TIMEOUT, threads=1,
     timeout : float, optional
         Seconds before msolve is killed (:data:`DEFAULT_TIMEOUT`).
     threads : int, optional
-        Threads msolve may use (``-t``), default 1.
+        Threads msolve may use (``-t``), default 1 (on small systems such as a Gough-Stewart
+        platform's, more threads were measured slower, not faster).
     precision : int, optional
         Bits of the isolating boxes (``-p``), default 128.
 

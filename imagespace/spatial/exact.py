@@ -48,7 +48,7 @@ def _symbols():
     return sp.symbols("x0:4") + sp.symbols("y0:4")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ExactStudyResult:
     """The real solutions of a system in Study coordinates, found exactly stratum by stratum.
 
@@ -78,6 +78,11 @@ class ExactStudyResult:
     stratum_complex_counts: tuple
     seconds: tuple
 
+    def __repr__(self):
+        per = ", ".join(f"{int(np.sum(self.strata == k))}" for k in range(len(STUDY_STRATA)))
+        return (f"ExactStudyResult({self.count} real Study points (per stratum: {per}); "
+                f"{self.complex_count} complex in the chart x0 = 1; msolve {sum(self.seconds):.2f} s)")
+
     @property
     def count(self) -> int:
         """Number of real solutions."""
@@ -85,7 +90,7 @@ class ExactStudyResult:
 
 
 def _checked_system(polys, symbols):
-    """The polynomials as sympy expressions in ``symbols``, each homogeneous."""
+    """The polynomials as exact ``sympy.Poly`` over QQ in ``symbols``, each homogeneous."""
     import sympy as sp
     if isinstance(polys, (str, bytes, sp.Basic, sp.Poly)) or not hasattr(polys, "__iter__"):
         raise TypeError(f"polys must be a sequence of polynomials in the Study coordinates, got "
@@ -96,28 +101,52 @@ def _checked_system(polys, symbols):
         name = f"polys[{i}]"
         if isinstance(p, sp.Poly):
             p = p.as_expr()
-        if isinstance(p, (bool, np.bool_, str, bytes)) or not isinstance(p, (sp.Basic, int, float, Fraction)):
+        if isinstance(p, (bool, np.bool_, str, bytes)) or \
+                not isinstance(p, (sp.Basic, int, float, Fraction)):
             raise TypeError(f"{name} must be a sympy polynomial in x0..x3, y0..y3, got "
                             f"{type(p).__name__}")
         p = sp.sympify(p)
-        # symbols of the same name but other assumptions (real=True ...) are the same unknowns
+        if p.has(sp.nan, sp.oo, -sp.oo, sp.zoo):
+            raise InputError(f"{name} has a non-finite coefficient (nan or infinity): {p}")
+        # symbols of the same name but other assumptions (real=True ...) are the same unknowns;
+        # floats are their exact binary rationals
         rename = {}
         for s in p.free_symbols:
             if s.name not in by_name:
                 raise InputError(f"{name} contains the symbol {s}; expected polynomials in the "
                                  f"Study coordinates {', '.join(_NAMES)} only")
             rename[s] = by_name[s.name]
+        rename.update({f: sp.Rational(f) for f in p.atoms(sp.Float)})
         p = p.xreplace(rename)
         try:
             poly = sp.Poly(p, *symbols)
         except sp.PolynomialError as exc:
             raise InputError(f"{name} must be a polynomial in the Study coordinates, got "
                              f"{p}") from exc
+        domain = poly.get_domain()
+        if not (domain.is_ZZ or domain.is_QQ):
+            raise InputError(f"{name} has coefficients in {domain}; expected rational numbers "
+                             f"(floats are taken exactly; irrational numbers are refused)")
         if not poly.is_zero and not poly.is_homogeneous:
             raise InputError(f"{name} must be homogeneous in (x0, ..., y3) (Study coordinates "
                              f"are projective), got {p}")
-        out.append(p)
+        out.append(poly.set_domain("QQ"))
     return out
+
+
+def _on_stratum(poly, k, unknowns):
+    """``poly`` with ``x_j = 0`` (``j < k``) and ``x_k = 1``, a Poly in ``unknowns`` (or None if 0)."""
+    import sympy as sp
+    terms = {}
+    for exps, c in poly.terms():
+        if any(exps[:k]):
+            continue
+        rest = exps[k + 1:]
+        terms[rest] = terms.get(rest, 0) + c
+    terms = {e: c for e, c in terms.items() if c != 0}
+    if not terms:
+        return None
+    return sp.Poly.from_dict(terms, *unknowns, domain="QQ")
 
 
 def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOUT,
@@ -184,14 +213,14 @@ def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOU
     system = _checked_system(polys, symbols)
     x, y = symbols[:4], symbols[4:]
     if study_quadric:
-        system.append(sum(a * b for a, b in zip(x, y)))
+        system.append(sp.Poly(sum(a * b for a, b in zip(x, y)), *symbols, domain="QQ"))
     deadline = time.monotonic() + timeout
     rows, boxes, strata, counts, seconds = [], [], [], [], []
     for k, label in enumerate(STUDY_STRATA):
-        fixed = {x[j]: sp.Integer(0) for j in range(k)}
-        fixed[x[k]] = sp.Integer(1)
-        unknowns = [s for s in symbols if s not in fixed]
-        chart = [p.xreplace(fixed) for p in system]
+        fixed = {x[j]: 0 for j in range(k)}
+        fixed[x[k]] = 1
+        unknowns = symbols[k + 1:]
+        chart = [c for c in (_on_stratum(p, k, unknowns) for p in system) if c is not None]
         left = deadline - time.monotonic()
         if left <= 0:
             raise MsolveTimeoutError(f"timeout={timeout} s spent before the stratum {label}")
@@ -205,7 +234,7 @@ def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOU
         found = []
         for box in res.boxes:
             it = iter(box)
-            full = tuple((Fraction(int(fixed[s])),) * 2 if s in fixed else next(it) for s in symbols)
+            full = tuple((Fraction(fixed[s]),) * 2 if s in fixed else next(it) for s in symbols)
             mid = np.array([float((lo + hi) / 2) for lo, hi in full])
             found.append((tuple(mid), full, mid / np.linalg.norm(mid[:4])))
         found.sort(key=lambda item: item[0])

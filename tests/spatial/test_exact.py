@@ -174,6 +174,13 @@ def test_floats_enter_exactly():
     assert box[4] == (0, 0)          # y0 = 0 from Study's quadric, added by default
 
 
+def test_no_solution_at_all():
+    # x1 = x2 = x3 = 0 and x . x = 0 leave x0^2 = 0: no point with x != 0, not even complex
+    res = exact_real_study_points([x1, x2, x3, XX])
+    assert res.count == 0 and res.study_points.shape == (0, 8) and res.strata.shape == (0,)
+    assert res.stratum_complex_counts == (0, 0, 0, 0)
+
+
 def test_study_quadric_can_be_left_out():
     eqs = [x1, x2, x3, y1, y2, y3]
     with pytest.raises(DegenerateDesignError, match="x0 = 1"):
