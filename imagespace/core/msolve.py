@@ -74,7 +74,7 @@ _INSTALL_HINT = "pip install imagespace[exact]"
 
 
 class MsolveError(EliminationError):
-    """msolve failed (non-zero exit, no output file) or printed something this module cannot read."""
+    """msolve failed (non-zero exit, no output file) or printed what this module cannot read."""
 
 
 class MsolveTimeoutError(MsolveError):
@@ -329,6 +329,17 @@ class MsolveResult:
         polynomial); ``complex_count - distinct_count`` is the total excess multiplicity.
     seconds : float
         Wall-clock time of the msolve run (0 when msolve was not needed).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace.core.msolve import msolve_available, solve_real
+    >>> if not msolve_available():
+    ...     import pytest; pytest.skip("msolve is not installed")
+    >>> x = sp.Symbol("x")
+    >>> res = solve_real([x**3 - x], [x])
+    >>> res.count, res.complex_count, [lo for (lo, hi), in res.boxes]
+    (3, 3, [Fraction(-1, 1), Fraction(0, 1), Fraction(1, 1)])
     """
 
     variables: tuple

@@ -69,6 +69,24 @@ class ExactStudyResult:
         The same count for each of the four strata.
     seconds : tuple of float
         msolve's wall-clock time on each stratum.
+
+    Examples
+    --------
+    Rotations about the z axis by the quaternion ``(x0, 0, 0, x3)`` with ``x3^2 = 3 x0^2``
+    (+-120 degrees), no translation:
+
+    >>> import sympy as sp
+    >>> from imagespace.core.msolve import msolve_available
+    >>> from imagespace.spatial.exact import exact_real_study_points
+    >>> if not msolve_available():
+    ...     import pytest; pytest.skip("msolve is not installed")
+    >>> x0, x1, x2, x3, y0, y1, y2, y3 = sp.symbols("x0:4") + sp.symbols("y0:4")
+    >>> res = exact_real_study_points([x1, x2, x3**2 - 3 * x0**2, y1, y2, y3])
+    >>> res.count, res.strata, res.complex_count
+    (2, array([0, 0]), 2)
+    >>> res.study_points[:, :4].round(6)
+    array([[ 0.5     ,  0.      ,  0.      , -0.866025],
+           [ 0.5     ,  0.      ,  0.      ,  0.866025]])
     """
 
     study_points: np.ndarray
@@ -81,7 +99,8 @@ class ExactStudyResult:
     def __repr__(self):
         per = ", ".join(f"{int(np.sum(self.strata == k))}" for k in range(len(STUDY_STRATA)))
         return (f"ExactStudyResult({self.count} real Study points (per stratum: {per}); "
-                f"{self.complex_count} complex in the chart x0 = 1; msolve {sum(self.seconds):.2f} s)")
+                f"{self.complex_count} complex in the chart x0 = 1; "
+                f"msolve {sum(self.seconds):.2f} s)")
 
     @property
     def count(self) -> int:
@@ -135,7 +154,7 @@ def _checked_system(polys, symbols):
 
 
 def _on_stratum(poly, k, unknowns):
-    """``poly`` with ``x_j = 0`` (``j < k``) and ``x_k = 1``, a Poly in ``unknowns`` (or None if 0)."""
+    """``poly`` at ``x_j = 0`` (``j < k``), ``x_k = 1``: a Poly in ``unknowns``, None if zero."""
     import sympy as sp
     terms = {}
     for exps, c in poly.terms():
