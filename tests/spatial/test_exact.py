@@ -315,3 +315,24 @@ def test_architecture_singular_design():
     quadrics = [leg_quadric(ai, bi, l2) for ai, bi, l2 in zip(a, b, squared_lengths(a, b, q, t))]
     with pytest.raises(DegenerateDesignError, match="infinitely many"):
         exact_real_study_points(quadrics)
+
+
+@pytest.mark.slow
+def test_gough_stewart_float_design():
+    # double-precision anchors and lengths enter as their exact binary rationals (53-bit
+    # numerators: msolve takes about 10 s here instead of 0.5 s for small rationals); the pose
+    # the lengths were computed from is within rounding of one real solution
+    rng = np.random.default_rng(5)
+    a, b = rng.uniform(-3, 3, (6, 3)), rng.uniform(-1.5, 1.5, (6, 3))
+    q = rng.normal(size=4)
+    q *= np.sign(q[0]) / np.linalg.norm(q)
+    t = rng.uniform(-1, 1, 3)
+    s = np.array(study_of(q, t), float)
+    w = np.array([np.array(qmul(qmul(q, pure(bi)), conj(q))[1:]) for bi in b])   # R b, |q| = 1
+    lengths = np.linalg.norm(w + t - a, axis=1)
+    quadrics = [leg_quadric([sp.Rational(v) for v in ai], [sp.Rational(v) for v in bi],
+                            sp.Rational(float(l))**2) for ai, bi, l in zip(a, b, lengths)]
+    res = exact_real_study_points(quadrics)
+    assert res.complex_count == 40
+    assert np.min(np.max(np.abs(res.study_points - s), axis=1)) < 1e-12
+    assert np.all(euclidean_residuals(a, b, lengths**2, res.study_points) < 1e-9)
