@@ -31,7 +31,7 @@ from .._validate import as_flag, as_float_array, as_tolerances
 from ..exceptions import DegenerateDesignError, InputError
 from .certify import exact_matrix
 from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
-from .solver import QuadricFamily, certify_row, solve_rows, start_system
+from .solver import QuadricFamily, certify_row, exact_study_solver, solve_rows, start_system
 from .study import rotation_matrix, translation
 
 __all__ = ["GoughStewart", "check_lengths", "GOUGH_STEWART_BOUND"]
@@ -436,10 +436,14 @@ class GoughStewart:
                               np.array([r.certified if r is not None else False for r in rows]), valid)
 
     def _exact_solver_or_none(self):
-        return None
+        from ..core.msolve import msolve_available
+
+        return exact_study_solver if msolve_available() else None
 
     def _exact_result(self, L):
-        raise InputError("method='exact' needs the msolve backend")
+        from .solver import exact_result
+
+        return exact_result(self.family(), L)
 
 
 def check_lengths(lengths, name="lengths", count=6, allow_batch=False):

@@ -27,7 +27,8 @@ from .homotopy import PATH_OK, StartSystem, solve_start_system, track_parameters
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
-__all__ = ["QuadricFamily", "solve_rows", "certify_row", "classify_endpoints"]
+__all__ = ["QuadricFamily", "solve_rows", "certify_row", "classify_endpoints", "exact_study_solver",
+           "exact_result", "quadric_polynomials"]
 
 
 @dataclass(frozen=True)
@@ -264,3 +265,113 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     return SpatialDKResult(pts, _residuals(family, P, pts),
                            family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                            distinct, False, ok, "homotopy")
+
+
+def quadric_polynomials(Q_exact):
+    """The forms ``z^T Q_k z`` as sympy polynomials in the Study symbols (exact rational coefficients).
+
+    Parameters
+    ----------
+    Q_exact : (m, 8, 8) object array of Fraction
+
+    Returns
+    -------
+    list of sympy expressions
+
+    Examples
+    --------
+    >>> from imagespace.spatial.quadrics import study_quadric_matrix
+    >>> from imagespace.spatial.certify import exact_matrix
+    >>> quadric_polynomials(exact_matrix(study_quadric_matrix()[None]))
+    [x0*y0 + x1*y1 + x2*y2 + x3*y3]
+    """
+    import sympy as sp
+
+    from .study import study_symbols
+
+    z = study_symbols()
+    out = []
+    for Q in Q_exact:
+        terms = []
+        for i in range(8):
+            for j in range(i, 8):
+                c = Q[i, j] if i == j else Q[i, j] + Q[j, i]
+                if c != 0:
+                    terms.append(sp.Rational(c.numerator, c.denominator) * z[i] * z[j])
+        out.append(sp.Add(*terms))
+    return out
+
+
+def exact_study_solver(Q_exact):
+    """msolve on the exact quadrics (every real solution, the four strata of ``x``).
+
+    Parameters
+    ----------
+    Q_exact : (m, 8, 8) object array of Fraction
+        Study's quadric included.
+
+    Returns
+    -------
+    study_points : (k, 8) float
+    complex_count : int
+        Complex solutions in the chart ``x0 = 1``.
+
+    Raises
+    ------
+    DegenerateDesignError
+        If the solution set is positive-dimensional.
+    MsolveUnavailableError
+        If msolve is not installed.
+
+    Examples
+    --------
+    >>> from imagespace.core.msolve import msolve_available
+    >>> import numpy as np, imagespace as isp, pytest
+    >>> if not msolve_available(): pytest.skip("msolve is not installed")
+    >>> gs = isp.GoughStewart(np.random.default_rng(0).integers(-3, 4, (6, 3)),
+    ...                       np.random.default_rng(1).integers(-3, 4, (6, 3)))
+    >>> pts, n = exact_study_solver(gs.family().exact([4] * 6))
+    >>> n
+    40
+    """
+    from .exact import exact_real_study_points
+
+    res = exact_real_study_points(quadric_polynomials(Q_exact), study_quadric=False)
+    return res.study_points, res.complex_count
+
+
+def exact_result(family, lengths):
+    """The exact path: msolve on the exact system, always certified.
+
+    Parameters
+    ----------
+    family : QuadricFamily
+    lengths : (p,) float
+
+    Returns
+    -------
+    SpatialDKResult
+
+    Raises
+    ------
+    DegenerateDesignError
+        If the solution set is positive-dimensional.
+    MsolveUnavailableError
+        If msolve is not installed.
+
+    Examples
+    --------
+    >>> from imagespace.core.msolve import msolve_available
+    >>> import numpy as np, imagespace as isp, pytest
+    >>> if not msolve_available(): pytest.skip("msolve is not installed")
+    >>> gs = isp.GoughStewart(np.random.default_rng(0).integers(-3, 4, (6, 3)),
+    ...                       np.random.default_rng(1).integers(-3, 4, (6, 3)))
+    >>> exact_result(gs.family(), np.full(6, 2.0)).method
+    'msolve'
+    """
+    lengths = np.asarray(lengths, dtype=float)
+    pts, complex_count = exact_study_solver(family.exact(_exact_params(lengths)))
+    P = lengths ** 2
+    return SpatialDKResult(pts, _residuals(family, P, pts),
+                           family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
+                           int(complex_count), True, True, "msolve")
