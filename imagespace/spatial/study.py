@@ -35,9 +35,8 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from .._validate import as_float_array, is_symbolic
+from .._validate import as_float_array, as_tolerances, is_symbolic
 from ..exceptions import InputError
-from ..tolerances import Tolerances
 
 __all__ = [
     "study_symbols",
@@ -154,6 +153,8 @@ def _rotation_of(x):
     """``R`` with ``R p = x p x~ / (x x~)`` from quaternions ``(..., 4)`` (numpy or object)."""
     x0, x1, x2, x3 = x[..., 0], x[..., 1], x[..., 2], x[..., 3]
     n = x0 * x0 + x1 * x1 + x2 * x2 + x3 * x3
+    if x.dtype == object:
+        n = np.asarray(n, dtype=object)      # one sympy quaternion: a 0-d array so n[..., None] works
     rows = [[x0 * x0 + x1 * x1 - x2 * x2 - x3 * x3, 2 * (x1 * x2 - x0 * x3), 2 * (x1 * x3 + x0 * x2)],
             [2 * (x1 * x2 + x0 * x3), x0 * x0 - x1 * x1 + x2 * x2 - x3 * x3, 2 * (x2 * x3 - x0 * x1)],
             [2 * (x1 * x3 - x0 * x2), 2 * (x2 * x3 + x0 * x1), x0 * x0 - x1 * x1 - x2 * x2 + x3 * x3]]
@@ -211,23 +212,32 @@ def quaternion_from_matrix(R, tolerances=None):
     Raises
     ------
     InputError
-        If ``R`` is not a rotation matrix.
+        If ``R`` is not a rotation matrix, not finite or not of shape ``(3, 3)`` / ``(n, 3, 3)``.
+    TypeError
+        If ``R`` is not numeric, or ``tolerances`` is not a Tolerances.
 
     Examples
     --------
     >>> quaternion_from_matrix(np.diag([1.0, -1.0, -1.0]))     # a half-turn about x
     array([0., 1., 0., 0.])
     """
-    tol = (tolerances or Tolerances()).rotation_matrix
-    R = np.asarray(R, dtype=float) if not isinstance(R, np.ndarray) else R.astype(float)
-    if R.shape[-2:] != (3, 3):
-        raise InputError(f"R must have shape (3, 3) or (n, 3, 3), got {R.shape}")
+    return _quaternion_from_matrix(R, tolerances, "R")
+
+
+def _quaternion_from_matrix(R, tolerances, name):
+    """:func:`quaternion_from_matrix` with the parameter's name for the error messages."""
+    tol = as_tolerances(tolerances).rotation_matrix
+    R = as_float_array(R, name, finite=False)
+    if R.ndim not in (2, 3) or R.shape[-2:] != (3, 3):
+        raise InputError(f"{name} must have shape (3, 3) or (n, 3, 3), got shape {R.shape}")
     if not np.all(np.isfinite(R)):
-        raise InputError("R must be finite, got NaN or inf entries")
+        raise InputError(f"{name} must be finite, got NaN or inf entries")
     err = np.abs(np.einsum("...ji,...jk->...ik", R, R) - np.eye(3)).max(axis=(-2, -1))
-    if np.any(err > tol) or np.any(np.abs(np.linalg.det(R) - 1.0) > tol):
-        raise InputError(f"R must be a rotation matrix (orthogonal, det +1, to {tol:g}), "
-                         f"got |R^T R - I| up to {float(np.max(err)):.3g}")
+    det_err = np.abs(np.linalg.det(R) - 1.0)
+    if np.any(err > tol) or np.any(det_err > tol):
+        raise InputError(f"{name} must be a rotation matrix (orthogonal, det +1, to {tol:g}), "
+                         f"got |R^T R - I| up to {float(np.max(err)):.3g} and |det - 1| up to "
+                         f"{float(np.max(det_err)):.3g}")
     # the four candidate squared components; take the largest for a stable root
     tr = np.trace(R, axis1=-2, axis2=-1)
     sq = np.stack([1 + tr, 1 + 2 * R[..., 0, 0] - tr, 1 + 2 * R[..., 1, 1] - tr,
@@ -279,7 +289,10 @@ def study_point(rotation, translation):
     Raises
     ------
     InputError
-        On wrong shapes, non-finite entries, a zero quaternion or a non-rotation matrix.
+        On wrong shapes, non-finite entries, a zero quaternion, a non-rotation matrix, or batch
+        sizes of ``rotation`` and ``translation`` that do not match.
+    TypeError
+        If an input is not numeric.
 
     Examples
     --------
@@ -295,15 +308,19 @@ def study_point(rotation, translation):
         t = _sym(translation, 3, "translation")
         y = _qmul(np.concatenate([[sp.Integer(0)], t]), x) / 2
         return sp.Matrix([sp.expand(v) for v in np.concatenate([x, y])])
-    rot = np.asarray(rotation, dtype=float)
-    if rot.shape[-2:] == (3, 3):
-        x = quaternion_from_matrix(rot)
+    rot = as_float_array(rotation, "rotation", finite=False)
+    if rot.ndim >= 2 and rot.shape[-2:] == (3, 3):
+        x = _quaternion_from_matrix(rot, None, "rotation")
     else:
         x = as_float_array(rotation, "rotation", last=4)
         if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
             raise InputError("rotation must be a non-zero quaternion, got zero")
     t = as_float_array(translation, "translation", last=3)
-    shape = np.broadcast_shapes(x.shape[:-1], t.shape[:-1])
+    try:
+        shape = np.broadcast_shapes(x.shape[:-1], t.shape[:-1])
+    except ValueError:
+        raise InputError(f"rotation and translation must have the same batch size, got "
+                         f"{x.shape[:-1]} and {t.shape[:-1]}") from None
     x, t = np.broadcast_to(x, shape + (4,)), np.broadcast_to(t, shape + (3,))
     tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t], axis=-1)
     y = _qmul(tq, x) / 2
@@ -611,7 +628,7 @@ def study_to_planar(s, tolerances=None):
     >>> study_to_planar([1.0, 0, 0, 0, 0, 0.5, 0, 0])
     array([1. , 0. , 0. , 0.5])
     """
-    tol = (tolerances or Tolerances()).planar_subspace
+    tol = as_tolerances(tolerances).planar_subspace
     z = as_float_array(s, "s", last=8)
     off = np.abs(z[..., [1, 2, 4, 7]]).max(axis=-1)
     if np.any(off > tol * np.abs(z).max(axis=-1)):
