@@ -85,6 +85,15 @@ def _qmul(p, q):
                      a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
 
 
+def _batch_shape(a, b, names):
+    """The broadcast batch shape of two arrays' leading axes, or an InputError naming both."""
+    try:
+        return np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
+    except ValueError:
+        raise InputError(f"{names[0]} and {names[1]} must have the same batch size, got "
+                         f"{a.shape[:-1]} and {b.shape[:-1]}") from None
+
+
 def _sym(value, n, name):
     items = list(value)
     if len(items) != n:
@@ -111,7 +120,8 @@ def quaternion_multiply(p, q):
     Raises
     ------
     InputError
-        If an argument does not have 4 entries on its last axis or is not finite.
+        If an argument does not have 4 entries on its last axis, is not finite, or the batch
+        sizes of ``p`` and ``q`` do not match.
 
     Examples
     --------
@@ -120,7 +130,9 @@ def quaternion_multiply(p, q):
     """
     if is_symbolic(p) or is_symbolic(q):
         return sp.Matrix(list(_qmul(_sym(p, 4, "p"), _sym(q, 4, "q"))))
-    return _qmul(as_float_array(p, "p", last=4), as_float_array(q, "q", last=4))
+    p, q = as_float_array(p, "p", last=4), as_float_array(q, "q", last=4)
+    _batch_shape(p, q, ("p", "q"))
+    return _qmul(p, q)
 
 
 def quaternion_conjugate(q):
@@ -316,11 +328,7 @@ def study_point(rotation, translation):
         if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
             raise InputError("rotation must be a non-zero quaternion, got zero")
     t = as_float_array(translation, "translation", last=3)
-    try:
-        shape = np.broadcast_shapes(x.shape[:-1], t.shape[:-1])
-    except ValueError:
-        raise InputError(f"rotation and translation must have the same batch size, got "
-                         f"{x.shape[:-1]} and {t.shape[:-1]}") from None
+    shape = _batch_shape(x, t, ("rotation", "translation"))
     x, t = np.broadcast_to(x, shape + (4,)), np.broadcast_to(t, shape + (3,))
     tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t], axis=-1)
     y = _qmul(tq, x) / 2
@@ -529,7 +537,7 @@ def compose_study(a, b):
     Raises
     ------
     InputError
-        If ``x = 0`` in either, on wrong shapes or non-finite entries.
+        If ``x = 0`` in either, on wrong shapes, mismatched batch sizes or non-finite entries.
 
     Examples
     --------
@@ -541,6 +549,7 @@ def compose_study(a, b):
         return sp.Matrix([sp.expand(v) for v in _dual_mul(_sym(a, 8, "a"), _sym(b, 8, "b"))])
     za, _ = _check_study(a, "a")
     zb, _ = _check_study(b, "b")
+    _batch_shape(za, zb, ("a", "b"))
     return normalize_study(_dual_mul(za, zb))
 
 
@@ -621,7 +630,8 @@ def study_to_planar(s, tolerances=None):
     Raises
     ------
     InputError
-        If a point is not planar (rotation about ``z``, translation in ``z = 0``).
+        If a point is not planar (rotation about ``z``, translation in ``z = 0``), has ``x = 0``,
+        or on wrong shapes or non-finite entries.
 
     Examples
     --------
@@ -629,7 +639,7 @@ def study_to_planar(s, tolerances=None):
     array([1. , 0. , 0. , 0.5])
     """
     tol = as_tolerances(tolerances).planar_subspace
-    z = as_float_array(s, "s", last=8)
+    z, _ = _check_study(s)
     off = np.abs(z[..., [1, 2, 4, 7]]).max(axis=-1)
     if np.any(off > tol * np.abs(z).max(axis=-1)):
         raise InputError(f"s must be a planar displacement (x1 = x2 = y0 = y3 = 0), got components "

@@ -18,7 +18,7 @@ from imagespace.exceptions import InputError
 from imagespace.spatial.study import (compose_study, inverse_study, matrix_from_quaternion, normalize_study,
                                       quaternion_conjugate, quaternion_from_matrix, quaternion_multiply,
                                       rotation_matrix, study_condition, study_point, study_symbols,
-                                      transform_matrix, transform_points, translation)
+                                      study_to_planar, transform_matrix, transform_points, translation)
 
 TOL = 1e-12
 
@@ -349,6 +349,9 @@ NAN8 = [np.nan, 0, 0, 0, 0, 0, 0, 0]
     (lambda: inverse_study(np.ones(9)), "s"),
     (lambda: quaternion_multiply([1, 0, 0], [1, 0, 0, 0]), "p"),
     (lambda: quaternion_multiply([1, 0, 0, 0], [np.nan, 0, 0, 0]), "q"),
+    (lambda: quaternion_multiply(np.ones((2, 4)), np.ones((3, 4))), "p and q"),
+    (lambda: compose_study(np.ones((2, 8)), np.ones((3, 8))), "a and b"),
+    (lambda: study_to_planar([0, 0, 0, 0, 0, 1, 0, 0]), "s"),
 ])
 def test_bad_input_raises_input_error_naming_the_parameter(call, name):
     with pytest.raises(InputError) as info:
