@@ -176,8 +176,8 @@ def test_batches_match_row_by_row_and_have_the_documented_shapes(rng):
     for i in range(n):
         assert np.array_equal(S[i], study_point(Rs[i], ts[i]))
         assert np.allclose(C[i], compose_study(S[i], S[n - 1 - i]), atol=1e-15)
-        assert np.allclose(transform_matrix(C[i]), homogeneous(Rs[i], ts[i]) @ homogeneous(Rs[n - 1 - i], ts[n - 1 - i]),
-                           atol=1e-10)
+        T = homogeneous(Rs[i], ts[i]) @ homogeneous(Rs[n - 1 - i], ts[n - 1 - i])
+        assert np.allclose(transform_matrix(C[i]), T, atol=1e-10)
     # broadcasting one rotation over many translations, and one point against a batch
     B = study_point(qs[0], ts)
     assert B.shape == (n, 8)
