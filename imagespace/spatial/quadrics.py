@@ -84,6 +84,8 @@ def form_matrix(expr):
     """
     z = study_symbols()
     P = sp.Poly(sp.expand(expr), *z)
+    if not P.is_homogeneous or P.total_degree() != 2 and not P.is_zero:
+        raise InputError(f"expr must be a quadratic form in {z}, got degree {P.total_degree()}")
     Q = sp.zeros(8, 8)
     if P.is_zero:
         return Q
@@ -278,7 +280,9 @@ def sphere_quadric(base_point, platform_point, length):
     Raises
     ------
     InputError
-        On wrong shapes, non-finite entries or a negative length.
+        On wrong shapes or batch sizes, non-finite entries or a negative length.
+    TypeError
+        If an input is not numeric.
 
     Examples
     --------
@@ -296,12 +300,16 @@ def sphere_quadric(base_point, platform_point, length):
         return Q.subs(dict(zip(syms, vals)))
     a = as_float_array(base_point, "base_point", last=3)
     b = as_float_array(platform_point, "platform_point", last=3)
-    L = np.asarray(length, dtype=float)
-    if not np.all(np.isfinite(L)):
-        raise InputError(f"length must be finite, got {length!r}")
+    L = as_float_array(length, "length")
+    if L.ndim > 1:
+        raise InputError(f"length must be a number or of shape (n,), got shape {L.shape}")
     if np.any(L < 0):
         raise InputError(f"length must be >= 0, got {float(np.min(L))}")
-    shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1], L.shape)
+    try:
+        shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1], L.shape)
+    except ValueError:
+        raise InputError(f"base_point, platform_point and length must have the same batch size, got "
+                         f"{a.shape[:-1]}, {b.shape[:-1]} and {L.shape}") from None
     args = [np.broadcast_to(a[..., i], shape) for i in range(3)] + \
            [np.broadcast_to(b[..., i], shape) for i in range(3)] + [np.broadcast_to(L, shape)]
     return _sphere_compiled()(*args).reshape(shape + (8, 8))
