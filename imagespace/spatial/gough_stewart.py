@@ -43,7 +43,7 @@ _METHODS = ("fast", "exact")
 
 
 def _check_points(value, name, count):
-    P = as_float_array(value, name, allow_batch=True)
+    P = np.array(as_float_array(value, name, allow_batch=True), dtype=float, copy=True)
     if P.shape != (count, 3):
         raise InputError(f"{name} must have shape ({count}, 3), got {P.shape}")
     return P
@@ -470,10 +470,10 @@ def check_lengths(lengths, name="lengths", count=6, allow_batch=False):
     >>> check_lengths([1, 2, 3, 4, 5, 6])
     array([1., 2., 3., 4., 5., 6.])
     """
-    L = as_float_array(lengths, name, last=count, allow_batch=allow_batch)
-    bad = np.argwhere(~(L > 0))
+    L = as_float_array(lengths, name, last=count, allow_batch=allow_batch, finite=False)
+    bad = np.argwhere(~(np.isfinite(L) & (L > 0)))
     if bad.size:
         idx = tuple(int(v) for v in bad[0])
-        raise InputError(f"{name} must be positive leg lengths, got {L[idx]} at index "
+        raise InputError(f"{name} must be positive finite leg lengths, got {L[idx]} at index "
                          f"{idx if len(idx) > 1 else idx[0]}")
     return L

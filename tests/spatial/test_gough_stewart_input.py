@@ -57,8 +57,6 @@ def test_anchors_are_stored_read_only(rng):
         gs.platform_points[0, 0] = 1.0
 
 
-@pytest.mark.xfail(strict=True, reason="reported: GoughStewart stores the caller's float64 array itself "
-                                       "and sets it read-only (no copy), so the caller's array is frozen")
 def test_the_callers_arrays_are_not_aliased_or_frozen(rng):
     A, B = random_design(rng)
     gs = GoughStewart(A, B)
@@ -179,8 +177,6 @@ def test_non_finite_lengths_name_lengths(rng, value):
     assert str(info.value).startswith("lengths")
 
 
-@pytest.mark.xfail(strict=True, reason="reported: a NaN length is refused by as_float_array before "
-                                       "check_lengths can name its index")
 def test_nan_length_error_names_the_index(rng):
     gs = GoughStewart(*random_design(rng))
     L = rng.uniform(1, 3, size=6)
