@@ -225,6 +225,14 @@ def test_referee_dietmaier_40_real_float_data():
     assert _contains_pose(ref, d.pose_rotation, d.pose_translation, tol=1e-11)
 
 
+def test_referee_searched_design_count():
+    d = D.SEARCHED_DESIGN
+    ref = E.gough_stewart_reference(d.float_base, d.float_platform, lengths=d.float_lengths)
+    assert len(ref) == d.real_count == 12
+    _check_referee_poses(ref, d.float_base, d.float_platform,
+                         E.exact_squared_lengths(lengths=d.float_lengths))
+
+
 # --------------------------------------------------------------------------- the API (issue 18)
 
 def _api_poses(result):
@@ -288,6 +296,18 @@ def test_api_half_turn_random_axis(seed, method):
     res = GoughStewart(base, platform).direct_kinematics(lengths, method=method)
     R, t = _api_poses(res)
     assert any(_distance(*_exact_pose(pose), Ra, ta) < POSE_TOL for Ra, ta in zip(R, t))
+    assert _matches(ref.rotations, ref.translations, R, t) is None
+
+
+@needs_api
+@pytest.mark.parametrize("method", ["exact", "fast"])
+def test_api_searched_design_count(method):
+    d = D.SEARCHED_DESIGN
+    res = GoughStewart(d.float_base, d.float_platform).direct_kinematics(d.float_lengths,
+                                                                          method=method)
+    R, t = _api_poses(res)
+    assert int(res.count) == d.real_count
+    ref = E.gough_stewart_reference(d.float_base, d.float_platform, lengths=d.float_lengths)
     assert _matches(ref.rotations, ref.translations, R, t) is None
 
 
