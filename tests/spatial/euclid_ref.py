@@ -49,8 +49,8 @@ from typing import List, NamedTuple, Tuple
 
 import numpy as np
 
-from msolve_ref import (DEFAULT_TIMEOUT, POSITIVE_DIMENSIONAL, MsolveError, Poly, _frac,
-                        real_solutions, solution_degrees)
+from msolve_ref import (DEFAULT_TIMEOUT, POSITIVE_DIMENSIONAL, MsolveError, Poly, real_solutions,
+                        solution_degrees)
 
 __all__ = ["VARIABLES", "RefereeError", "SpatialDKReference", "rotation_polys",
            "rotation_matrix_of_quaternion", "gs_system", "gough_stewart_reference",
@@ -133,11 +133,32 @@ def rotation_matrix_of_quaternion(q):
     return np.array(rotation_polys(tuple(q)), dtype=float) / float(q @ q)
 
 
+def _exact(v):
+    """An exact Fraction: floats as their binary value, ints, Fractions, decimal strings
+    (``"0.645275"``), sympy rationals; anything else raises TypeError."""
+    if isinstance(v, Fraction):
+        return v
+    if isinstance(v, (bool, np.bool_)):
+        raise TypeError(f"expected a number, got the boolean {v}")
+    if isinstance(v, (int, np.integer)):
+        return Fraction(int(v))
+    if isinstance(v, (float, np.floating)):
+        if not np.isfinite(v):
+            raise ValueError(f"expected a finite number, got {v}")
+        return Fraction(float(v))
+    if isinstance(v, str):
+        return Fraction(v)
+    p, q = getattr(v, "p", None), getattr(v, "q", None)      # a sympy Rational
+    if getattr(v, "is_Rational", False) and p is not None and q is not None:
+        return Fraction(int(p), int(q))
+    raise TypeError(f"expected an exact rational or a float, got {type(v).__name__} {v!r}")
+
+
 def _points(p, name):
     rows = [list(r) for r in (p.tolist() if isinstance(p, np.ndarray) else p)]
     if len(rows) != 6 or any(len(r) != 3 for r in rows):
         raise ValueError(f"{name} must be six 3D points, got {np.shape(np.asarray(p, dtype=object))}")
-    return [[_frac(v) for v in r] for r in rows]
+    return [[_exact(v) for v in r] for r in rows]
 
 
 def exact_squared_lengths(lengths=None, squared_lengths=None):
@@ -145,7 +166,7 @@ def exact_squared_lengths(lengths=None, squared_lengths=None):
     if (lengths is None) == (squared_lengths is None):
         raise ValueError("give exactly one of lengths and squared_lengths")
     if squared_lengths is not None:
-        out = [_frac(v) for v in list(np.asarray(squared_lengths, dtype=object).ravel())]
+        out = [_exact(v) for v in list(np.asarray(squared_lengths, dtype=object).ravel())]
     else:
         out = [Fraction(float(v)) ** 2 for v in list(np.asarray(lengths, dtype=float).ravel())]
     if len(out) != 6:
