@@ -211,13 +211,19 @@ def exact_half_turn_design(seed):
 def reference_designs(n=56):
     """The seeded reference cases ``(name, design, lengths (6,) float, pose or None)``.
 
-    Even seeds: lengths from a random exact pose (float-rounded square roots); odd seeds:
-    lengths from random values. Every seventh case is a 6-3 design.
+    Even cases: lengths from a random exact pose (float-rounded square roots); odd cases:
+    lengths from random values. Case ``i`` with ``i % 14 == 6`` is a 6-3 design, ``i % 14 == 13``
+    a 3-3 design, the others general 6-6 designs.
     """
     cases = []
     for i in range(n):
         seed = 1800 + i
-        design = random_design_63(seed) if i % 7 == 6 else random_design(seed)
+        if i % 14 == 6:
+            design = random_design_63(seed)
+        elif i % 14 == 13:
+            design = random_design_33(seed)
+        else:
+            design = random_design(seed)
         if i % 2 == 0:
             pose = random_pose(seed + 5000)
             lengths = float_lengths(squared_lengths_of_pose(design, pose))

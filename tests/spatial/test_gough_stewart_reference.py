@@ -7,8 +7,8 @@ it owes nothing to Study coordinates or to imagespace. Two groups of tests:
   (q0 = 0) is found once, not twice and not lost; complex counts 40 (6-6), 16 (6-3 and 3-3);
   Dietmaier's 1998 design has 40 real poses;
 * the API against the referee (skipped until ``imagespace.spatial.GoughStewart`` exists): on 56
-  seeded rational designs (lengths from random exact poses and from random values; every seventh a
-  6-3 design), ``direct_kinematics(L, method="exact")`` and ``method="fast"`` return the referee's
+  seeded rational designs (lengths from random exact poses and from random values; four are 6-3
+  and four 3-3 designs), ``direct_kinematics(L, method="exact")`` and ``method="fast"`` return the referee's
   real poses within 1e-9 (rotation matrices and translations, as multisets) and its count; the
   half-turns are found; Dietmaier's design gives 40. Two designs run in the fast lane, the rest
   are marked slow; each referee solve is cached and shared by the two methods.
