@@ -51,7 +51,11 @@ class QuadricFamily:
         ``exact(params_exact) -> (m, 8, 8)`` object array of Fraction: the exact quadrics for
         exact parameters (squared lengths as Fractions).
     aspect : callable
-        ``aspect(study_points (k, 8)) -> (k,) int8``.
+        ``aspect(study_points (k, 8)) -> (k,) int8``, on unscaled points.
+    scale : float
+        A power of two: the family is written for the design divided by ``scale`` (lengths too), so
+        its solutions are well scaled whatever the units; a solution ``(x, y)`` of the family is
+        the displacement ``(x, scale * y)``. Exact, since the scale is a power of two.
     """
 
     A: np.ndarray
@@ -61,6 +65,13 @@ class QuadricFamily:
     bound: Optional[int]
     exact: Callable
     aspect: Callable
+    scale: float = 1.0
+
+    def unscale(self, pts):
+        """Family solutions ``(k, 8)`` -> displacements of the design (``y`` times ``scale``)."""
+        out = np.array(pts, dtype=float).reshape(-1, 8)
+        out[:, 4:] *= self.scale
+        return out
 
 
 def start_system(family, seed=0):
@@ -175,7 +186,7 @@ def solve_rows(family, start, P, tolerances, valid=None):
     >>> len(b)
     2
     """
-    P = np.atleast_2d(np.asarray(P, dtype=float))
+    P = np.atleast_2d(np.asarray(P, dtype=float)) / family.scale ** 2
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
     rows = np.flatnonzero(valid)
@@ -190,8 +201,9 @@ def solve_rows(family, start, P, tolerances, valid=None):
         cplx[r] = distinct
         reliable[r] = ok and (family.bound is None or distinct == family.bound or
                               distinct == start.solutions.shape[0])
-        pts_all.append(pts)
         res_all.append(_residuals(family, P[r], pts))
+        pts = family.unscale(pts)
+        pts_all.append(pts)
         asp_all.append(family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8))
     offsets = np.concatenate([[0], np.cumsum(counts)])
     S = np.vstack(pts_all) if pts_all else np.zeros((0, 8))
@@ -201,8 +213,8 @@ def solve_rows(family, start, P, tolerances, valid=None):
                           np.zeros(n, bool), valid)
 
 
-def _exact_params(lengths):
-    return [Fraction(float(v)) ** 2 for v in lengths]
+def _exact_params(lengths, scale=1.0):
+    return [(Fraction(float(v)) / Fraction(scale)) ** 2 for v in lengths]
 
 
 def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_solver=None):
@@ -239,30 +251,36 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     from .certify import krawczyk_certify
 
     lengths = np.asarray(lengths, dtype=float)
-    P = lengths ** 2
+    P = (lengths / family.scale) ** 2
     if Z is None:
         Zs, sts, _ = track_parameters(start, P[None])
         Z, status = Zs[0], sts[0]
-    Qx = family.exact(_exact_params(lengths))
+    Qx = family.exact(_exact_params(lengths, family.scale))
     arrived = Z[status == PATH_OK]
     if family.bound is not None and arrived.shape[0] >= family.bound:
         cert = krawczyk_certify(Qx, arrived)
         if cert.complete(family.bound):
             real = cert.points[cert.certified & (cert.real == 1)].real
             pts = normalize_study(real) if real.shape[0] else np.zeros((0, 8))
-            return SpatialDKResult(pts, _residuals(family, P, pts),
+            res = _residuals(family, P, pts)
+            pts = family.unscale(pts)
+            return SpatialDKResult(pts, res,
                                    family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                                    family.bound, True, True, "homotopy+krawczyk")
     if exact_solver is not None:
         pts, complex_count = exact_solver(Qx)
-        return SpatialDKResult(pts, _residuals(family, P, pts),
+        res = _residuals(family, P, pts)
+        pts = family.unscale(pts)
+        return SpatialDKResult(pts, res,
                                family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                                int(complex_count), True, True, "msolve")
     warnings.warn("the row could not be certified: Krawczyk did not prove every solution and no exact "
                   "solver is available (pip install imagespace[exact]); the modes are the fast path's",
                   NearSingularWarning, stacklevel=3)
     pts, distinct, ok = classify_endpoints(Z, status, tolerances)
-    return SpatialDKResult(pts, _residuals(family, P, pts),
+    res = _residuals(family, P, pts)
+    pts = family.unscale(pts)
+    return SpatialDKResult(pts, res,
                            family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                            distinct, False, ok, "homotopy")
 
@@ -370,8 +388,9 @@ def exact_result(family, lengths):
     'msolve'
     """
     lengths = np.asarray(lengths, dtype=float)
-    pts, complex_count = exact_study_solver(family.exact(_exact_params(lengths)))
-    P = lengths ** 2
-    return SpatialDKResult(pts, _residuals(family, P, pts),
+    pts, complex_count = exact_study_solver(family.exact(_exact_params(lengths, family.scale)))
+    res = _residuals(family, (lengths / family.scale) ** 2, pts)
+    pts = family.unscale(pts)
+    return SpatialDKResult(pts, res,
                            family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                            int(complex_count), True, True, "msolve")
