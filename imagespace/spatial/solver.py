@@ -28,7 +28,7 @@ from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
 __all__ = ["QuadricFamily", "solve_rows", "certify_row", "classify_endpoints", "exact_study_solver",
-           "exact_result", "quadric_polynomials"]
+           "exact_result", "quadric_polynomials", "study_jacobian_signs"]
 
 
 @dataclass(frozen=True)
@@ -320,13 +320,16 @@ def quadric_polynomials(Q_exact):
     return out
 
 
-def exact_study_solver(Q_exact):
+def exact_study_solver(Q_exact, exclude_null_rotations=None):
     """msolve on the exact quadrics (every real solution, the four strata of ``x``).
 
     Parameters
     ----------
     Q_exact : (m, 8, 8) object array of Fraction
         Study's quadric included.
+    exclude_null_rotations : bool or None
+        Passed to :func:`~imagespace.spatial.exact.exact_real_study_points`: True counts only
+        complex solutions with ``x . x != 0`` (displacements) also where such points are isolated.
 
     Returns
     -------
@@ -354,17 +357,20 @@ def exact_study_solver(Q_exact):
     """
     from .exact import exact_real_study_points
 
-    res = exact_real_study_points(quadric_polynomials(Q_exact), study_quadric=False)
+    res = exact_real_study_points(quadric_polynomials(Q_exact), study_quadric=False,
+                                  exclude_null_rotations=exclude_null_rotations)
     return res.study_points, res.complex_count
 
 
-def exact_result(family, lengths):
+def exact_result(family, lengths, exclude_null_rotations=None):
     """The exact path: msolve on the exact system, always certified.
 
     Parameters
     ----------
     family : QuadricFamily
     lengths : (p,) float
+    exclude_null_rotations : bool or None
+        See :func:`exact_study_solver`.
 
     Returns
     -------
@@ -388,9 +394,60 @@ def exact_result(family, lengths):
     'msolve'
     """
     lengths = np.asarray(lengths, dtype=float)
-    pts, complex_count = exact_study_solver(family.exact(_exact_params(lengths, family.scale)))
+    pts, complex_count = exact_study_solver(family.exact(_exact_params(lengths, family.scale)),
+                                            exclude_null_rotations)
     res = _residuals(family, (lengths / family.scale) ** 2, pts)
     pts = family.unscale(pts)
     return SpatialDKResult(pts, res,
                            family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                            int(complex_count), True, True, "msolve")
+
+
+def study_jacobian_signs(family, pts, tolerances=None):
+    """Aspects in Study coordinates: the sign of ``det [2 Q_k z ; (x, 0)]`` at normalised modes.
+
+    ``Q_k = A_k - p_k E`` with ``p_k = z^T A_k z / z^T E z`` (the mode's own parameters); the last
+    row ``(x, 0)`` is the gradient of ``x . x / 2``. Replacing ``z`` by ``-z`` flips all eight rows,
+    so the sign is that of the displacement; it changes exactly across the singularities where the
+    constraint Jacobian loses rank.
+
+    Parameters
+    ----------
+    family : QuadricFamily
+    pts : (k, 8) float
+        Displacements (unscaled, as returned to the user).
+    tolerances : Tolerances, optional
+        ``spatial_aspect``: 0 where ``|det|`` is at most this times Hadamard's bound.
+
+    Returns
+    -------
+    (k,) int8
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> m = isp.spatial.ThreeRPS(np.eye(3), 0.5 * np.eye(3))
+    >>> study_jacobian_signs(m.family(), np.array([[1.0, 0, 0, 0, 0, 0, 0, 0]])).dtype
+    dtype('int8')
+    """
+    from ..tolerances import Tolerances
+
+    tol = (tolerances or Tolerances()).spatial_aspect
+    z = np.array(pts, dtype=float).reshape(-1, 8)
+    z[:, 4:] /= family.scale
+    z /= np.linalg.norm(z[:, :4], axis=1)[:, None]
+    out = np.zeros(z.shape[0], np.int8)
+    for i, v in enumerate(z):
+        zEz = v @ family.E @ v
+        rows = []
+        for k in range(family.A.shape[0]):
+            Q = family.A[k]
+            if family.pidx[k] >= 0:
+                Q = Q - (v @ Q @ v) / zEz * family.E
+            rows.append(2.0 * Q @ v)
+        rows.append(np.concatenate([v[:4], np.zeros(4)]))
+        J = np.array(rows)
+        det = np.linalg.det(J)
+        had = np.prod(np.linalg.norm(J, axis=1))
+        out[i] = 0 if abs(det) <= tol * had else (1 if det > 0 else -1)
+    return out
