@@ -38,7 +38,7 @@ import numpy as np
 
 from ..core._numba import njit, prange
 
-__all__ = ["StartSystem", "solve_start_system", "track_parameters", "PATH_OK", "PATH_FAILED"]
+__all__ = ["StartSystem", "solve_start_system", "track_parameters", "classify_batch", "PATH_OK", "PATH_FAILED"]
 
 #: path status codes
 PATH_OK = 0
@@ -473,3 +473,104 @@ def track_parameters(start, P):
         _track_many(start.solutions, 0, start.A, start.E, start.pidx, P, start.p_star,
                     np.zeros((start.A.shape[0], _N), complex), start.patch, 1.0 + 0j, Z, status, steps)
     return Z, status, steps
+
+
+@njit(cache=True)
+def _classify_rows(Z, status, real_imag, nonreal_imag, distinct_tol, W, real, distinct, reliable):
+    """Per row: scale each endpoint by its largest ``x`` entry, flag real ones, count distinct ones.
+
+    ``W`` receives the scaled endpoints' real parts, ``real[r, j]`` the real flags, ``distinct[r]``
+    the number of pairwise distinct arrived endpoints and ``reliable[r]`` the float checks.
+    """
+    n, k = status.shape
+    U = np.zeros((k, _N), dtype=np.complex128)
+    for r in range(n):
+        ok = True
+        for j in range(k):
+            if status[r, j] != PATH_OK:
+                ok = False
+                real[r, j] = False
+                continue
+            big = 0.0
+            jj = 0
+            for i in range(4):
+                a = abs(Z[r, j, i])
+                if a > big:
+                    big = a
+                    jj = i
+            piv = Z[r, j, jj]
+            size = 0.0
+            im = 0.0
+            for i in range(_N):
+                v = Z[r, j, i] / piv
+                U[j, i] = v
+                size = max(size, abs(v))
+                im = max(im, abs(v.imag))
+            rel = im / size
+            real[r, j] = rel <= real_imag
+            if rel > real_imag and rel < nonreal_imag:
+                ok = False
+            for i in range(_N):
+                W[r, j, i] = U[j, i].real
+        count = 0
+        for j in range(k):
+            if status[r, j] != PATH_OK:
+                continue
+            nj = _norm(U[j])
+            dup = False
+            for l in range(j + 1, k):
+                if status[r, l] != PATH_OK:
+                    continue
+                nl = _norm(U[l])
+                acc = 0.0
+                for i in range(_N):
+                    d = U[j, i] / nj - U[l, i] / nl
+                    acc += d.real * d.real + d.imag * d.imag
+                if np.sqrt(acc) <= distinct_tol:
+                    dup = True
+                    break
+            if dup:
+                ok = False
+            else:
+                count += 1
+        distinct[r] = count
+        reliable[r] = ok
+
+
+def classify_batch(Z, status, tolerances):
+    """Sort every row's endpoints into real modes (compiled; float checks, not a proof).
+
+    Parameters
+    ----------
+    Z : (n, k, 8) complex
+    status : (n, k) int
+    tolerances : Tolerances
+        ``spatial_real_imag``, ``spatial_nonreal_imag``, ``spatial_distinct``.
+
+    Returns
+    -------
+    W : (n, k, 8) float
+        Endpoints scaled so their largest ``|x_i|`` is 1 (real parts).
+    real : (n, k) bool
+    distinct : (n,) int
+    reliable : (n,) bool
+        All paths arrived, endpoints distinct, none between the two realness thresholds.
+
+    Examples
+    --------
+    >>> from imagespace.tolerances import Tolerances
+    >>> Z = np.array([[[1, 0, 0, 0, 0, 0, 0, 0], [1, 1j, 0, 0, 0, 0, 0, 0]]], dtype=complex)
+    >>> W, real, distinct, ok = classify_batch(Z, np.zeros((1, 2), np.int64), Tolerances())
+    >>> real.tolist(), distinct.tolist(), ok.tolist()
+    ([[True, False]], [2], [True])
+    """
+    n, k = status.shape
+    W = np.zeros((n, k, _N))
+    real = np.zeros((n, k), dtype=np.bool_)
+    distinct = np.zeros(n, dtype=np.int64)
+    reliable = np.zeros(n, dtype=np.bool_)
+    if n and k:
+        _classify_rows(np.ascontiguousarray(Z), np.ascontiguousarray(status, dtype=np.int64),
+                       tolerances.spatial_real_imag, tolerances.spatial_nonreal_imag,
+                       tolerances.spatial_distinct, W, real, distinct, reliable)
+    return W, real, distinct, reliable

@@ -23,11 +23,11 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..exceptions import NearSingularWarning
-from .homotopy import PATH_OK, StartSystem, solve_start_system, track_parameters
+from .homotopy import PATH_OK, StartSystem, classify_batch, solve_start_system, track_parameters
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
-__all__ = ["QuadricFamily", "solve_rows", "certify_row", "classify_endpoints", "exact_study_solver",
+__all__ = ["QuadricFamily", "solve_rows", "certify_row", "exact_study_solver",
            "exact_result", "quadric_polynomials", "study_jacobian_signs"]
 
 
@@ -98,64 +98,41 @@ def start_system(family, seed=0):
                               expected=family.bound)
 
 
-def classify_endpoints(Z, status, tolerances):
-    """Float classification of one row's endpoints into real modes.
-
-    Parameters
-    ----------
-    Z : (k, 8) complex
-        Endpoints on the tracker's patch.
-    status : (k,) int
-    tolerances : Tolerances
-        ``spatial_real_imag``, ``spatial_nonreal_imag``, ``spatial_distinct``.
-
-    Returns
-    -------
-    real_points : (r, 8) float
-        Normalised real Study points.
-    distinct : int
-        Number of pairwise distinct endpoints among the paths that arrived.
-    reliable : bool
-        All paths arrived, endpoints pairwise distinct, every endpoint clearly real or clearly not.
-
-    Examples
-    --------
-    >>> from imagespace.tolerances import Tolerances
-    >>> Z = np.array([[1, 0, 0, 0, 0, 0, 0, 0], [1, 1j, 0, 0, 0, 0, 0, 0]], dtype=complex)
-    >>> pts, distinct, ok = classify_endpoints(Z, np.zeros(2, int), Tolerances())
-    >>> pts.shape, distinct, ok
-    ((1, 8), 2, True)
-    """
-    arrived = status == PATH_OK
-    W = Z[arrived]
-    reliable = bool(np.all(arrived))
-    if W.shape[0] == 0:
-        return np.zeros((0, 8)), 0, reliable
-    j = np.argmax(np.abs(W[:, :4]), axis=1)
-    W = W / W[np.arange(W.shape[0]), j][:, None]
-    size = np.abs(W).max(axis=1)
-    imag = np.abs(W.imag).max(axis=1) / size
-    is_real = imag <= tolerances.spatial_real_imag
-    ambiguous = (~is_real) & (imag < tolerances.spatial_nonreal_imag)
-    if np.any(ambiguous):
-        reliable = False
-    # distinct endpoints (path jumping sends two paths to one solution)
-    Wn = W / np.linalg.norm(W, axis=1)[:, None]
-    distinct = W.shape[0]
-    for a in range(W.shape[0]):
-        d = np.linalg.norm(Wn[a + 1:] - Wn[a], axis=1)
-        if np.any(d <= tolerances.spatial_distinct):
-            distinct -= 1
-            reliable = False
-    pts = W[is_real].real
-    return (normalize_study(pts) if pts.shape[0] else np.zeros((0, 8))), distinct, reliable
+def _mode_residuals(family, P_modes, pts):
+    """``max_k |z^T (A_k - p_k E) z|`` for normalised family points ``pts`` (k, 8) with their rows'
+    parameters ``P_modes`` (k, p)."""
+    if not pts.shape[0]:
+        return np.zeros(0)
+    zAz = np.einsum("ni,kij,nj->nk", pts, family.A, pts)
+    zEz = np.einsum("ni,ij,nj->n", pts, family.E, pts)
+    has = family.pidx >= 0
+    p = np.where(has[None, :], P_modes[:, np.maximum(family.pidx, 0)], 0.0)
+    return np.abs(zAz - p * zEz[:, None]).max(axis=1)
 
 
 def _residuals(family, P_row, pts):
-    if not pts.shape[0]:
-        return np.zeros(0)
-    Q = family.A - P_row[np.maximum(family.pidx, 0)][:, None, None] * (family.pidx >= 0)[:, None, None] * family.E
-    return np.abs(np.einsum("ni,kij,nj->nk", pts, Q, pts)).max(axis=1)
+    return _mode_residuals(family, np.broadcast_to(P_row, (pts.shape[0], len(P_row))), pts)
+
+
+def _batch(family, start, P, rows, n, Z, status, tolerances, valid):
+    """Classify tracked rows into a :class:`SpatialDKBatch` (``P`` already divided by scale^2)."""
+    W, real, distinct, ok = classify_batch(Z, status, tolerances)
+    counts = np.zeros(n, np.int64)
+    counts[rows] = real.sum(axis=1)
+    cplx = np.zeros(n, np.int64)
+    cplx[rows] = distinct
+    reliable = np.zeros(n, bool)
+    expected = start.solutions.shape[0]
+    reliable[rows] = ok & (distinct == expected)
+    pts = W[real]
+    pts = normalize_study(pts) if pts.shape[0] else np.zeros((0, 8))
+    mode_rows = np.repeat(np.arange(len(rows)), real.sum(axis=1))
+    res = _mode_residuals(family, P[rows][mode_rows], pts)
+    pts = family.unscale(pts)
+    asp = family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8)
+    offsets = np.concatenate([[0], np.cumsum(counts)])
+    return SpatialDKBatch(counts, offsets, pts, res, np.asarray(asp, np.int8), cplx, reliable,
+                          np.zeros(n, bool), valid)
 
 
 def solve_rows(family, start, P, tolerances, valid=None):
@@ -166,7 +143,7 @@ def solve_rows(family, start, P, tolerances, valid=None):
     family : QuadricFamily
     start : StartSystem
     P : (n, p) float
-        Target parameters (squared lengths).
+        Target parameters (squared lengths of the design, unscaled).
     tolerances : Tolerances
     valid : (n,) bool, optional
         Rows to solve (others get no modes).
@@ -174,7 +151,9 @@ def solve_rows(family, start, P, tolerances, valid=None):
     Returns
     -------
     SpatialDKBatch
-        ``certified`` all False.
+        ``certified`` all False; ``reliable[i]`` when every path of row ``i`` arrived, its
+        endpoints are pairwise distinct and as many as the start system's solutions, and each is
+        clearly real or clearly not.
 
     Examples
     --------
@@ -190,27 +169,8 @@ def solve_rows(family, start, P, tolerances, valid=None):
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
     rows = np.flatnonzero(valid)
-    Z, status, _ = track_parameters(start, P[rows]) if rows.size else (None, None, None)
-    counts = np.zeros(n, np.int64)
-    cplx = np.zeros(n, np.int64)
-    reliable = np.zeros(n, bool)
-    pts_all, res_all, asp_all = [], [], []
-    for r_i, r in enumerate(rows):
-        pts, distinct, ok = classify_endpoints(Z[r_i], status[r_i], tolerances)
-        counts[r] = pts.shape[0]
-        cplx[r] = distinct
-        reliable[r] = ok and (family.bound is None or distinct == family.bound or
-                              distinct == start.solutions.shape[0])
-        res_all.append(_residuals(family, P[r], pts))
-        pts = family.unscale(pts)
-        pts_all.append(pts)
-        asp_all.append(family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8))
-    offsets = np.concatenate([[0], np.cumsum(counts)])
-    S = np.vstack(pts_all) if pts_all else np.zeros((0, 8))
-    res = np.concatenate(res_all) if res_all else np.zeros(0)
-    asp = np.concatenate(asp_all).astype(np.int8) if asp_all else np.zeros(0, np.int8)
-    return SpatialDKBatch(counts, offsets, S.reshape(-1, 8), res, asp, cplx, reliable,
-                          np.zeros(n, bool), valid)
+    Z, status, _ = track_parameters(start, P[rows])
+    return _batch(family, start, P, rows, n, Z, status, tolerances, valid)
 
 
 def _exact_params(lengths, scale=1.0):
@@ -277,12 +237,8 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     warnings.warn("the row could not be certified: Krawczyk did not prove every solution and no exact "
                   "solver is available (pip install imagespace[exact]); the modes are the fast path's",
                   NearSingularWarning, stacklevel=3)
-    pts, distinct, ok = classify_endpoints(Z, status, tolerances)
-    res = _residuals(family, P, pts)
-    pts = family.unscale(pts)
-    return SpatialDKResult(pts, res,
-                           family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
-                           distinct, False, ok, "homotopy")
+    return _batch(family, start, P[None], np.array([0]), 1, Z[None], status[None], tolerances,
+                  np.ones(1, bool))[0]
 
 
 def quadric_polynomials(Q_exact):
