@@ -294,7 +294,9 @@ def _pairwise_disjoint(points, radii):
     parts = np.concatenate([points.real, points.imag], axis=1)          # (k, 16)
     for i in range(k):
         diff = np.abs(parts[i + 1:] - parts[i])                          # fl(a - b) >= |a - b| (1 - u)
-        need = (radii[i + 1:] + radii[i]) * (1 + 2.0 ** -50)
+        # arb stores a radius as a 30-bit magnitude rounded up: the boxes proven may be wider
+        # than ``radii`` by a relative 2^-29; 2^-20 covers it and the float sum
+        need = (radii[i + 1:] + radii[i]) * (1 + 2.0 ** -20)
         sep = np.any(diff * (1 - 2.0 ** -50) > need[:, None], axis=1)
         if not np.all(sep):
             return False
