@@ -125,7 +125,9 @@ def exact_matrix(Q):
 
 
 def choose_chart(Z, seed=0):
-    """A small integer vector ``r`` with ``|r . x| >= 0.05 |x|`` at every point (``x`` = first 4).
+    """A small integer chart vector ``r``, far from orthogonal to every point's rotation part ``x``.
+
+    Far means ``|r·x| >= 0.05 |r| |x|`` (``x`` the first four coordinates).
 
     Parameters
     ----------
