@@ -86,11 +86,11 @@ def _cross(u, v):
 
 @lru_cache(maxsize=1)
 def _line_form_table():
-    """The six line-coordinate forms of one leg with symbolic anchors, as a monomial table.
+    """The six line-coordinate forms of one leg with symbolic anchors, as a sparse monomial table.
 
-    Returns ``(monomials, C)``: ``monomials`` the exponent tuples of the anchor coordinates
-    ``(a1, a2, a3, b1, b2, b3)``, ``C`` an object array ``(m, 6, 8, 8)`` of Fractions with
-    ``N (s, a x s)[k] = z^T (sum_m anchors^monomials[m] C[m, k]) z``.
+    Returns ``(monomials, entries)``: ``monomials`` the exponent tuples of the anchor coordinates
+    ``(a1, a2, a3, b1, b2, b3)``; ``entries`` a list of ``(m, k, i, j, c)`` with ``c`` a Fraction:
+    ``N (s, a x s)[k] = z^T Q_k z`` with ``Q_k[i, j] = sum c * anchors^monomials[m]``.
     """
     a = sp.symbols("a1:4")
     b = sp.symbols("b1:4")
@@ -99,37 +99,39 @@ def _line_form_table():
     landed = landed_point_times_n(b)                       # vector part: N (R b + t)
     ns = [sp.expand(landed[1 + k] - a[k] * N) for k in range(3)]
     moment = [sp.expand(e) for e in _cross(a, ns)]
-    entries = ns + moment
     anchors = tuple(a) + tuple(b)
-    table = {}
-    for k, e in enumerate(entries):
+    raw = []
+    for k, e in enumerate(ns + moment):
         Q = form_matrix(e)             # entries polynomial in the anchors
         for i in range(8):
             for j in range(8):
-                if Q[i, j] == 0:
-                    continue
-                for mon, c in sp.Poly(Q[i, j], *anchors).terms():
-                    arr = table.setdefault(mon, np.full((6, 8, 8), Fraction(0), dtype=object))
-                    arr[k, i, j] = Fraction(int(c.p), int(c.q))
-    monomials = sorted(table)
-    return monomials, np.array([table[m] for m in monomials], dtype=object)
+                if Q[i, j] != 0:
+                    for mon, c in sp.Poly(Q[i, j], *anchors).terms():
+                        raw.append((mon, k, i, j, Fraction(int(c.p), int(c.q))))
+    monomials = sorted({r[0] for r in raw})
+    index = {m: n for n, m in enumerate(monomials)}
+    return monomials, [(index[mon], k, i, j, c) for mon, k, i, j, c in raw]
 
 
 @lru_cache(maxsize=_FORM_CACHE_SIZE)
 def _forms_of(anchor_bytes):
     anchors = np.frombuffer(anchor_bytes, dtype=np.float64).reshape(6, 6)
-    monomials, C = _line_form_table()
-    out = np.empty((6, 6, 8, 8))
+    monomials, entries = _line_form_table()
+    out = np.zeros((6, 6, 8, 8))
     for leg in range(6):
         vals = [Fraction(float(v)) for v in anchors[leg]]            # exact binary rationals
         weights = []
         for mon in monomials:
             w = Fraction(1)
             for v, e in zip(vals, mon):
-                w *= v ** e
+                if e:
+                    w *= v ** e
             weights.append(w)
-        exact = np.tensordot(np.array(weights, dtype=object), C, axes=1)   # (6, 8, 8) Fractions
-        out[leg] = np.vectorize(float, otypes=[float])(exact)              # rounded once
+        exact = {}
+        for m, k, i, j, c in entries:
+            exact[k, i, j] = exact.get((k, i, j), 0) + c * weights[m]
+        for (k, i, j), v in exact.items():
+            out[leg, k, i, j] = float(v)                              # rounded once
     out.setflags(write=False)
     return out
 
