@@ -954,6 +954,7 @@ def plot_design_map(table, value, x, y, best=None, ax=None, title=None, units=No
 # -- spatial: the Gough-Stewart platform --------------------------------------------------------
 _GS_LEG_CMAP = "Dark2"        # leg colours: none of them the aspect colours (red, blue)
 _GS_BASE_COLOUR = "0.45"
+_MIN_HALF_WIDTH = 1e-12            # numerical knob: 3D limits of coincident points still span an interval
 
 
 def _polygon_order(P):
@@ -968,7 +969,7 @@ def _polygon_order(P):
 def _cube_limits(ax, P, pad=0.08):
     """Equal-scaled 3D limits around the points ``P`` (m, 3)."""
     lo, hi = P.min(axis=0), P.max(axis=0)
-    centre, half = (lo + hi) / 2, max(float(np.max(hi - lo)) / 2, 1e-12) * (1 + pad)
+    centre, half = (lo + hi) / 2, max(float(np.max(hi - lo)) / 2, _MIN_HALF_WIDTH) * (1 + pad)
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_zlim(centre[2] - half, centre[2] + half)
