@@ -1023,6 +1023,7 @@ def plot_gough_stewart(gs, s, ax=None, title=None, legend=True, platform_colour=
 
     plt = _pyplot()
     z = as_float_array(s, "s", last=8, allow_batch=False)
+    own = ax is None
     fig, ax = _axes3d(ax)
     A, X = _gough_stewart_points(gs, z)
     L = np.linalg.norm(X - A, axis=1)
@@ -1045,6 +1046,8 @@ def plot_gough_stewart(gs, s, ax=None, title=None, legend=True, platform_colour=
         ax.set_title(title, fontsize=9)
     if legend:
         _legend(ax, fontsize=7, loc="upper left", bbox_to_anchor=(1.05, 1), borderaxespad=0)
+        if own:
+            fig.subplots_adjust(left=0.0, right=0.74)          # room for the legend on the right
     return fig
 
 
