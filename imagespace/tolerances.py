@@ -200,6 +200,17 @@ class Tolerances:
     planar_subspace : float
         :func:`imagespace.spatial.study.study_to_planar`: a Study point is planar when
         ``x1, x2, y0, y3`` are at most this times ``max |s|``.
+    spatial_real_imag : float
+        Spatial fast path: an endpoint (scaled so its largest ``|x_i|`` is 1) is a real mode when
+        its imaginary parts are at most this times its largest entry.
+    spatial_nonreal_imag : float
+        ... and clearly not real above this; in between the row is marked not reliable.
+    spatial_distinct : float
+        Two endpoints closer than this (unit-normalised, Euclidean) are one solution reached twice
+        (path jumping): the row is marked not reliable.
+    spatial_aspect : float
+        ``GoughStewart.aspects``: the sign of ``det J`` is 0 when ``|det J|`` is at most this times
+        Hadamard's bound (the product of the row norms).
     spatial_collinear : float
         :class:`imagespace.spatial.GoughStewart`: the base (or platform) anchors lie on one line,
         a degenerate design, when the second singular value of the centred anchors is at most this
@@ -264,6 +275,10 @@ class Tolerances:
     rotation_matrix: float = 1e-9
     planar_subspace: float = 1e-12
     spatial_collinear: float = 1e-12
+    spatial_real_imag: float = 1e-8
+    spatial_nonreal_imag: float = 1e-5
+    spatial_distinct: float = 1e-6
+    spatial_aspect: float = 1e-12
 
     def __post_init__(self):
         for name, value in self.__dict__.items():

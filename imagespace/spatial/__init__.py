@@ -14,8 +14,14 @@ _ATTRIBUTES = {
     "quadrics": ["study_quadric_matrix", "form_matrix", "quadric_value", "sphere_quadric_symbolic",
                  "sphere_quadric", "point_on_plane_quadric", "point_on_line_quadrics",
                  "landed_point_times_n"],
-    "gough_stewart": ["GoughStewart"],
+    "gough_stewart": ["GoughStewart", "GOUGH_STEWART_BOUND"],
+    "results": ["SpatialDKResult", "SpatialDKBatch"],
+    "exact": ["exact_real_study_points", "ExactStudyResult"],
+    "certify": ["krawczyk_certify", "KrawczykResult"],
+    "solver": ["QuadricFamily"],
+    "homotopy": ["StartSystem", "solve_start_system", "track_parameters"],
 }
-__getattr__, __dir__, _ = _lazy.attach(__name__, submodules=["screws", "study", "quadrics", "gough_stewart"],
+__getattr__, __dir__, _ = _lazy.attach(__name__, submodules=["screws", "study", "quadrics", "gough_stewart", "results", "exact", "certify", "solver",
+                                                                   "homotopy"],
                                        submod_attrs=_ATTRIBUTES)
 __all__ = sorted({n for names in _ATTRIBUTES.values() for n in names})

@@ -25,16 +25,25 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validate import as_float_array, as_tolerances
+from functools import cached_property
+
+from .._validate import as_flag, as_float_array, as_tolerances
 from ..exceptions import DegenerateDesignError, InputError
-from .quadrics import sphere_quadric, study_quadric_matrix
+from .certify import exact_matrix
+from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
+from .solver import QuadricFamily, certify_row, exact_study_solver, solve_rows, start_system
 from .study import rotation_matrix, translation
 
-__all__ = ["GoughStewart"]
+__all__ = ["GoughStewart", "check_lengths", "GOUGH_STEWART_BOUND"]
+
+#: Every Gough-Stewart platform has at most 40 isolated assembly modes over C (Raghavan 1993;
+#: Ronga & Vust 1992, Lazard 1993, Mourrain 1993).
+GOUGH_STEWART_BOUND = 40
+_METHODS = ("fast", "exact")
 
 
 def _check_points(value, name, count):
-    P = as_float_array(value, name, allow_batch=True)
+    P = np.array(as_float_array(value, name, allow_batch=True), dtype=float, copy=True)
     if P.shape != (count, 3):
         raise InputError(f"{name} must have shape ({count}, 3), got {P.shape}")
     return P
@@ -184,6 +193,258 @@ class GoughStewart:
         return np.concatenate([sphere_quadric(self.base_points, self.platform_points, L),
                                study_quadric_matrix()[None]], axis=0)
 
+    def jacobian(self, s):
+        """The ``6 x 6`` Jacobian whose rows are the legs' line coordinates ``(s_i, a_i x s_i)``.
+
+        ``s_i = R b_i + t - a_i`` is leg ``i``'s vector; ``L_i dL_i/dt = s_i . v_O + (a_i x s_i) . w``
+        for a platform twist with angular velocity ``w`` and ``v_O`` the velocity of the platform
+        point at the base origin.
+
+        Parameters
+        ----------
+        s : (8,) or (n, 8) float
+
+        Returns
+        -------
+        (6, 6) or (n, 6, 6) float
+
+        Raises
+        ------
+        InputError
+            If ``x = 0``, on wrong shapes or non-finite entries.
+
+        Examples
+        --------
+        >>> gs = GoughStewart(np.eye(6, 3), np.eye(6, 3)[::-1] + 1)
+        >>> gs.jacobian([1, 0, 0, 0, 0, 0, 0, 0]).shape
+        (6, 6)
+        """
+        V = self.leg_vectors(s)
+        return np.concatenate([V, np.cross(self.base_points, V)], axis=-1)
+
+    def aspects(self, s):
+        """Sign of ``det J`` at each Study point (``0`` where it is below ``Tolerances.spatial_aspect``
+        times Hadamard's bound, i.e. on or very near a singularity).
+
+        Parameters
+        ----------
+        s : (8,) or (n, 8) float
+
+        Returns
+        -------
+        int8 or (n,) int8
+
+        Raises
+        ------
+        InputError
+            If ``x = 0``, on wrong shapes or non-finite entries.
+
+        Examples
+        --------
+        >>> gs = GoughStewart(np.eye(6, 3), np.eye(6, 3)[::-1] + 1)
+        >>> int(gs.aspects([1, 0, 0, 0, 0, 0, 0, 0])) in (-1, 0, 1)
+        True
+        """
+        J = self.jacobian(s)
+        det = np.linalg.det(J)
+        hadamard = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+        out = np.where(np.abs(det) <= self.tolerances.spatial_aspect * hadamard, 0, np.sign(det))
+        return out.astype(np.int8)
+
+    # ------------------------------------------------------------------ direct kinematics
+
+    def family(self):
+        """The direct kinematics as a :class:`~imagespace.spatial.solver.QuadricFamily`.
+
+        Parameters are the squared leg lengths; quadric 6 is Study's.
+
+        Returns
+        -------
+        QuadricFamily
+
+        Examples
+        --------
+        >>> gs = GoughStewart(np.eye(6, 3), np.eye(6, 3)[::-1] + 1)
+        >>> gs.family().bound
+        40
+        """
+        A = np.concatenate([sphere_quadric(self.base_points, self.platform_points, 0.0),
+                            study_quadric_matrix()[None]], axis=0)
+        E = np.diag([1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+        return QuadricFamily(A, E, np.array([0, 1, 2, 3, 4, 5, -1]), 6, GOUGH_STEWART_BOUND,
+                             self._exact_quadrics, self._aspects_or_empty)
+
+    def _aspects_or_empty(self, pts):
+        return self.aspects(pts) if pts.shape[0] else np.zeros(0, np.int8)
+
+    def _exact_quadrics(self, squared_lengths):
+        out = np.empty((7, 8, 8), dtype=object)
+        for i in range(6):
+            Q = self._exact_design[i].copy()
+            for d in range(4):
+                Q[d, d] -= squared_lengths[i]
+            out[i] = Q
+        out[6] = exact_matrix(study_quadric_matrix())
+        return out
+
+    @cached_property
+    def _exact_design(self):
+        # the legs' exact quadrics at length zero (the length enters as -L^2 on the x.x diagonal)
+        return [sphere_quadric_exact(self.base_points[i], self.platform_points[i], 0)
+                for i in range(6)]
+
+    @cached_property
+    def start_system(self):
+        """The 40 (or fewer, for special designs) solutions at generic complex lengths, once per design.
+
+        Returns
+        -------
+        imagespace.spatial.homotopy.StartSystem
+
+        Examples
+        --------
+        >>> rng = np.random.default_rng(0)
+        >>> len(GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3))).start_system.solutions)
+        40
+        """
+        return start_system(self.family())
+
+    def direct_kinematics(self, lengths, certify=False, method="fast"):
+        """Every real assembly mode for given leg lengths.
+
+        Parameters
+        ----------
+        lengths : (6,) float
+            Leg lengths, positive. Floats are taken as the exact binary rationals they are.
+        certify : bool
+            Prove the count and every mode: Krawczyk boxes in arb on the exact quadrics around all
+            40 complex solutions (complete by the 40-solution theorem), else msolve. Costs about
+            0.05-0.2 s (Krawczyk) or 1-3 s (msolve).
+        method : {"fast", "exact"}
+            ``"fast"``: the parameter homotopy (one start system per design, then 40 compiled paths).
+            ``"exact"``: msolve on the exact system (needs ``imagespace[exact]``); always certified.
+
+        Returns
+        -------
+        SpatialDKResult
+            ``study_points``, ``rotations``, ``translations``, ``residuals``, ``aspects``,
+            ``count``, ``complex_count``, ``certified``, ``reliable``, ``method``.
+
+        Raises
+        ------
+        InputError
+            If ``lengths`` is not six positive finite numbers, or ``method`` is unknown.
+        DegenerateDesignError
+            With ``method="exact"`` (or a certification that falls back to it), if the solution
+            set is positive-dimensional (an architecture singularity or a continuum of poses).
+
+        Warns
+        -----
+        NearSingularWarning
+            When the fast path's float checks fail (two paths at one endpoint, a mode neither
+            clearly real nor clearly complex, a path that did not arrive), or a requested
+            certificate is not available.
+
+        Examples
+        --------
+        >>> rng = np.random.default_rng(0)
+        >>> gs = GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
+        >>> from imagespace.spatial.study import study_point
+        >>> s = study_point([1.0, 0.2, -0.1, 0.3], [0.1, 0.2, 1.5])
+        >>> res = gs.direct_kinematics(gs.inverse_kinematics(s), certify=True)
+        >>> res.certified, res.complex_count
+        (True, 40)
+        >>> bool(np.min(np.abs(res.study_points - s).max(axis=1)) < 1e-9)
+        True
+        """
+        L = check_lengths(lengths)
+        certify = as_flag(certify, "certify")
+        if method not in _METHODS:
+            raise InputError(f"method must be one of {_METHODS}, got {method!r}")
+        if method == "exact":
+            return self._exact_result(L)
+        if certify:
+            return certify_row(self.family(), self.start_system, L, self.tolerances,
+                               exact_solver=self._exact_solver_or_none())
+        batch = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances)
+        res = batch[0]
+        if not res.reliable:
+            import warnings
+
+            from ..exceptions import NearSingularWarning
+            warnings.warn(f"the fast path is not sure of this row ({res.complex_count} distinct complex "
+                          "endpoints, or a mode close to the real/complex boundary): use certify=True",
+                          NearSingularWarning, stacklevel=2)
+        return res
+
+    def direct_kinematics_batch(self, lengths, certify=False):
+        """Real assembly modes of many rows of leg lengths (the fast path, per-row masks).
+
+        Parameters
+        ----------
+        lengths : (n, 6) float
+            One row per problem. Rows with a non-positive or non-finite length are marked invalid
+            (``valid[i] = False``, no modes) instead of raising.
+        certify : bool
+            Prove every valid row (see :meth:`direct_kinematics`; ~0.1 s a row).
+
+        Returns
+        -------
+        SpatialDKBatch
+            ``counts``, ragged ``study_points`` (row ``i``: ``batch[i]``), ``reliable``,
+            ``certified``, ``valid`` masks.
+
+        Raises
+        ------
+        InputError
+            If ``lengths`` does not have shape ``(n, 6)``.
+
+        Examples
+        --------
+        >>> rng = np.random.default_rng(0)
+        >>> gs = GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
+        >>> b = gs.direct_kinematics_batch([[2.0] * 6, [float("nan")] * 6])
+        >>> b.valid.tolist()
+        [True, False]
+        """
+        L = np.asarray(lengths, dtype=float)
+        if L.ndim != 2 or L.shape[1] != 6:
+            raise InputError(f"lengths must have shape (n, 6), got {L.shape}")
+        certify = as_flag(certify, "certify")
+        valid = np.all(np.isfinite(L) & (L > 0), axis=1)
+        P = np.where(valid[:, None], L, 1.0) ** 2
+        batch = solve_rows(self.family(), self.start_system, P, self.tolerances, valid=valid)
+        if not certify:
+            return batch
+        return self._certify_batch(batch, L, valid)
+
+    def _certify_batch(self, batch, L, valid):
+        from .results import SpatialDKBatch
+
+        rows = [certify_row(self.family(), self.start_system, L[i], self.tolerances,
+                            exact_solver=self._exact_solver_or_none()) if valid[i] else None
+                for i in range(L.shape[0])]
+        counts = np.array([r.count if r is not None else 0 for r in rows])
+        pts = [r.study_points for r in rows if r is not None]
+        return SpatialDKBatch(counts, np.concatenate([[0], np.cumsum(counts)]),
+                              np.vstack(pts) if pts else np.zeros((0, 8)),
+                              np.concatenate([r.residuals for r in rows if r is not None] or [np.zeros(0)]),
+                              np.concatenate([r.aspects for r in rows if r is not None]
+                                             or [np.zeros(0, np.int8)]).astype(np.int8),
+                              np.array([r.complex_count if r is not None else 0 for r in rows]),
+                              np.array([r.reliable if r is not None else False for r in rows]),
+                              np.array([r.certified if r is not None else False for r in rows]), valid)
+
+    def _exact_solver_or_none(self):
+        from ..core.msolve import msolve_available
+
+        return exact_study_solver if msolve_available() else None
+
+    def _exact_result(self, L):
+        from .solver import exact_result
+
+        return exact_result(self.family(), L)
+
 
 def check_lengths(lengths, name="lengths", count=6, allow_batch=False):
     """Leg lengths as a checked float array: finite and positive.
@@ -209,10 +470,10 @@ def check_lengths(lengths, name="lengths", count=6, allow_batch=False):
     >>> check_lengths([1, 2, 3, 4, 5, 6])
     array([1., 2., 3., 4., 5., 6.])
     """
-    L = as_float_array(lengths, name, last=count, allow_batch=allow_batch)
-    bad = np.argwhere(~(L > 0))
+    L = as_float_array(lengths, name, last=count, allow_batch=allow_batch, finite=False)
+    bad = np.argwhere(~(np.isfinite(L) & (L > 0)))
     if bad.size:
         idx = tuple(int(v) for v in bad[0])
-        raise InputError(f"{name} must be positive leg lengths, got {L[idx]} at index "
+        raise InputError(f"{name} must be positive finite leg lengths, got {L[idx]} at index "
                          f"{idx if len(idx) > 1 else idx[0]}")
     return L

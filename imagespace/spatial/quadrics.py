@@ -51,6 +51,7 @@ __all__ = [
     "quadric_value",
     "sphere_quadric_symbolic",
     "sphere_quadric",
+    "sphere_quadric_exact",
     "point_on_plane_quadric",
     "point_on_line_quadrics",
     "landed_point_times_n",
@@ -83,9 +84,11 @@ def form_matrix(expr):
     """
     z = study_symbols()
     P = sp.Poly(sp.expand(expr), *z)
-    if not P.is_homogeneous or P.total_degree() not in (2, -sp.oo) and not P.is_zero:
+    if not P.is_homogeneous or P.total_degree() != 2 and not P.is_zero:
         raise InputError(f"expr must be a quadratic form in {z}, got degree {P.total_degree()}")
     Q = sp.zeros(8, 8)
+    if P.is_zero:
+        return Q
     for mon, c in P.terms():
         idx = [i for i, e in enumerate(mon) for _ in range(e)]
         if len(idx) != 2:
@@ -223,6 +226,40 @@ def _sphere_compiled():
     return compile_exprs(list(Q), syms)
 
 
+@lru_cache(maxsize=1)
+def _sphere_exact_compiled():
+    Q, syms = sphere_quadric_symbolic()
+    # twice the matrix has integer coefficients: the generated code is integer arithmetic, so
+    # Fraction arguments give exact Fractions
+    return sp.lambdify(syms, list(2 * Q), modules=[{}, "math"])
+
+
+def sphere_quadric_exact(base_point, platform_point, length):
+    """The sphere quadric in exact rational arithmetic (floats enter as their binary rationals).
+
+    Compiled from the same derivation as :func:`sphere_quadric`.
+
+    Parameters
+    ----------
+    base_point, platform_point : 3 numbers (float, int or Fraction)
+    length : float, int or Fraction
+
+    Returns
+    -------
+    (8, 8) object array of Fraction
+
+    Examples
+    --------
+    >>> sphere_quadric_exact([0, 0, 0], [1, 0, 0], 0.1)[4, 4]
+    Fraction(4, 1)
+    """
+    from fractions import Fraction
+
+    vals = [Fraction(v) for v in list(base_point) + list(platform_point) + [length]]
+    twice = _sphere_exact_compiled()(*vals)
+    return np.array([Fraction(v) / 2 for v in twice], dtype=object).reshape(8, 8)
+
+
 def sphere_quadric(base_point, platform_point, length):
     """The quadric of "platform point ``b`` at distance ``L`` from base point ``a``".
 
@@ -243,7 +280,9 @@ def sphere_quadric(base_point, platform_point, length):
     Raises
     ------
     InputError
-        On wrong shapes, non-finite entries or a negative length.
+        On wrong shapes or batch sizes, non-finite entries or a negative length.
+    TypeError
+        If an input is not numeric.
 
     Examples
     --------
@@ -261,12 +300,16 @@ def sphere_quadric(base_point, platform_point, length):
         return Q.subs(dict(zip(syms, vals)))
     a = as_float_array(base_point, "base_point", last=3)
     b = as_float_array(platform_point, "platform_point", last=3)
-    L = np.asarray(length, dtype=float)
-    if not np.all(np.isfinite(L)):
-        raise InputError(f"length must be finite, got {length!r}")
+    L = as_float_array(length, "length")
+    if L.ndim > 1:
+        raise InputError(f"length must be a number or of shape (n,), got shape {L.shape}")
     if np.any(L < 0):
         raise InputError(f"length must be >= 0, got {float(np.min(L))}")
-    shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1], L.shape)
+    try:
+        shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1], L.shape)
+    except ValueError:
+        raise InputError(f"base_point, platform_point and length must have the same batch size, got "
+                         f"{a.shape[:-1]}, {b.shape[:-1]} and {L.shape}") from None
     args = [np.broadcast_to(a[..., i], shape) for i in range(3)] + \
            [np.broadcast_to(b[..., i], shape) for i in range(3)] + [np.broadcast_to(L, shape)]
     return _sphere_compiled()(*args).reshape(shape + (8, 8))

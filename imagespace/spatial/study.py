@@ -35,9 +35,8 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from .._validate import as_float_array, is_symbolic
+from .._validate import as_float_array, as_tolerances, is_symbolic
 from ..exceptions import InputError
-from ..tolerances import Tolerances
 
 __all__ = [
     "study_symbols",
@@ -86,6 +85,15 @@ def _qmul(p, q):
                      a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
 
 
+def _batch_shape(a, b, names):
+    """The broadcast batch shape of two arrays' leading axes, or an InputError naming both."""
+    try:
+        return np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
+    except ValueError:
+        raise InputError(f"{names[0]} and {names[1]} must have the same batch size, got "
+                         f"{a.shape[:-1]} and {b.shape[:-1]}") from None
+
+
 def _sym(value, n, name):
     items = list(value)
     if len(items) != n:
@@ -112,7 +120,8 @@ def quaternion_multiply(p, q):
     Raises
     ------
     InputError
-        If an argument does not have 4 entries on its last axis or is not finite.
+        If an argument does not have 4 entries on its last axis, is not finite, or the batch
+        sizes of ``p`` and ``q`` do not match.
 
     Examples
     --------
@@ -121,7 +130,9 @@ def quaternion_multiply(p, q):
     """
     if is_symbolic(p) or is_symbolic(q):
         return sp.Matrix(list(_qmul(_sym(p, 4, "p"), _sym(q, 4, "q"))))
-    return _qmul(as_float_array(p, "p", last=4), as_float_array(q, "q", last=4))
+    p, q = as_float_array(p, "p", last=4), as_float_array(q, "q", last=4)
+    _batch_shape(p, q, ("p", "q"))
+    return _qmul(p, q)
 
 
 def quaternion_conjugate(q):
@@ -154,6 +165,8 @@ def _rotation_of(x):
     """``R`` with ``R p = x p x~ / (x x~)`` from quaternions ``(..., 4)`` (numpy or object)."""
     x0, x1, x2, x3 = x[..., 0], x[..., 1], x[..., 2], x[..., 3]
     n = x0 * x0 + x1 * x1 + x2 * x2 + x3 * x3
+    if x.dtype == object:
+        n = np.asarray(n, dtype=object)      # one sympy quaternion: a 0-d array so n[..., None] works
     rows = [[x0 * x0 + x1 * x1 - x2 * x2 - x3 * x3, 2 * (x1 * x2 - x0 * x3), 2 * (x1 * x3 + x0 * x2)],
             [2 * (x1 * x2 + x0 * x3), x0 * x0 - x1 * x1 + x2 * x2 - x3 * x3, 2 * (x2 * x3 - x0 * x1)],
             [2 * (x1 * x3 - x0 * x2), 2 * (x2 * x3 + x0 * x1), x0 * x0 - x1 * x1 - x2 * x2 + x3 * x3]]
@@ -211,23 +224,32 @@ def quaternion_from_matrix(R, tolerances=None):
     Raises
     ------
     InputError
-        If ``R`` is not a rotation matrix.
+        If ``R`` is not a rotation matrix, not finite or not of shape ``(3, 3)`` / ``(n, 3, 3)``.
+    TypeError
+        If ``R`` is not numeric, or ``tolerances`` is not a Tolerances.
 
     Examples
     --------
     >>> quaternion_from_matrix(np.diag([1.0, -1.0, -1.0]))     # a half-turn about x
     array([0., 1., 0., 0.])
     """
-    tol = (tolerances or Tolerances()).rotation_matrix
-    R = np.asarray(R, dtype=float) if not isinstance(R, np.ndarray) else R.astype(float)
-    if R.shape[-2:] != (3, 3):
-        raise InputError(f"R must have shape (3, 3) or (n, 3, 3), got {R.shape}")
+    return _quaternion_from_matrix(R, tolerances, "R")
+
+
+def _quaternion_from_matrix(R, tolerances, name):
+    """:func:`quaternion_from_matrix` with the parameter's name for the error messages."""
+    tol = as_tolerances(tolerances).rotation_matrix
+    R = as_float_array(R, name, finite=False)
+    if R.ndim not in (2, 3) or R.shape[-2:] != (3, 3):
+        raise InputError(f"{name} must have shape (3, 3) or (n, 3, 3), got shape {R.shape}")
     if not np.all(np.isfinite(R)):
-        raise InputError("R must be finite, got NaN or inf entries")
+        raise InputError(f"{name} must be finite, got NaN or inf entries")
     err = np.abs(np.einsum("...ji,...jk->...ik", R, R) - np.eye(3)).max(axis=(-2, -1))
-    if np.any(err > tol) or np.any(np.abs(np.linalg.det(R) - 1.0) > tol):
-        raise InputError(f"R must be a rotation matrix (orthogonal, det +1, to {tol:g}), "
-                         f"got |R^T R - I| up to {float(np.max(err)):.3g}")
+    det_err = np.abs(np.linalg.det(R) - 1.0)
+    if np.any(err > tol) or np.any(det_err > tol):
+        raise InputError(f"{name} must be a rotation matrix (orthogonal, det +1, to {tol:g}), "
+                         f"got |R^T R - I| up to {float(np.max(err)):.3g} and |det - 1| up to "
+                         f"{float(np.max(det_err)):.3g}")
     # the four candidate squared components; take the largest for a stable root
     tr = np.trace(R, axis1=-2, axis2=-1)
     sq = np.stack([1 + tr, 1 + 2 * R[..., 0, 0] - tr, 1 + 2 * R[..., 1, 1] - tr,
@@ -279,7 +301,10 @@ def study_point(rotation, translation):
     Raises
     ------
     InputError
-        On wrong shapes, non-finite entries, a zero quaternion or a non-rotation matrix.
+        On wrong shapes, non-finite entries, a zero quaternion, a non-rotation matrix, or batch
+        sizes of ``rotation`` and ``translation`` that do not match.
+    TypeError
+        If an input is not numeric.
 
     Examples
     --------
@@ -295,15 +320,15 @@ def study_point(rotation, translation):
         t = _sym(translation, 3, "translation")
         y = _qmul(np.concatenate([[sp.Integer(0)], t]), x) / 2
         return sp.Matrix([sp.expand(v) for v in np.concatenate([x, y])])
-    rot = np.asarray(rotation, dtype=float)
-    if rot.shape[-2:] == (3, 3):
-        x = quaternion_from_matrix(rot)
+    rot = as_float_array(rotation, "rotation", finite=False)
+    if rot.ndim >= 2 and rot.shape[-2:] == (3, 3):
+        x = _quaternion_from_matrix(rot, None, "rotation")
     else:
         x = as_float_array(rotation, "rotation", last=4)
         if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
             raise InputError("rotation must be a non-zero quaternion, got zero")
     t = as_float_array(translation, "translation", last=3)
-    shape = np.broadcast_shapes(x.shape[:-1], t.shape[:-1])
+    shape = _batch_shape(x, t, ("rotation", "translation"))
     x, t = np.broadcast_to(x, shape + (4,)), np.broadcast_to(t, shape + (3,))
     tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t], axis=-1)
     y = _qmul(tq, x) / 2
@@ -512,7 +537,7 @@ def compose_study(a, b):
     Raises
     ------
     InputError
-        If ``x = 0`` in either, on wrong shapes or non-finite entries.
+        If ``x = 0`` in either, on wrong shapes, mismatched batch sizes or non-finite entries.
 
     Examples
     --------
@@ -524,6 +549,7 @@ def compose_study(a, b):
         return sp.Matrix([sp.expand(v) for v in _dual_mul(_sym(a, 8, "a"), _sym(b, 8, "b"))])
     za, _ = _check_study(a, "a")
     zb, _ = _check_study(b, "b")
+    _batch_shape(za, zb, ("a", "b"))
     return normalize_study(_dual_mul(za, zb))
 
 
@@ -604,15 +630,16 @@ def study_to_planar(s, tolerances=None):
     Raises
     ------
     InputError
-        If a point is not planar (rotation about ``z``, translation in ``z = 0``).
+        If a point is not planar (rotation about ``z``, translation in ``z = 0``), has ``x = 0``,
+        or on wrong shapes or non-finite entries.
 
     Examples
     --------
     >>> study_to_planar([1.0, 0, 0, 0, 0, 0.5, 0, 0])
     array([1. , 0. , 0. , 0.5])
     """
-    tol = (tolerances or Tolerances()).planar_subspace
-    z = as_float_array(s, "s", last=8)
+    tol = as_tolerances(tolerances).planar_subspace
+    z, _ = _check_study(s)
     off = np.abs(z[..., [1, 2, 4, 7]]).max(axis=-1)
     if np.any(off > tol * np.abs(z).max(axis=-1)):
         raise InputError(f"s must be a planar displacement (x1 = x2 = y0 = y3 = 0), got components "

@@ -1,0 +1,442 @@
+r"""A compiled path tracker for systems of quadrics in Study coordinates (the spatial fast path).
+
+The systems are ``H_k(z) = z^T A_k z - p_k z^T E z = 0`` (``k = 0..m-1``, ``m = 7``) on the
+affine patch ``c . z = 1`` of ``P^7`` (``c`` a random complex vector, so every finite solution and
+half-turns alike are ordinary points): ``A_k`` real symmetric ``8 x 8`` (a leg's quadric at length
+zero, Study's quadric, a plane ...), ``E`` real symmetric (``x . x`` for legs) and ``p_k`` a
+parameter (a squared leg length ``L_k^2``) or zero.
+
+Why a parameter homotopy (the issue's choice between it and Husty's degree-40 elimination).
+The family's parameters enter linearly, the design's matrices do not change between poses, and the
+number of isolated solutions of a general Gough-Stewart platform, 40, is a theorem (Raghavan 1993;
+Ronga & Vust, Lazard, Mourrain 1992-93). So the solutions are computed ONCE per design at random
+complex parameters ``p*`` (:func:`solve_start_system`, a total-degree homotopy from
+``(u_k . z)^2 - (c . z)^2``: 128 paths, 40 of them finite and non-singular, the others run into the
+two-dimensional component ``x = 0, y . y = 0`` that every leg quadric contains) and each target ``p``
+is reached along the segment ``p(s) = (1 - s) p + s p*`` (:func:`track_parameters`). Because ``p*`` is
+generic and complex, the segment avoids the discriminant for ``0 < s <= 1`` with probability one
+(the "gamma trick" of Morgan & Sommese 1989), so the 40 paths are regular and end at every
+isolated solution of the target (coefficient-parameter homotopy). Husty's elimination instead builds
+a degree-40 univariate per pose from ~20 symbolic resultant steps, and its coefficients lose
+accuracy exactly where modes come close; the tracker's per-path cost is fixed and small.
+
+Nothing here is a proof. Every endpoint is a float; :mod:`imagespace.spatial.certify` proves them
+(Krawczyk in arb) or the result says it is not proven.
+
+References
+----------
+A. P. Morgan, A. J. Sommese, Coefficient-parameter polynomial continuation, Appl. Math. Comput.
+29(2), 1989, doi:10.1016/0096-3003(89)90099-4.
+P. Breiding, S. Timme, HomotopyContinuation.jl, ICMS 2018, doi:10.1007/978-3-319-96418-8_54.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core._numba import njit, prange
+
+__all__ = ["StartSystem", "solve_start_system", "track_parameters", "PATH_OK", "PATH_FAILED"]
+
+#: path status codes
+PATH_OK = 0
+PATH_FAILED = 1          # the step size fell below the minimum or the step budget ran out
+
+# numerical knobs of the tracker (they steer the integration, they decide nothing about an answer:
+# every endpoint is checked afterwards, by Newton residuals and by the certificate)
+_N = 8                   # homogeneous Study coordinates
+_STEP_FIRST = 0.1        # first step in s
+_STEP_MIN = 1e-9         # smallest step before a path is given up
+_STEP_MAX = 1.0          # largest step
+_STEP_GROW = 2.0         # growth after _GROW_AFTER accepted steps
+_GROW_AFTER = 2
+_MAX_STEPS = 3000
+_NEWTON_STEPS = 3        # corrector iterations per step
+_CORRECT_TOL = 1e-7      # corrector converged: |dz| <= _CORRECT_TOL * |z|
+_FIRST_CORRECTION = 0.01  # the first corrector update must be below this times |z| (against path jumping)
+_FINAL_NEWTON = 4        # polishing iterations at the target
+_DIVERGED = 1e8          # |z| beyond this on the patch: the path runs to the degenerate component
+
+
+@njit(cache=True, fastmath=True)
+def _solve(M, r, out):
+    """Solve ``M out = r`` in place (8 x 8 complex, partial pivoting on ``|re| + |im|``; ``M`` and
+    ``r`` are overwritten). Returns False on a zero pivot."""
+    n = M.shape[0]
+    for k in range(n):
+        p = k
+        big = abs(M[k, k].real) + abs(M[k, k].imag)
+        for i in range(k + 1, n):
+            a = abs(M[i, k].real) + abs(M[i, k].imag)
+            if a > big:
+                big = a
+                p = i
+        if big == 0.0:
+            return False
+        if p != k:
+            for j in range(k, n):
+                tmp = M[k, j]
+                M[k, j] = M[p, j]
+                M[p, j] = tmp
+            tmp = r[k]
+            r[k] = r[p]
+            r[p] = tmp
+        inv = 1.0 / M[k, k]
+        for i in range(k + 1, n):
+            f = M[i, k] * inv
+            for j in range(k + 1, n):
+                M[i, j] -= f * M[k, j]
+            r[i] -= f * r[k]
+    for i in range(n - 1, -1, -1):
+        acc = r[i]
+        for j in range(i + 1, n):
+            acc -= M[i, j] * out[j]
+        out[i] = acc / M[i, i]
+    return True
+
+
+@njit(cache=True, fastmath=True)
+def _evaluate(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az):
+    """Value ``H``, Jacobian ``J`` and ``dH/ds`` of the homotopy at ``(z, s)``.
+
+    mode 0 (parameters): ``H_k = z^T A_k z - p_k(s) z^T E z`` with ``p(s) = (1 - s) p0 + s p1``.
+    mode 1 (start): ``H = (1 - s) F(z; p1) + s gamma G(z)``, ``G_k = (u_k . z)^2 - (c . z)^2``.
+    The last row is the patch ``c . z - 1``.
+    """
+    m = A.shape[0]
+    for i in range(_N):
+        acc = 0j
+        for j in range(_N):
+            if E[i, j] != 0.0:
+                acc += E[i, j] * z[j]
+        Ez[i] = acc
+    zEz = 0j
+    for i in range(_N):
+        zEz += z[i] * Ez[i]
+    cz = 0j
+    for i in range(_N):
+        cz += c[i] * z[i]
+    for k in range(m):
+        for i in range(_N):
+            acc = 0j
+            for j in range(_N):
+                acc += A[k, i, j] * z[j]
+            Az[i] = acc
+        zAz = 0j
+        for i in range(_N):
+            zAz += z[i] * Az[i]
+        q = pidx[k]
+        if mode == 0:
+            if q >= 0:
+                pk = (1.0 - s) * p0[q] + s * p1[q]
+                dp = p1[q] - p0[q]
+            else:
+                pk = 0j
+                dp = 0j
+            H[k] = zAz - pk * zEz
+            Hs[k] = -dp * zEz
+            for i in range(_N):
+                J[k, i] = 2.0 * (Az[i] - pk * Ez[i])
+        else:
+            pk = p1[q] if q >= 0 else 0j
+            F = zAz - pk * zEz
+            uz = 0j
+            for i in range(_N):
+                uz += U[k, i] * z[i]
+            G = uz * uz - cz * cz
+            H[k] = (1.0 - s) * F + s * gamma * G
+            Hs[k] = gamma * G - F
+            for i in range(_N):
+                dF = 2.0 * (Az[i] - pk * Ez[i])
+                dG = 2.0 * (uz * U[k, i] - cz * c[i])
+                J[k, i] = (1.0 - s) * dF + s * gamma * dG
+    H[m] = cz - 1.0
+    Hs[m] = 0j
+    for i in range(_N):
+        J[m, i] = c[i]
+
+
+@njit(cache=True, fastmath=True)
+def _norm(v):
+    acc = 0.0
+    for i in range(v.shape[0]):
+        acc += v[i].real * v[i].real + v[i].imag * v[i].imag
+    return np.sqrt(acc)
+
+
+@njit(cache=True, fastmath=True)
+def _tangent(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, out, Ez, Az, Mw, rw):
+    _evaluate(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
+    for i in range(_N):
+        Hs[i] = -Hs[i]
+    return _solve(J, Hs, out)
+
+
+@njit(cache=True, fastmath=True)
+def _track(z0, mode, A, E, pidx, p0, p1, U, c, gamma, z):
+    """Track one path from ``s = 1`` to ``s = 0``; ``z`` receives the endpoint. Returns (status, steps)."""
+    H = np.zeros(_N, dtype=np.complex128)
+    Hs = np.zeros(_N, dtype=np.complex128)
+    J = np.zeros((_N, _N), dtype=np.complex128)
+    k1 = np.zeros(_N, dtype=np.complex128)
+    k2 = np.zeros(_N, dtype=np.complex128)
+    k3 = np.zeros(_N, dtype=np.complex128)
+    k4 = np.zeros(_N, dtype=np.complex128)
+    w = np.zeros(_N, dtype=np.complex128)
+    dz = np.zeros(_N, dtype=np.complex128)
+    Ez = np.zeros(_N, dtype=np.complex128)
+    Az = np.zeros(_N, dtype=np.complex128)
+    Mw = np.zeros((_N, _N), dtype=np.complex128)
+    rw = np.zeros(_N, dtype=np.complex128)
+    for i in range(_N):
+        z[i] = z0[i]
+    s = 1.0
+    h = _STEP_FIRST
+    good = 0
+    steps = 0
+    while s > 0.0:
+        steps += 1
+        if steps > _MAX_STEPS:
+            return PATH_FAILED, steps
+        if h > s:
+            h = s
+        ok = _tangent(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, k1, Ez, Az, Mw, rw)
+        if ok:
+            for i in range(_N):
+                w[i] = z[i] - 0.5 * h * k1[i]
+            ok = _tangent(w, s - 0.5 * h, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, k2, Ez, Az, Mw, rw)
+        if ok:
+            for i in range(_N):
+                w[i] = z[i] - 0.5 * h * k2[i]
+            ok = _tangent(w, s - 0.5 * h, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, k3, Ez, Az, Mw, rw)
+        if ok:
+            for i in range(_N):
+                w[i] = z[i] - h * k3[i]
+            ok = _tangent(w, s - h, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, k4, Ez, Az, Mw, rw)
+        converged = False
+        if ok:
+            for i in range(_N):
+                w[i] = z[i] - h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            t = s - h
+            if t < 0.0:
+                t = 0.0
+            for it in range(_NEWTON_STEPS):
+                _evaluate(w, t, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
+                if not _solve(J, H, dz):
+                    break
+                for i in range(_N):
+                    w[i] -= dz[i]
+                nd, nw = _norm(dz), _norm(w)
+                if it == 0 and nd > _FIRST_CORRECTION * (1.0 + nw):
+                    break
+                if nd <= _CORRECT_TOL * (1.0 + nw):
+                    converged = True
+                    break
+        if converged:
+            for i in range(_N):
+                z[i] = w[i]
+            s = s - h
+            if _norm(z) > _DIVERGED:
+                return PATH_FAILED, steps
+            good += 1
+            if good >= _GROW_AFTER:
+                h = min(h * _STEP_GROW, _STEP_MAX)
+                good = 0
+        else:
+            h *= 0.5
+            good = 0
+            if h < _STEP_MIN:
+                return PATH_FAILED, steps
+    for it in range(_FINAL_NEWTON):
+        _evaluate(z, 0.0, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
+        if not _solve(J, H, dz):
+            break
+        for i in range(_N):
+            z[i] -= dz[i]
+        if _norm(dz) <= 1e-15 * (1.0 + _norm(z)):
+            break
+    return PATH_OK, steps
+
+
+@njit(cache=True, parallel=True)
+def _track_many(starts, mode, A, E, pidx, P0, p1, U, c, gamma, Z, status, steps):
+    """Every (row, path) pair: row ``r`` tracks the start points to the parameters ``P0[r]``."""
+    n = P0.shape[0]
+    k = starts.shape[0]
+    for job in prange(n * k):
+        r = job // k
+        j = job % k
+        st, ns = _track(starts[j], mode, A, E, pidx, P0[r], p1, U, c, gamma, Z[r, j])
+        status[r, j] = st
+        steps[r, j] = ns
+
+
+@dataclass(frozen=True)
+class StartSystem:
+    """The solutions of a quadric family at generic complex parameters, computed once per design.
+
+    Attributes
+    ----------
+    A : (m, 8, 8) float
+        The parameter-free parts of the quadrics.
+    E : (8, 8) float
+        The form multiplied by each parameter.
+    pidx : (m,) int
+        Which parameter multiplies ``E`` in quadric ``k`` (``-1``: none).
+    p_star : (p,) complex
+        The generic complex parameters.
+    patch : (8,) complex
+        The affine patch ``patch . z = 1``.
+    solutions : (k, 8) complex
+        The non-singular finite solutions at ``p_star`` (40 for a general Gough-Stewart).
+    paths : int
+        Paths tracked to find them (total degree ``2^m`` per attempt).
+    """
+
+    A: np.ndarray
+    E: np.ndarray
+    pidx: np.ndarray
+    p_star: np.ndarray
+    patch: np.ndarray
+    solutions: np.ndarray
+    paths: int
+
+
+def _random_complex(rng, shape):
+    return rng.normal(size=shape) + 1j * rng.normal(size=shape)
+
+
+def _distinct(Z, scale_tol):
+    """Indices of pairwise distinct rows (relative distance above ``scale_tol``)."""
+    keep = []
+    for i in range(Z.shape[0]):
+        zi = Z[i]
+        if all(np.linalg.norm(zi - Z[j]) > scale_tol * (1 + np.linalg.norm(zi)) for j in keep):
+            keep.append(i)
+    return keep
+
+
+def _regular(A, E, pidx, p, patch, z, tol):
+    """Residual small and Jacobian well conditioned, with ``x`` non-zero (not the degenerate part)."""
+    H = np.array([z @ (A[k] - (p[pidx[k]] if pidx[k] >= 0 else 0) * E) @ z for k in range(A.shape[0])]
+                 + [patch @ z - 1])
+    J = np.array([2 * (A[k] - (p[pidx[k]] if pidx[k] >= 0 else 0) * E) @ z for k in range(A.shape[0])]
+                 + [patch])
+    nz = np.linalg.norm(z)
+    if not np.all(np.isfinite(z)) or np.linalg.norm(H) > tol * (1 + nz) ** 2:
+        return False
+    if np.linalg.norm(z[:4]) <= tol ** 0.5 * nz:
+        return False
+    sv = np.linalg.svd(J, compute_uv=False)
+    return sv[-1] > tol ** 0.5 * sv[0]
+
+
+def solve_start_system(A, E, pidx, nparams, seed=0, attempts=4, expected=None, tol=1e-10):
+    """Solve the family once at random complex parameters (total-degree homotopy, ``2^m`` paths).
+
+    Parameters
+    ----------
+    A : (m, 8, 8) float
+    E : (8, 8) float
+    pidx : (m,) int
+    nparams : int
+        Length of the parameter vector.
+    seed : int
+        Seeds the random parameters, patch and start system (results are reproducible).
+    attempts : int
+        Total-degree runs (new random start system each) until ``expected`` solutions are found.
+    expected : int, optional
+        Stop once this many distinct regular solutions are known (40 for a general 6-SPS).
+    tol : float
+        Relative residual / separation used to keep an endpoint (a numerical choice for the start
+        system only; the targets' answers are checked and certified separately).
+
+    Returns
+    -------
+    StartSystem
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.spatial.quadrics import sphere_quadric, study_quadric_matrix
+    >>> rng = np.random.default_rng(1)
+    >>> A = np.concatenate([sphere_quadric(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)), 0.0),
+    ...                     study_quadric_matrix()[None]])
+    >>> E = np.diag([1.0, 1, 1, 1, 0, 0, 0, 0])
+    >>> st = solve_start_system(A, E, np.array([0, 1, 2, 3, 4, 5, -1]), 6, expected=40)
+    >>> len(st.solutions)
+    40
+    """
+    rng = np.random.default_rng(seed)
+    A = np.ascontiguousarray(A, dtype=float)
+    E = np.ascontiguousarray(E, dtype=float)
+    pidx = np.ascontiguousarray(pidx, dtype=np.int64)
+    m = A.shape[0]
+    p_star = _random_complex(rng, nparams)
+    patch = _random_complex(rng, _N)
+    found = np.zeros((0, _N), dtype=complex)
+    paths = 0
+    for _ in range(attempts):
+        U = _random_complex(rng, (m, _N))
+        gamma = np.exp(2j * np.pi * rng.random())
+        signs = np.array(np.meshgrid(*[[1.0, -1.0]] * m, indexing="ij")).reshape(m, -1).T
+        M = np.vstack([U, patch])
+        starts = np.linalg.solve(M[None], np.concatenate([signs, np.ones((signs.shape[0], 1))], axis=1)
+                                 .astype(complex)[..., None])[..., 0]
+        Z = np.zeros((1, starts.shape[0], _N), dtype=complex)
+        status = np.zeros((1, starts.shape[0]), dtype=np.int64)
+        steps = np.zeros((1, starts.shape[0]), dtype=np.int64)
+        _track_many(np.ascontiguousarray(starts), 1, A, E, pidx, np.zeros((1, nparams), complex), p_star,
+                    U, patch, gamma, Z, status, steps)
+        paths += starts.shape[0]
+        good = [z for z, st in zip(Z[0], status[0]) if st == PATH_OK and _regular(A, E, pidx, p_star, patch,
+                                                                                    z, tol)]
+        if good:
+            allz = np.vstack([found, np.array(good)])
+            found = allz[_distinct(allz, 1e-6)]
+        if expected is not None and len(found) >= expected:
+            break
+    return StartSystem(A, E, pidx, p_star, patch, np.ascontiguousarray(found), paths)
+
+
+def track_parameters(start, P):
+    """Track the start solutions to real (or complex) target parameters, row by row.
+
+    Parameters
+    ----------
+    start : StartSystem
+    P : (n, p) float or complex
+        Target parameters (squared leg lengths).
+
+    Returns
+    -------
+    Z : (n, k, 8) complex
+        Endpoints on the patch (one per start solution).
+    status : (n, k) int
+        :data:`PATH_OK` or :data:`PATH_FAILED`.
+    steps : (n, k) int
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.spatial.quadrics import sphere_quadric, study_quadric_matrix
+    >>> rng = np.random.default_rng(1)
+    >>> A = np.concatenate([sphere_quadric(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)), 0.0),
+    ...                     study_quadric_matrix()[None]])
+    >>> st = solve_start_system(A, np.diag([1.0, 1, 1, 1, 0, 0, 0, 0]), np.arange(7) - (np.arange(7) == 6) * 7,
+    ...                         6, expected=40)
+    >>> Z, status, steps = track_parameters(st, np.full((1, 6), 4.0))
+    >>> Z.shape
+    (1, 40, 8)
+    """
+    P = np.ascontiguousarray(np.atleast_2d(P), dtype=complex)
+    n, k = P.shape[0], start.solutions.shape[0]
+    Z = np.zeros((n, k, _N), dtype=complex)
+    status = np.zeros((n, k), dtype=np.int64)
+    steps = np.zeros((n, k), dtype=np.int64)
+    if k:
+        _track_many(start.solutions, 0, start.A, start.E, start.pidx, P, start.p_star,
+                    np.zeros((start.A.shape[0], _N), complex), start.patch, 1.0 + 0j, Z, status, steps)
+    return Z, status, steps

@@ -1,0 +1,136 @@
+"""Result types of the spatial direct kinematics (one pose, and batches with per-row masks)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .study import rotation_matrix, translation
+
+__all__ = ["SpatialDKResult", "SpatialDKBatch", "METHODS"]
+
+#: how a result was obtained
+METHODS = ("homotopy", "homotopy+krawczyk", "msolve")
+
+
+@dataclass(frozen=True)
+class SpatialDKResult:
+    """The real assembly modes of one spatial direct-kinematics problem.
+
+    Attributes
+    ----------
+    study_points : (k, 8) float
+        Normalised Study points (``x . x = 1``, first non-zero of ``x`` positive), one per real mode.
+    residuals : (k,) float
+        ``max_j |z^T Q_j z|`` at each mode (the float quadrics, the normalised point).
+    aspects : (k,) int8
+        Sign of the Jacobian determinant (``0``: not decided in floats, a mode on or very near a
+        singularity).
+    complex_count : int
+        Distinct complex solutions found (40 for a general Gough-Stewart platform).
+    certified : bool
+        The count and every mode are proven (Krawczyk boxes in arb, or msolve's exact isolation).
+    reliable : bool
+        Every float check of the fast path passed (all paths reached the target, endpoints
+        distinct, real and non-real endpoints clearly apart). ``certified`` implies ``reliable``.
+    method : str
+        One of :data:`METHODS`.
+
+    Examples
+    --------
+    >>> r = SpatialDKResult(np.array([[1.0, 0, 0, 0, 0, 0, 0, 0]]), np.zeros(1), np.ones(1, np.int8),
+    ...                     40, False, True, "homotopy")
+    >>> r.count, r.translations
+    (1, array([[0., 0., 0.]]))
+    """
+
+    study_points: np.ndarray
+    residuals: np.ndarray
+    aspects: np.ndarray
+    complex_count: int
+    certified: bool
+    reliable: bool
+    method: str
+
+    @property
+    def count(self):
+        """Number of real assembly modes."""
+        return int(self.study_points.shape[0])
+
+    @property
+    def rotations(self):
+        """``(k, 3, 3) float`` rotation matrices of the modes."""
+        if not self.count:
+            return np.zeros((0, 3, 3))
+        return rotation_matrix(self.study_points)
+
+    @property
+    def translations(self):
+        """``(k, 3) float`` translations of the modes."""
+        if not self.count:
+            return np.zeros((0, 3))
+        return translation(self.study_points)
+
+    def __len__(self):
+        return self.count
+
+    def __repr__(self):
+        state = "certified" if self.certified else ("reliable" if self.reliable else "NOT reliable")
+        return (f"SpatialDKResult({self.count} real modes of {self.complex_count} complex, {state}, "
+                f"method={self.method!r})")
+
+
+@dataclass(frozen=True)
+class SpatialDKBatch:
+    """Real modes of many problems, stored ragged (row ``i`` owns ``offsets[i]:offsets[i+1]``).
+
+    Attributes
+    ----------
+    counts : (n,) int
+        Real modes per row.
+    offsets : (n + 1,) int
+    study_points : (total, 8) float
+    residuals : (total,) float
+    aspects : (total,) int8
+    complex_count : (n,) int
+    reliable : (n,) bool
+        The row's float checks passed (see :class:`SpatialDKResult`).
+    certified : (n,) bool
+        The row is proven.
+    valid : (n,) bool
+        The row's input was acceptable (positive finite lengths); invalid rows have no modes.
+
+    Examples
+    --------
+    >>> b = SpatialDKBatch(np.array([1, 0]), np.array([0, 1, 1]), np.eye(1, 8), np.zeros(1),
+    ...                    np.ones(1, np.int8), np.array([40, 0]), np.array([True, False]),
+    ...                    np.zeros(2, bool), np.array([True, False]))
+    >>> b[0].count, len(b)
+    (1, 2)
+    """
+
+    counts: np.ndarray
+    offsets: np.ndarray
+    study_points: np.ndarray
+    residuals: np.ndarray
+    aspects: np.ndarray
+    complex_count: np.ndarray
+    reliable: np.ndarray
+    certified: np.ndarray
+    valid: np.ndarray
+
+    def __len__(self):
+        return int(self.counts.shape[0])
+
+    def __getitem__(self, i):
+        i = int(i)
+        sl = slice(int(self.offsets[i]), int(self.offsets[i + 1]))
+        method = "homotopy+krawczyk" if self.certified[i] else "homotopy"
+        return SpatialDKResult(self.study_points[sl], self.residuals[sl], self.aspects[sl],
+                               int(self.complex_count[i]), bool(self.certified[i]),
+                               bool(self.reliable[i]), method)
+
+    def __repr__(self):
+        return (f"SpatialDKBatch({len(self)} rows, {int(self.counts.sum())} real modes, "
+                f"{int(np.sum(~self.reliable & self.valid))} rows not reliable)")
