@@ -217,10 +217,7 @@ def jacobian_matrix(gs, s):
     ((6, 6), [0.0, 1.0, 1.0, 0.0, -1.0, 1.0])
     """
     gs = _check_gs(gs)
-    z = _check_study_points(s)
-    S = gs.leg_vectors(z)                                     # (..., 6, 3)
-    M = np.cross(np.broadcast_to(gs.base_points, S.shape), S)
-    return np.concatenate([S, M], axis=-1) + 0.0
+    return gs.jacobian(_check_study_points(s)) + 0.0         # the same rows as GoughStewart.jacobian
 
 
 def jacobian_determinant(gs, s):
@@ -266,11 +263,12 @@ def jacobian_determinant(gs, s):
 def aspect(gs, s, tolerances=None):
     """The aspect of poses: the sign of ``det J`` (+1, -1), or 0 at a singularity.
 
-    The decision is scale-free: the moment rows are divided by the design's length scale
+    The decision is scale-free: the moment columns are divided by the design's length scale
     ``c = max |a_i|`` (so both halves of a row are lengths; this multiplies ``det J`` by
-    ``c^-3 > 0``), and the pose is singular (aspect 0) when
-    ``|det| <= Tolerances.singular * prod(row norms)`` for these balanced rows, i.e. within
-    ``Tolerances.singular`` of the Hadamard bound.
+    ``c^-3 > 0`` and keeps its sign), and the pose is singular (aspect 0) when
+    ``|det| <= Tolerances.spatial_aspect * prod(row norms)`` for these balanced rows (Hadamard's
+    bound). Without the balancing the ratio would change with the unit of length (rows mix
+    lengths and squared lengths): the same design in micrometres would look singular everywhere.
 
     Parameters
     ----------
@@ -301,7 +299,7 @@ def aspect(gs, s, tolerances=None):
     True
     """
     gs = _check_gs(gs)
-    tol = (gs.tolerances if tolerances is None else as_tolerances(tolerances)).singular
+    tol = (gs.tolerances if tolerances is None else as_tolerances(tolerances)).spatial_aspect
     J = jacobian_matrix(gs, s)
     c = float(np.max(np.linalg.norm(gs.base_points, axis=1)))
     J = J.copy()

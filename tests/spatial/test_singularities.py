@@ -125,10 +125,12 @@ def test_determinant_of_study_forms_is_n6_times_euclidean_det(rng):
 
 def test_aspect_is_scale_free_and_zero_at_a_singularity(rng):
     gs = random_design(rng)
-    big = GoughStewart(1000 * gs.base_points, 1000 * gs.platform_points)
-    for _ in range(10):
-        q, t = rng.normal(size=4), rng.normal(size=3)
-        assert aspect(gs, study_point(q, t)) == aspect(big, study_point(q, 1000 * t))
+    for scale in (1e-3, 1e3, 1e6):          # metres, millimetres, micrometres
+        big = GoughStewart(scale * gs.base_points, scale * gs.platform_points)
+        for _ in range(10):
+            q, t = rng.normal(size=4), rng.normal(size=3)
+            a = aspect(gs, study_point(q, t))
+            assert a != 0 and a == aspect(big, study_point(q, scale * t))
     # a point of the constant-orientation locus (found below by roots) is aspect 0
     locus = constant_orientation_singularity(gs, np.eye(3))
     t = point_on_locus(locus, rng)
