@@ -48,6 +48,7 @@ _ATTRIBUTES = {
     "design.sweep": ["fuzzy_minmax", "sweep"],
     "tolerances": ["TOLERANCES", "Tolerances"],
     "spatial.gough_stewart": ["GoughStewart"],
+    "spatial.three_rps": ["ThreeRPS"],
 }
 _lazy_getattr, _lazy_dir, _ = _lazy.attach(__name__, submodules=_SUBMODULES, submod_attrs=_ATTRIBUTES)
 
@@ -102,5 +103,5 @@ __all__ = [
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError", "NearSingularWarning",
     "Tolerances", "TOLERANCES",
-    "GoughStewart",
+    "GoughStewart", "ThreeRPS",
 ]

@@ -208,6 +208,9 @@ class Tolerances:
     spatial_distinct : float
         Two endpoints closer than this (unit-normalised, Euclidean) are one solution reached twice
         (path jumping): the row is marked not reliable.
+    spatial_plane : float
+        ``ThreeRPS.inverse_kinematics``: a leg is in its revolute joint's plane when
+        ``|u . leg|`` is at most this times ``|u| |leg|``.
     spatial_aspect : float
         ``GoughStewart.aspects``: the sign of ``det J`` is 0 when ``|det J|`` is at most this times
         Hadamard's bound (the product of the row norms).
@@ -279,6 +282,7 @@ class Tolerances:
     spatial_nonreal_imag: float = 1e-5
     spatial_distinct: float = 1e-6
     spatial_aspect: float = 1e-12
+    spatial_plane: float = 1e-9
 
     def __post_init__(self):
         for name, value in self.__dict__.items():

@@ -15,6 +15,7 @@ _ATTRIBUTES = {
                  "sphere_quadric", "point_on_plane_quadric", "point_on_line_quadrics",
                  "landed_point_times_n"],
     "gough_stewart": ["GoughStewart", "GOUGH_STEWART_BOUND"],
+    "three_rps": ["ThreeRPS"],
     "results": ["SpatialDKResult", "SpatialDKBatch"],
     "exact": ["exact_real_study_points", "ExactStudyResult"],
     "certify": ["krawczyk_certify", "KrawczykResult"],
@@ -22,6 +23,7 @@ _ATTRIBUTES = {
     "homotopy": ["StartSystem", "solve_start_system", "track_parameters"],
 }
 __getattr__, __dir__, _ = _lazy.attach(__name__, submodules=["screws", "study", "quadrics", "gough_stewart", "results", "exact", "certify", "solver",
+                                                                   "three_rps",
                                                                    "homotopy"],
                                        submod_attrs=_ATTRIBUTES)
 __all__ = sorted({n for names in _ATTRIBUTES.values() for n in names})

@@ -169,7 +169,7 @@ def _on_stratum(poly, k, unknowns):
 
 
 def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOUT,
-                            threads=1) -> ExactStudyResult:
+                            threads=1, exclude_null_rotations=None) -> ExactStudyResult:
     """Every real displacement satisfying homogeneous equations in Study coordinates, exactly.
 
     Parameters
@@ -185,6 +185,13 @@ def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOU
         Seconds for all four msolve runs together.
     threads : int, optional
         Threads per msolve run.
+    exclude_null_rotations : bool or None, optional
+        Solve with the extra unknown ``w`` and equation ``w (x . x) = 1``: complex points with
+        ``x . x = 0`` are not displacements, and for special designs (6-3 and 3-3 Gough-Stewart
+        platforms) they form a continuum that would make a stratum look positive-dimensional.
+        Real solutions have ``x . x > 0`` and are unaffected; the complex counts then count
+        displacements only. ``None`` (default): only for a stratum that is positive-dimensional
+        without it (the extra unknown costs 5-7x in msolve on a general 6-6 design).
 
     Returns
     -------
@@ -240,10 +247,22 @@ def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOU
         fixed[x[k]] = 1
         unknowns = symbols[k + 1:]
         chart = [c for c in (_on_stratum(p, k, unknowns) for p in system) if c is not None]
-        left = deadline - time.monotonic()
-        if left <= 0:
-            raise MsolveTimeoutError(f"timeout={timeout} s spent before the stratum {label}")
-        res = solve_real(chart, unknowns, timeout=left, threads=threads)
+        tries = [True] if exclude_null_rotations else ([False] if exclude_null_rotations is False
+                                                        else [False, True])
+        for saturate in tries:
+            eqs, unk = chart, tuple(unknowns)
+            if saturate:
+                w = sp.Symbol("w_null")
+                xx = 1 + sum(v ** 2 for v in x[k + 1:])
+                eqs = [sp.Poly(c.as_expr(), *unk, w, domain="QQ") for c in chart]
+                eqs.append(sp.Poly(w * xx - 1, *unk, w, domain="QQ"))
+                unk = unk + (w,)
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise MsolveTimeoutError(f"timeout={timeout} s spent before the stratum {label}")
+            res = solve_real(eqs, unk, timeout=left, threads=threads)
+            if not res.positive_dimensional:
+                break
         if res.positive_dimensional:
             raise DegenerateDesignError(
                 f"the stratum {label} has infinitely many complex solutions (an architecture "
@@ -254,6 +273,7 @@ def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOU
         for box in res.boxes:
             it = iter(box)
             full = tuple((Fraction(fixed[s]),) * 2 if s in fixed else next(it) for s in symbols)
+            # (a trailing box of the auxiliary unknown w is not part of the Study point)
             mid = np.array([float((lo + hi) / 2) for lo, hi in full])
             found.append((tuple(mid), full, mid / np.linalg.norm(mid[:4])))
         found.sort(key=lambda item: item[0])

@@ -268,11 +268,18 @@ class GoughStewart:
         >>> gs.family().bound
         40
         """
-        A = np.concatenate([sphere_quadric(self.base_points, self.platform_points, 0.0),
+        sc = self._scale
+        A = np.concatenate([sphere_quadric(self.base_points / sc, self.platform_points / sc, 0.0),
                             study_quadric_matrix()[None]], axis=0)
         E = np.diag([1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
         return QuadricFamily(A, E, np.array([0, 1, 2, 3, 4, 5, -1]), 6, GOUGH_STEWART_BOUND,
-                             self._exact_quadrics, self._aspects_or_empty)
+                             self._exact_quadrics, self._aspects_or_empty, sc)
+
+    @cached_property
+    def _scale(self):
+        # a power of two near the anchors' size: dividing by it is exact
+        size = float(np.abs(np.concatenate([self.base_points, self.platform_points])).max())
+        return float(2.0 ** np.round(np.log2(size))) if size > 0 else 1.0
 
     def _aspects_or_empty(self, pts):
         return self.aspects(pts) if pts.shape[0] else np.zeros(0, np.int8)
@@ -290,7 +297,8 @@ class GoughStewart:
     @cached_property
     def _exact_design(self):
         # the legs' exact quadrics at length zero (the length enters as -L^2 on the x.x diagonal)
-        return [sphere_quadric_exact(self.base_points[i], self.platform_points[i], 0)
+        sc = self._scale
+        return [sphere_quadric_exact(self.base_points[i] / sc, self.platform_points[i] / sc, 0)
                 for i in range(6)]
 
     @cached_property

@@ -23,12 +23,12 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..exceptions import NearSingularWarning
-from .homotopy import PATH_OK, StartSystem, solve_start_system, track_parameters
+from .homotopy import PATH_OK, StartSystem, classify_batch, solve_start_system, track_parameters
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
-__all__ = ["QuadricFamily", "solve_rows", "certify_row", "classify_endpoints", "exact_study_solver",
-           "exact_result", "quadric_polynomials"]
+__all__ = ["QuadricFamily", "solve_rows", "certify_row", "exact_study_solver",
+           "exact_result", "quadric_polynomials", "study_jacobian_signs"]
 
 
 @dataclass(frozen=True)
@@ -51,7 +51,11 @@ class QuadricFamily:
         ``exact(params_exact) -> (m, 8, 8)`` object array of Fraction: the exact quadrics for
         exact parameters (squared lengths as Fractions).
     aspect : callable
-        ``aspect(study_points (k, 8)) -> (k,) int8``.
+        ``aspect(study_points (k, 8)) -> (k,) int8``, on unscaled points.
+    scale : float
+        A power of two: the family is written for the design divided by ``scale`` (lengths too), so
+        its solutions are well scaled whatever the units; a solution ``(x, y)`` of the family is
+        the displacement ``(x, scale * y)``. Exact, since the scale is a power of two.
     """
 
     A: np.ndarray
@@ -61,6 +65,13 @@ class QuadricFamily:
     bound: Optional[int]
     exact: Callable
     aspect: Callable
+    scale: float = 1.0
+
+    def unscale(self, pts):
+        """Family solutions ``(k, 8)`` -> displacements of the design (``y`` times ``scale``)."""
+        out = np.array(pts, dtype=float).reshape(-1, 8)
+        out[:, 4:] *= self.scale
+        return out
 
 
 def start_system(family, seed=0):
@@ -87,64 +98,41 @@ def start_system(family, seed=0):
                               expected=family.bound)
 
 
-def classify_endpoints(Z, status, tolerances):
-    """Float classification of one row's endpoints into real modes.
-
-    Parameters
-    ----------
-    Z : (k, 8) complex
-        Endpoints on the tracker's patch.
-    status : (k,) int
-    tolerances : Tolerances
-        ``spatial_real_imag``, ``spatial_nonreal_imag``, ``spatial_distinct``.
-
-    Returns
-    -------
-    real_points : (r, 8) float
-        Normalised real Study points.
-    distinct : int
-        Number of pairwise distinct endpoints among the paths that arrived.
-    reliable : bool
-        All paths arrived, endpoints pairwise distinct, every endpoint clearly real or clearly not.
-
-    Examples
-    --------
-    >>> from imagespace.tolerances import Tolerances
-    >>> Z = np.array([[1, 0, 0, 0, 0, 0, 0, 0], [1, 1j, 0, 0, 0, 0, 0, 0]], dtype=complex)
-    >>> pts, distinct, ok = classify_endpoints(Z, np.zeros(2, int), Tolerances())
-    >>> pts.shape, distinct, ok
-    ((1, 8), 2, True)
-    """
-    arrived = status == PATH_OK
-    W = Z[arrived]
-    reliable = bool(np.all(arrived))
-    if W.shape[0] == 0:
-        return np.zeros((0, 8)), 0, reliable
-    j = np.argmax(np.abs(W[:, :4]), axis=1)
-    W = W / W[np.arange(W.shape[0]), j][:, None]
-    size = np.abs(W).max(axis=1)
-    imag = np.abs(W.imag).max(axis=1) / size
-    is_real = imag <= tolerances.spatial_real_imag
-    ambiguous = (~is_real) & (imag < tolerances.spatial_nonreal_imag)
-    if np.any(ambiguous):
-        reliable = False
-    # distinct endpoints (path jumping sends two paths to one solution)
-    Wn = W / np.linalg.norm(W, axis=1)[:, None]
-    distinct = W.shape[0]
-    for a in range(W.shape[0]):
-        d = np.linalg.norm(Wn[a + 1:] - Wn[a], axis=1)
-        if np.any(d <= tolerances.spatial_distinct):
-            distinct -= 1
-            reliable = False
-    pts = W[is_real].real
-    return (normalize_study(pts) if pts.shape[0] else np.zeros((0, 8))), distinct, reliable
+def _mode_residuals(family, P_modes, pts):
+    """``max_k |z^T (A_k - p_k E) z|`` for normalised family points ``pts`` (k, 8) with their rows'
+    parameters ``P_modes`` (k, p)."""
+    if not pts.shape[0]:
+        return np.zeros(0)
+    zAz = np.einsum("ni,kij,nj->nk", pts, family.A, pts)
+    zEz = np.einsum("ni,ij,nj->n", pts, family.E, pts)
+    has = family.pidx >= 0
+    p = np.where(has[None, :], P_modes[:, np.maximum(family.pidx, 0)], 0.0)
+    return np.abs(zAz - p * zEz[:, None]).max(axis=1)
 
 
 def _residuals(family, P_row, pts):
-    if not pts.shape[0]:
-        return np.zeros(0)
-    Q = family.A - P_row[np.maximum(family.pidx, 0)][:, None, None] * (family.pidx >= 0)[:, None, None] * family.E
-    return np.abs(np.einsum("ni,kij,nj->nk", pts, Q, pts)).max(axis=1)
+    return _mode_residuals(family, np.broadcast_to(P_row, (pts.shape[0], len(P_row))), pts)
+
+
+def _batch(family, start, P, rows, n, Z, status, tolerances, valid):
+    """Classify tracked rows into a :class:`SpatialDKBatch` (``P`` already divided by scale^2)."""
+    W, real, distinct, ok = classify_batch(Z, status, tolerances)
+    counts = np.zeros(n, np.int64)
+    counts[rows] = real.sum(axis=1)
+    cplx = np.zeros(n, np.int64)
+    cplx[rows] = distinct
+    reliable = np.zeros(n, bool)
+    expected = start.solutions.shape[0]
+    reliable[rows] = ok & (distinct == expected)
+    pts = W[real]
+    pts = normalize_study(pts) if pts.shape[0] else np.zeros((0, 8))
+    mode_rows = np.repeat(np.arange(len(rows)), real.sum(axis=1))
+    res = _mode_residuals(family, P[rows][mode_rows], pts)
+    pts = family.unscale(pts)
+    asp = family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8)
+    offsets = np.concatenate([[0], np.cumsum(counts)])
+    return SpatialDKBatch(counts, offsets, pts, res, np.asarray(asp, np.int8), cplx, reliable,
+                          np.zeros(n, bool), valid)
 
 
 def solve_rows(family, start, P, tolerances, valid=None):
@@ -155,7 +143,7 @@ def solve_rows(family, start, P, tolerances, valid=None):
     family : QuadricFamily
     start : StartSystem
     P : (n, p) float
-        Target parameters (squared lengths).
+        Target parameters (squared lengths of the design, unscaled).
     tolerances : Tolerances
     valid : (n,) bool, optional
         Rows to solve (others get no modes).
@@ -163,7 +151,9 @@ def solve_rows(family, start, P, tolerances, valid=None):
     Returns
     -------
     SpatialDKBatch
-        ``certified`` all False.
+        ``certified`` all False; ``reliable[i]`` when every path of row ``i`` arrived, its
+        endpoints are pairwise distinct and as many as the start system's solutions, and each is
+        clearly real or clearly not.
 
     Examples
     --------
@@ -175,34 +165,16 @@ def solve_rows(family, start, P, tolerances, valid=None):
     >>> len(b)
     2
     """
-    P = np.atleast_2d(np.asarray(P, dtype=float))
+    P = np.atleast_2d(np.asarray(P, dtype=float)) / family.scale ** 2
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
     rows = np.flatnonzero(valid)
-    Z, status, _ = track_parameters(start, P[rows]) if rows.size else (None, None, None)
-    counts = np.zeros(n, np.int64)
-    cplx = np.zeros(n, np.int64)
-    reliable = np.zeros(n, bool)
-    pts_all, res_all, asp_all = [], [], []
-    for r_i, r in enumerate(rows):
-        pts, distinct, ok = classify_endpoints(Z[r_i], status[r_i], tolerances)
-        counts[r] = pts.shape[0]
-        cplx[r] = distinct
-        reliable[r] = ok and (family.bound is None or distinct == family.bound or
-                              distinct == start.solutions.shape[0])
-        pts_all.append(pts)
-        res_all.append(_residuals(family, P[r], pts))
-        asp_all.append(family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8))
-    offsets = np.concatenate([[0], np.cumsum(counts)])
-    S = np.vstack(pts_all) if pts_all else np.zeros((0, 8))
-    res = np.concatenate(res_all) if res_all else np.zeros(0)
-    asp = np.concatenate(asp_all).astype(np.int8) if asp_all else np.zeros(0, np.int8)
-    return SpatialDKBatch(counts, offsets, S.reshape(-1, 8), res, asp, cplx, reliable,
-                          np.zeros(n, bool), valid)
+    Z, status, _ = track_parameters(start, P[rows])
+    return _batch(family, start, P, rows, n, Z, status, tolerances, valid)
 
 
-def _exact_params(lengths):
-    return [Fraction(float(v)) ** 2 for v in lengths]
+def _exact_params(lengths, scale=1.0):
+    return [(Fraction(float(v)) / Fraction(scale)) ** 2 for v in lengths]
 
 
 def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_solver=None):
@@ -239,32 +211,34 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     from .certify import krawczyk_certify
 
     lengths = np.asarray(lengths, dtype=float)
-    P = lengths ** 2
+    P = (lengths / family.scale) ** 2
     if Z is None:
         Zs, sts, _ = track_parameters(start, P[None])
         Z, status = Zs[0], sts[0]
-    Qx = family.exact(_exact_params(lengths))
+    Qx = family.exact(_exact_params(lengths, family.scale))
     arrived = Z[status == PATH_OK]
     if family.bound is not None and arrived.shape[0] >= family.bound:
         cert = krawczyk_certify(Qx, arrived)
         if cert.complete(family.bound):
             real = cert.points[cert.certified & (cert.real == 1)].real
             pts = normalize_study(real) if real.shape[0] else np.zeros((0, 8))
-            return SpatialDKResult(pts, _residuals(family, P, pts),
+            res = _residuals(family, P, pts)
+            pts = family.unscale(pts)
+            return SpatialDKResult(pts, res,
                                    family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                                    family.bound, True, True, "homotopy+krawczyk")
     if exact_solver is not None:
         pts, complex_count = exact_solver(Qx)
-        return SpatialDKResult(pts, _residuals(family, P, pts),
+        res = _residuals(family, P, pts)
+        pts = family.unscale(pts)
+        return SpatialDKResult(pts, res,
                                family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                                int(complex_count), True, True, "msolve")
     warnings.warn("the row could not be certified: Krawczyk did not prove every solution and no exact "
                   "solver is available (pip install imagespace[exact]); the modes are the fast path's",
                   NearSingularWarning, stacklevel=3)
-    pts, distinct, ok = classify_endpoints(Z, status, tolerances)
-    return SpatialDKResult(pts, _residuals(family, P, pts),
-                           family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
-                           distinct, False, ok, "homotopy")
+    return _batch(family, start, P[None], np.array([0]), 1, Z[None], status[None], tolerances,
+                  np.ones(1, bool))[0]
 
 
 def quadric_polynomials(Q_exact):
@@ -302,13 +276,16 @@ def quadric_polynomials(Q_exact):
     return out
 
 
-def exact_study_solver(Q_exact):
+def exact_study_solver(Q_exact, exclude_null_rotations=None):
     """msolve on the exact quadrics (every real solution, the four strata of ``x``).
 
     Parameters
     ----------
     Q_exact : (m, 8, 8) object array of Fraction
         Study's quadric included.
+    exclude_null_rotations : bool or None
+        Passed to :func:`~imagespace.spatial.exact.exact_real_study_points`: True counts only
+        complex solutions with ``x . x != 0`` (displacements) also where such points are isolated.
 
     Returns
     -------
@@ -336,17 +313,20 @@ def exact_study_solver(Q_exact):
     """
     from .exact import exact_real_study_points
 
-    res = exact_real_study_points(quadric_polynomials(Q_exact), study_quadric=False)
+    res = exact_real_study_points(quadric_polynomials(Q_exact), study_quadric=False,
+                                  exclude_null_rotations=exclude_null_rotations)
     return res.study_points, res.complex_count
 
 
-def exact_result(family, lengths):
+def exact_result(family, lengths, exclude_null_rotations=None):
     """The exact path: msolve on the exact system, always certified.
 
     Parameters
     ----------
     family : QuadricFamily
     lengths : (p,) float
+    exclude_null_rotations : bool or None
+        See :func:`exact_study_solver`.
 
     Returns
     -------
@@ -370,8 +350,60 @@ def exact_result(family, lengths):
     'msolve'
     """
     lengths = np.asarray(lengths, dtype=float)
-    pts, complex_count = exact_study_solver(family.exact(_exact_params(lengths)))
-    P = lengths ** 2
-    return SpatialDKResult(pts, _residuals(family, P, pts),
+    pts, complex_count = exact_study_solver(family.exact(_exact_params(lengths, family.scale)),
+                                            exclude_null_rotations)
+    res = _residuals(family, (lengths / family.scale) ** 2, pts)
+    pts = family.unscale(pts)
+    return SpatialDKResult(pts, res,
                            family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8),
                            int(complex_count), True, True, "msolve")
+
+
+def study_jacobian_signs(family, pts, tolerances=None):
+    """Aspects in Study coordinates: the sign of ``det [2 Q_k z ; (x, 0)]`` at normalised modes.
+
+    ``Q_k = A_k - p_k E`` with ``p_k = z^T A_k z / z^T E z`` (the mode's own parameters); the last
+    row ``(x, 0)`` is the gradient of ``x . x / 2``. Replacing ``z`` by ``-z`` flips all eight rows,
+    so the sign is that of the displacement; it changes exactly across the singularities where the
+    constraint Jacobian loses rank.
+
+    Parameters
+    ----------
+    family : QuadricFamily
+    pts : (k, 8) float
+        Displacements (unscaled, as returned to the user).
+    tolerances : Tolerances, optional
+        ``spatial_aspect``: 0 where ``|det|`` is at most this times Hadamard's bound.
+
+    Returns
+    -------
+    (k,) int8
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> m = isp.spatial.ThreeRPS(np.eye(3), 0.5 * np.eye(3))
+    >>> study_jacobian_signs(m.family(), np.array([[1.0, 0, 0, 0, 0, 0, 0, 0]])).dtype
+    dtype('int8')
+    """
+    from ..tolerances import Tolerances
+
+    tol = (tolerances or Tolerances()).spatial_aspect
+    z = np.array(pts, dtype=float).reshape(-1, 8)
+    z[:, 4:] /= family.scale
+    z /= np.linalg.norm(z[:, :4], axis=1)[:, None]
+    out = np.zeros(z.shape[0], np.int8)
+    for i, v in enumerate(z):
+        zEz = v @ family.E @ v
+        rows = []
+        for k in range(family.A.shape[0]):
+            Q = family.A[k]
+            if family.pidx[k] >= 0:
+                Q = Q - (v @ Q @ v) / zEz * family.E
+            rows.append(2.0 * Q @ v)
+        rows.append(np.concatenate([v[:4], np.zeros(4)]))
+        J = np.array(rows)
+        det = np.linalg.det(J)
+        had = np.prod(np.linalg.norm(J, axis=1))
+        out[i] = 0 if abs(det) <= tol * had else (1 if det > 0 else -1)
+    return out

@@ -294,13 +294,21 @@ def test_gough_stewart_half_turn_pose_is_found():
 
 
 @pytest.mark.slow
+@pytest.mark.slow
 def test_unreduced_quartic_keeps_the_null_cone():
     # the quartic |N|^2 - L^2 (x . x)^2 has the factor x . x: its zero set contains the complex
-    # cone x . x = 0, a continuum in every chart, so the leg condition must be the quadric
+    # cone x . x = 0, a continuum in every chart. Without excluding x . x = 0 the stratum is
+    # positive-dimensional; excluding it (the default does so where needed) leaves the same real
+    # solutions as the quadrics
     a, b, q, t, length2, _ = gough_stewart(1)
     quartics = [leg_quartic(ai, bi, l2) for ai, bi, l2 in zip(a, b, length2)]
     with pytest.raises(DegenerateDesignError, match="x0 = 1"):
-        exact_real_study_points(quartics)
+        exact_real_study_points(quartics, exclude_null_rotations=False)
+    quadrics = [leg_quadric(ai, bi, l2) for ai, bi, l2 in zip(a, b, length2)]
+    via_quartics = exact_real_study_points(quartics).study_points
+    via_quadrics = exact_real_study_points(quadrics).study_points
+    assert via_quartics.shape == via_quadrics.shape
+    assert np.allclose(via_quartics, via_quadrics, atol=1e-12)
 
 
 def test_architecture_singular_design():

@@ -1,0 +1,326 @@
+r"""The 3-RPS parallel manipulator in Study's image space.
+
+Three legs: a revolute joint at base point ``a_i`` with axis ``u_i``, a prismatic joint of length
+``L_i`` (actuated) and a spherical joint at platform point ``b_i``. The revolute joint keeps leg
+``i`` in the plane through ``a_i`` normal to ``u_i``, so its platform point satisfies
+
+* a sphere condition, ``|R b_i + t - a_i| = L_i`` (:func:`~imagespace.spatial.quadrics.sphere_quadric`),
+* a plane condition, ``u_i . (R b_i + t - a_i) = 0`` (:func:`~imagespace.spatial.quadrics.point_on_plane_quadric`),
+
+six quadrics that with Study's quadric cut out the assembly modes in ``P^7``: 16 complex
+displacements for a general design (Schadlbauer, Walter & Husty 2014; our exact path confirms 16
+on random designs, see the tests). The plane quadrics must be exact: rounded to floats, the
+structure that sends 24 of the 40 solutions of seven general quadrics to the exceptional
+generator ``x = 0`` is lost, and msolve then counts 40.
+
+No theorem-backed bound on the number of solutions of every 3-RPS is coded, so ``certify=True``
+proves a row with msolve (not with Krawczyk's completeness argument, which the Gough-Stewart
+platform can use thanks to the 40-solution theorem).
+
+References
+----------
+J. Schadlbauer, D. R. Walter, M. L. Husty, The 3-RPS parallel manipulator from an algebraic
+viewpoint, Mechanism and Machine Theory 75, 2014, doi:10.1016/j.mechmachtheory.2014.01.006.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+
+from .._validate import as_flag, as_float_array, as_tolerances
+from ..exceptions import DegenerateDesignError, InputError
+from .certify import exact_matrix
+from .gough_stewart import check_lengths
+from .quadrics import (point_on_plane_quadric, sphere_quadric, sphere_quadric_exact,
+                       study_quadric_matrix)
+from .solver import (QuadricFamily, certify_row, exact_result, exact_study_solver, solve_rows,
+                     start_system, study_jacobian_signs)
+from .study import rotation_matrix, translation
+
+__all__ = ["ThreeRPS"]
+
+_METHODS = ("fast", "exact")
+
+
+def _points(value, name):
+    P = np.array(as_float_array(value, name, allow_batch=True), dtype=float, copy=True)
+    if P.shape != (3, 3):
+        raise InputError(f"{name} must have shape (3, 3), got {P.shape}")
+    return P
+
+
+def _tangent_axes(a):
+    """Axes tangent to the base triangle's circumcircle (the classic 3-RPS), in its plane."""
+    n = np.cross(a[1] - a[0], a[2] - a[0])
+    n = n / np.linalg.norm(n)
+    c = a.mean(axis=0)
+    return np.cross(n, a - c)
+
+
+def _exact_displacements(Q_exact):
+    return exact_study_solver(Q_exact, exclude_null_rotations=None)
+
+
+class ThreeRPS:
+    """A 3-RPS parallel manipulator.
+
+    Parameters
+    ----------
+    base_points : (3, 3) float
+        Revolute joint centres ``a_i`` (base frame); not collinear.
+    platform_points : (3, 3) float
+        Spherical joint centres ``b_i`` (moving frame); not collinear.
+    base_axes : (3, 3) float, optional
+        Revolute axes ``u_i`` (non-zero). Default: tangent to the circumcircle of the base triangle,
+        in its plane (each leg then moves in a plane through the base's centre line).
+    tolerances : Tolerances, optional
+
+    Raises
+    ------
+    InputError
+        On wrong shapes, non-finite entries or a zero axis.
+    DegenerateDesignError
+        If the base or platform points are collinear (within ``Tolerances.spatial_collinear``).
+
+    Examples
+    --------
+    >>> m = ThreeRPS([[1, 0, 0], [-0.5, 0.8, 0], [-0.5, -0.8, 0]],
+    ...              [[0.5, 0, 0], [-0.25, 0.4, 0], [-0.25, -0.4, 0]])
+    >>> m.inverse_kinematics([1, 0, 0, 0, 0, 0, 0, 1.0]).round(3)      # platform raised by 2
+    array([2.062, 2.055, 2.055])
+    """
+
+    def __init__(self, base_points, platform_points, base_axes=None, tolerances=None):
+        self.tolerances = as_tolerances(tolerances)
+        self.base_points = _points(base_points, "base_points")
+        self.platform_points = _points(platform_points, "platform_points")
+        tol = self.tolerances.spatial_collinear
+        for name, P in (("base_points", self.base_points), ("platform_points", self.platform_points)):
+            scale = max(float(np.abs(P).max()), 1.0)
+            if np.linalg.norm(np.cross(P[1] - P[0], P[2] - P[0])) <= tol * scale ** 2:
+                raise DegenerateDesignError(f"{name} are collinear: the platform can turn about their "
+                                            "line; expected a triangle")
+        if base_axes is None:
+            self.base_axes = _tangent_axes(self.base_points)
+        else:
+            self.base_axes = _points(base_axes, "base_axes")
+            if np.any(np.linalg.norm(self.base_axes, axis=1) == 0):
+                raise InputError("base_axes must be non-zero vectors, got a zero row")
+        for arr in (self.base_points, self.platform_points, self.base_axes):
+            arr.setflags(write=False)
+
+    def __repr__(self):
+        return (f"ThreeRPS(base_points={self.base_points.tolist()}, "
+                f"platform_points={self.platform_points.tolist()}, base_axes={self.base_axes.tolist()})")
+
+    def leg_vectors(self, s):
+        """``R b_i + t - a_i`` at Study points: ``(3, 3)`` or ``(n, 3, 3)``.
+
+        Parameters
+        ----------
+        s : (8,) or (n, 8) float
+
+        Returns
+        -------
+        (3, 3) or (n, 3, 3) float
+
+        Raises
+        ------
+        InputError
+            If ``x = 0``, on wrong shapes or non-finite entries.
+
+        Examples
+        --------
+        >>> m = ThreeRPS(np.eye(3), 0.5 * np.eye(3))
+        >>> m.leg_vectors([1, 0, 0, 0, 0, 0, 0, 0]).shape
+        (3, 3)
+        """
+        R, t = rotation_matrix(s), translation(s)
+        return np.einsum("...ij,kj->...ki", R, self.platform_points) + t[..., None, :] - self.base_points
+
+    def inverse_kinematics(self, s):
+        """Leg lengths ``|R b_i + t - a_i|``; the pose must keep each leg in its plane.
+
+        Parameters
+        ----------
+        s : (8,) or (n, 8) float
+
+        Returns
+        -------
+        (3,) or (n, 3) float
+
+        Raises
+        ------
+        InputError
+            If ``x = 0``, on wrong shapes or non-finite entries, or if a leg leaves its revolute
+            joint's plane (``|u_i . leg| > Tolerances.spatial_plane`` times ``|u_i| |leg|``): such a
+            pose is not reachable.
+
+        Examples
+        --------
+        >>> m = ThreeRPS(np.eye(3), 0.5 * np.eye(3), base_axes=[[0, 1, -1], [1, 0, -1], [1, -1, 0]])
+        >>> m.inverse_kinematics([1, 0, 0, 0, 0, 0, 0, 0]).round(3)
+        array([0.5, 0.5, 0.5])
+        """
+        V = self.leg_vectors(s)
+        off = np.abs(np.einsum("ki,...ki->...k", self.base_axes, V))
+        lim = self.tolerances.spatial_plane * np.linalg.norm(self.base_axes, axis=1) * np.linalg.norm(V, axis=-1)
+        if np.any(off > lim):
+            raise InputError("s must keep every leg in the plane of its revolute joint, got a pose "
+                             f"{float(np.max(off)):.3g} off it")
+        return np.linalg.norm(V, axis=-1)
+
+    def constraint_quadrics(self, lengths):
+        """Seven quadrics: three spheres, three planes, Study's quadric.
+
+        Parameters
+        ----------
+        lengths : (3,) float
+
+        Returns
+        -------
+        (7, 8, 8) float
+
+        Raises
+        ------
+        InputError
+            If ``lengths`` is not three positive finite numbers.
+
+        Examples
+        --------
+        >>> ThreeRPS(np.eye(3), 0.5 * np.eye(3)).constraint_quadrics([1, 1, 1]).shape
+        (7, 8, 8)
+        """
+        L = check_lengths(lengths, count=3)
+        return np.concatenate([sphere_quadric(self.base_points, self.platform_points, L),
+                               self._planes(1.0), study_quadric_matrix()[None]], axis=0)
+
+    def _planes(self, sc):
+        return np.array([point_on_plane_quadric(self.platform_points[i] / sc, self.base_points[i] / sc,
+                                                self.base_axes[i]) for i in range(3)])
+
+    @cached_property
+    def _scale(self):
+        size = float(np.abs(np.concatenate([self.base_points, self.platform_points])).max())
+        return float(2.0 ** np.round(np.log2(size))) if size > 0 else 1.0
+
+    @cached_property
+    def _family(self):
+        import sympy as sp
+
+        sc = self._scale
+        planes = self._planes(sc)
+        A = np.concatenate([sphere_quadric(self.base_points / sc, self.platform_points / sc, 0.0),
+                            planes, study_quadric_matrix()[None]], axis=0)
+        E = np.diag([1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+        spheres = [sphere_quadric_exact(self.base_points[i] / sc, self.platform_points[i] / sc, 0)
+                   for i in range(3)]
+        fixed = [exact_matrix(np.array(point_on_plane_quadric(
+            [sp.Rational(float(v)) for v in self.platform_points[i] / sc],
+            [sp.Rational(float(v)) for v in self.base_points[i] / sc],
+            [sp.Rational(float(v)) for v in self.base_axes[i]]).tolist(), dtype=object))
+                 for i in range(3)] + [exact_matrix(study_quadric_matrix())]
+
+        def exact(squared):
+            out = np.empty((7, 8, 8), dtype=object)
+            for i in range(3):
+                Q = spheres[i].copy()
+                for d in range(4):
+                    Q[d, d] -= squared[i]
+                out[i] = Q
+            for k in range(4):
+                out[3 + k] = fixed[k]
+            return out
+
+        fam = QuadricFamily(A, E, np.array([0, 1, 2, -1, -1, -1, -1]), 3, None, exact,
+                            lambda pts: study_jacobian_signs(fam, pts), sc)
+        return fam
+
+    def family(self):
+        """The direct kinematics as a :class:`~imagespace.spatial.solver.QuadricFamily`.
+
+        Returns
+        -------
+        QuadricFamily
+
+        Examples
+        --------
+        >>> ThreeRPS(np.eye(3), 0.5 * np.eye(3)).family().nparams
+        3
+        """
+        return self._family
+
+    @cached_property
+    def start_system(self):
+        """The solutions at generic complex lengths (16 for a general design), once per design.
+
+        Returns
+        -------
+        imagespace.spatial.homotopy.StartSystem
+
+        Examples
+        --------
+        >>> m = ThreeRPS([[1, 0, 0], [-0.5, 0.8, 0], [-0.5, -0.8, 0]],
+        ...              [[0.5, 0, 0], [-0.25, 0.4, 0], [-0.25, -0.4, 0]])
+        >>> len(m.start_system.solutions)
+        16
+        """
+        return start_system(self.family())
+
+    def direct_kinematics(self, lengths, certify=False, method="fast"):
+        """Every real assembly mode for given leg lengths.
+
+        Parameters
+        ----------
+        lengths : (3,) float
+            Positive leg lengths.
+        certify : bool
+            Prove the result (msolve on the exact system; needs ``imagespace[exact]``).
+        method : {"fast", "exact"}
+
+        Returns
+        -------
+        SpatialDKResult
+
+        Raises
+        ------
+        InputError
+            On bad lengths or an unknown method.
+        DegenerateDesignError
+            If the exact path finds a positive-dimensional solution set.
+
+        Warns
+        -----
+        NearSingularWarning
+            When the fast path's float checks fail, or a requested certificate is not available.
+
+        Examples
+        --------
+        >>> m = ThreeRPS([[1, 0, 0], [-0.5, 0.8, 0], [-0.5, -0.8, 0]],
+        ...              [[0.5, 0, 0], [-0.25, 0.4, 0], [-0.25, -0.4, 0]])
+        >>> res = m.direct_kinematics([2.0, 2.0, 2.0])
+        >>> res.complex_count, res.count
+        (16, 16)
+        """
+        L = check_lengths(lengths, count=3)
+        certify = as_flag(certify, "certify")
+        if method not in _METHODS:
+            raise InputError(f"method must be one of {_METHODS}, got {method!r}")
+        if method == "exact":
+            return exact_result(self.family(), L)
+        if certify:
+            from ..core.msolve import msolve_available
+
+            return certify_row(self.family(), self.start_system, L, self.tolerances,
+                               exact_solver=_exact_displacements if msolve_available() else None)
+        res = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances)[0]
+        if not res.reliable:
+            import warnings
+
+            from ..exceptions import NearSingularWarning
+            warnings.warn(f"the fast path is not sure of this row ({res.complex_count} distinct complex "
+                          "endpoints, or a mode close to the real/complex boundary): use certify=True",
+                          NearSingularWarning, stacklevel=2)
+        return res
