@@ -1125,8 +1125,8 @@ def plot_gough_stewart_modes(gs, study_points, aspects=None, ncols=4, panel_size
             axis.label.set_visible(False)
     height = panel_size * nrows + 0.5
     fig.suptitle(title or f"{k} real assembly mode{'s' if k != 1 else ''} "
-                          "(platform red: aspect +1, blue: -1)", fontsize=10)
-    fig.subplots_adjust(left=0.02, right=0.98, bottom=0.02, top=1 - 0.6 / height, wspace=0.05, hspace=0.15)
+                          "(platform red: aspect +1, blue: -1)", fontsize=10, y=1 - 0.1 / height, va="top")
+    fig.subplots_adjust(left=0.02, right=0.98, bottom=0.02, top=1 - 0.75 / height, wspace=0.05, hspace=0.15)
     return fig
 
 
