@@ -4,6 +4,7 @@
 * :func:`collinear_3rpr` -- the 3-RPR with collinear base and platform anchors (seed 003).
 * :func:`choi_3ppr` -- the symmetric 3-PPR of Choi (seed 004).
 * :func:`general_3rpr` -- a general 3-RPR with six real assembly modes.
+* :func:`dietmaier_1998` -- Dietmaier's Gough-Stewart platform with 40 real assembly modes.
 """
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ from ._validate import as_tolerances as check_tolerances
 from .design.workspace import dexterous_workspace, reachable_workspace
 from .manipulator import PlanarParallel
 
-__all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr", "collinear_3rpr_closed_form",
+__all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr", "dietmaier_1998",
+           "collinear_3rpr_closed_form",
            "choi_3ppr_closed_form", "choi_det_jh", "choi_rotation_limits", "choi_3ppr_indices"]
 
 
@@ -171,6 +173,47 @@ def general_3rpr():
                         RPR(base=(-2, 7), platform=(5, 4))], name="general 3-RPR")
     m.q_example = (sp.Integer(11), sp.Integer(5), sp.Integer(10))
     return m
+
+
+def dietmaier_1998():
+    """Dietmaier's general 6-6 Gough-Stewart platform with 40 real assembly modes.
+
+    The design that settled the question "can all 40 complex solutions be real?" (Dietmaier 1998).
+    The six-decimal data are as quoted, with the convention ``L_i^2 = |R b_i + t - a_i|^2`` of
+    :class:`~imagespace.spatial.GoughStewart`, in Martyushev's collection of Gough-Stewart test
+    designs (github.com/martyushev/fkSGP, ``python/genSGP.py``, case 100). The decimals enter as
+    the nearest doubles; for those, msolve on an independent quaternion formulation confirms 40
+    real poses (``tests/spatial/test_gough_stewart_reference.py``).
+
+    Returns
+    -------
+    gs : GoughStewart
+    lengths : (6,) float
+
+    References
+    ----------
+    P. Dietmaier, The Stewart-Gough platform of general geometry can have 40 real postures,
+    Advances in Robot Kinematics: Analysis and Control, Kluwer 1998, 7-16,
+    doi:10.1007/978-94-015-9064-8_1.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> gs, L = isp.examples.dietmaier_1998()
+    >>> res = gs.direct_kinematics(L, certify=True)
+    >>> res.count, res.complex_count, res.certified
+    (40, 40, True)
+    """
+    from .spatial.gough_stewart import GoughStewart
+
+    base = [[0, 0, 0], [1.107915, 0, 0], [0.549094, 0.756063, 0],
+            [0.735077, -0.223935, 0.525991], [0.514188, -0.526063, -0.368418],
+            [0.590473, 0.094733, -0.205018]]
+    platform = [[0, 0, 0], [0.542805, 0, 0], [0.956919, -0.528915, 0],
+                [0.665885, -0.353482, 1.402538], [0.478359, 1.158742, 0.107672],
+                [-0.137087, -0.235121, 0.353913]]
+    lengths = np.array([1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071])
+    return GoughStewart(base, platform), lengths
 
 
 # The rounding allowance of the closed forms below is Tolerances.closed_form_ulps (default 16), in

@@ -251,6 +251,51 @@ class GoughStewart:
         out = np.where(np.abs(det) <= self.tolerances.spatial_aspect * hadamard, 0, np.sign(det))
         return out.astype(np.int8)
 
+    @cached_property
+    def architecturally_singular(self):
+        """True when ``det J`` vanishes at every pose (an architecture singularity).
+
+        Decided in exact rational arithmetic: ``det J`` at three seeded rational poses (rational
+        quaternions and translations, the anchors as their binary rationals). One non-zero value
+        proves the design is not architecturally singular; three exact zeros at independent random
+        rational poses are taken as the identically vanishing determinant (a non-singular design
+        would need all three random poses on its singularity surface). Such designs have a
+        continuum of poses for reachable leg lengths: :meth:`direct_kinematics` refuses them.
+
+        Returns
+        -------
+        bool
+
+        Examples
+        --------
+        >>> xs = np.array([-1.0, -0.5, 0.25, 0.5, 1.0, 1.5])      # six points on y = x^2
+        >>> a = np.stack([xs, xs ** 2, np.zeros(6)], axis=1)
+        >>> GoughStewart(a, a / 2).architecturally_singular          # a similar copy: singular
+        True
+        >>> GoughStewart(a, a[::-1] / 2).architecturally_singular
+        False
+        """
+        from fractions import Fraction
+
+        rng = np.random.default_rng(20261202)
+        A = [[Fraction(float(v)) for v in p] for p in self.base_points]
+        B = [[Fraction(float(v)) for v in p] for p in self.platform_points]
+        for _ in range(3):
+            q = [Fraction(int(v)) for v in rng.integers(-9, 10, 4)]
+            if not any(q):
+                q[0] = Fraction(1)
+            t = [Fraction(int(v), 8) for v in rng.integers(-16, 17, 3)]
+            if _exact_det(_exact_jacobian(q, t, A, B)) != 0:
+                return False
+        return True
+
+    def _check_not_singular(self):
+        if self.architecturally_singular:
+            raise DegenerateDesignError(
+                "the design is architecturally singular (det J vanishes at every pose, e.g. "
+                "affinely related planar hexagons on a conic): its leg lengths fix a continuum of "
+                "poses, not finitely many; expected a design with det J not identically zero")
+
     # ------------------------------------------------------------------ direct kinematics
 
     def family(self):
@@ -343,8 +388,9 @@ class GoughStewart:
         InputError
             If ``lengths`` is not six positive finite numbers, or ``method`` is unknown.
         DegenerateDesignError
-            With ``method="exact"`` (or a certification that falls back to it), if the solution
-            set is positive-dimensional (an architecture singularity or a continuum of poses).
+            If the design is architecturally singular (:attr:`architecturally_singular`), or with
+            ``method="exact"`` (or a certification that falls back to it) if the solution set is
+            positive-dimensional.
 
         Warns
         -----
@@ -369,6 +415,7 @@ class GoughStewart:
         certify = as_flag(certify, "certify")
         if method not in _METHODS:
             raise InputError(f"method must be one of {_METHODS}, got {method!r}")
+        self._check_not_singular()
         if method == "exact":
             return self._exact_result(L)
         if certify:
@@ -406,6 +453,8 @@ class GoughStewart:
         ------
         InputError
             If ``lengths`` does not have shape ``(n, 6)``.
+        DegenerateDesignError
+            If the design is architecturally singular.
 
         Examples
         --------
@@ -419,6 +468,7 @@ class GoughStewart:
         if L.ndim != 2 or L.shape[1] != 6:
             raise InputError(f"lengths must have shape (n, 6), got {L.shape}")
         certify = as_flag(certify, "certify")
+        self._check_not_singular()
         valid = np.all(np.isfinite(L) & (L > 0), axis=1)
         P = np.where(valid[:, None], L, 1.0) ** 2
         batch = solve_rows(self.family(), self.start_system, P, self.tolerances, valid=valid)
@@ -452,6 +502,42 @@ class GoughStewart:
         from .solver import exact_result
 
         return exact_result(self.family(), L)
+
+
+def _exact_jacobian(q, t, A, B):
+    """Rows ``(s_i, a_i x s_i)`` at the rational pose (quaternion ``q``, translation ``t``)."""
+    n = sum(v * v for v in q)
+    w, x, y, z = q
+    R = [[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+         [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
+         [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]]
+    rows = []
+    for a, b in zip(A, B):
+        s = [sum(R[i][j] * b[j] for j in range(3)) / n + t[i] - a[i] for i in range(3)]
+        m = [a[1] * s[2] - a[2] * s[1], a[2] * s[0] - a[0] * s[2], a[0] * s[1] - a[1] * s[0]]
+        rows.append(s + m)
+    return rows
+
+
+def _exact_det(M):
+    """Determinant of a square matrix of Fractions (fraction-exact Gaussian elimination)."""
+    M = [list(r) for r in M]
+    n = len(M)
+    det = 1
+    for k in range(n):
+        p = next((i for i in range(k, n) if M[i][k] != 0), None)
+        if p is None:
+            return 0
+        if p != k:
+            M[k], M[p] = M[p], M[k]
+            det = -det
+        det *= M[k][k]
+        for i in range(k + 1, n):
+            f = M[i][k] / M[k][k]
+            if f:
+                for j in range(k, n):
+                    M[i][j] -= f * M[k][j]
+    return det
 
 
 def check_lengths(lengths, name="lengths", count=6, allow_batch=False):

@@ -23,12 +23,19 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..exceptions import NearSingularWarning
-from .homotopy import PATH_OK, StartSystem, classify_batch, solve_start_system, track_parameters
+from .homotopy import (PATH_OK, StartSystem, classify_batch, recentre, solve_start_system,
+                       track_parameters)
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
 __all__ = ["QuadricFamily", "solve_rows", "certify_row", "exact_study_solver",
            "exact_result", "quadric_polynomials", "study_jacobian_signs"]
+
+
+#: batches of at least this many rows first move the start system next to their median
+#: parameters (:func:`~imagespace.spatial.homotopy.recentre`, one extra row of tracking); a
+#: speed choice, the answers do not depend on it
+RECENTRE_MIN_ROWS = 32
 
 
 @dataclass(frozen=True)
@@ -169,6 +176,8 @@ def solve_rows(family, start, P, tolerances, valid=None):
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
     rows = np.flatnonzero(valid)
+    if rows.size >= RECENTRE_MIN_ROWS:
+        start = recentre(start, np.median(P[rows], axis=0))
     Z, status, _ = track_parameters(start, P[rows])
     return _batch(family, start, P, rows, n, Z, status, tolerances, valid)
 
