@@ -16,6 +16,7 @@ _ATTRIBUTES = {
                  "landed_point_times_n"],
     "gough_stewart": ["GoughStewart", "GOUGH_STEWART_BOUND"],
     "three_rps": ["ThreeRPS"],
+    "platform": ["QuadricPlatform", "check_lengths"],
     "results": ["SpatialDKResult", "SpatialDKBatch"],
     "exact": ["exact_real_study_points", "ExactStudyResult"],
     "certify": ["krawczyk_certify", "KrawczykResult"],
@@ -23,7 +24,7 @@ _ATTRIBUTES = {
     "homotopy": ["StartSystem", "solve_start_system", "track_parameters"],
 }
 __getattr__, __dir__, _ = _lazy.attach(__name__, submodules=["screws", "study", "quadrics", "gough_stewart", "results", "exact", "certify", "solver",
-                                                                   "three_rps",
+                                                                   "three_rps", "platform",
                                                                    "homotopy"],
                                        submod_attrs=_ATTRIBUTES)
 __all__ = sorted({n for names in _ATTRIBUTES.values() for n in names})

@@ -125,7 +125,9 @@ def exact_matrix(Q):
 
 
 def choose_chart(Z, seed=0):
-    """A small integer vector ``r`` with ``|r . x| >= 0.05 |x|`` at every point (``x`` = first 4).
+    """A small integer chart vector ``r``, far from orthogonal to every point's rotation part ``x``.
+
+    Far means ``|r·x| >= 0.05 |r| |x|`` (``x`` the first four coordinates).
 
     Parameters
     ----------
@@ -294,7 +296,9 @@ def _pairwise_disjoint(points, radii):
     parts = np.concatenate([points.real, points.imag], axis=1)          # (k, 16)
     for i in range(k):
         diff = np.abs(parts[i + 1:] - parts[i])                          # fl(a - b) >= |a - b| (1 - u)
-        need = (radii[i + 1:] + radii[i]) * (1 + 2.0 ** -50)
+        # arb stores a radius as a 30-bit magnitude rounded up: the boxes proven may be wider
+        # than ``radii`` by a relative 2^-29; 2^-20 covers it and the float sum
+        need = (radii[i + 1:] + radii[i]) * (1 + 2.0 ** -20)
         sep = np.any(diff * (1 - 2.0 ** -50) > need[:, None], axis=1)
         if not np.all(sep):
             return False

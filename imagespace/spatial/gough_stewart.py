@@ -27,26 +27,19 @@ import numpy as np
 
 from functools import cached_property
 
-from .._validate import as_flag, as_float_array, as_tolerances
+from .._validate import as_float_array, as_tolerances
 from ..exceptions import DegenerateDesignError, InputError
 from .certify import exact_matrix
+from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
-from .solver import QuadricFamily, certify_row, exact_study_solver, solve_rows, start_system
-from .study import rotation_matrix, translation
+from .solver import QuadricFamily
 
-__all__ = ["GoughStewart", "check_lengths", "GOUGH_STEWART_BOUND"]
+__all__ = ["GoughStewart", "GOUGH_STEWART_BOUND"]
 
 #: Every Gough-Stewart platform has at most 40 isolated assembly modes over C (Raghavan 1993;
 #: Ronga & Vust 1992, Lazard 1993, Mourrain 1993).
 GOUGH_STEWART_BOUND = 40
-_METHODS = ("fast", "exact")
 
-
-def _check_points(value, name, count):
-    P = np.array(as_float_array(value, name, allow_batch=True), dtype=float, copy=True)
-    if P.shape != (count, 3):
-        raise InputError(f"{name} must have shape ({count}, 3), got {P.shape}")
-    return P
 
 
 def _collinear(P, tol):
@@ -57,7 +50,7 @@ def _collinear(P, tol):
     return sv[1] <= tol * scale
 
 
-class GoughStewart:
+class GoughStewart(QuadricPlatform):
     """A 6-SPS Gough-Stewart platform.
 
     Parameters
@@ -87,12 +80,12 @@ class GoughStewart:
     (6,)
     """
 
+    leg_count = 6
+
     def __init__(self, base_points, platform_points, tolerances=None):
         self.tolerances = as_tolerances(tolerances)
-        self.base_points = _check_points(base_points, "base_points", 6)
-        self.platform_points = _check_points(platform_points, "platform_points", 6)
-        self.base_points.setflags(write=False)
-        self.platform_points.setflags(write=False)
+        self.base_points = anchor_points(base_points, "base_points", 6)
+        self.platform_points = anchor_points(platform_points, "platform_points", 6)
         tol = self.tolerances.spatial_collinear
         for i in range(6):
             for j in range(i):
@@ -114,31 +107,6 @@ class GoughStewart:
                 f"platform_points={self.platform_points.tolist()})")
 
     # ------------------------------------------------------------------ kinematics
-
-    def leg_vectors(self, s):
-        """The leg vectors ``R b_i + t - a_i`` at Study points.
-
-        Parameters
-        ----------
-        s : (8,) or (n, 8) float
-
-        Returns
-        -------
-        (6, 3) or (n, 6, 3) float
-
-        Raises
-        ------
-        InputError
-            If ``x = 0``, on wrong shapes or non-finite entries.
-
-        Examples
-        --------
-        >>> gs = GoughStewart(np.eye(6, 3), np.eye(6, 3)[::-1] + 1)
-        >>> gs.leg_vectors([1, 0, 0, 0, 0, 0, 0, 0]).shape
-        (6, 3)
-        """
-        R, t = rotation_matrix(s), translation(s)
-        return np.einsum("...ij,kj->...ki", R, self.platform_points) + t[..., None, :] - self.base_points
 
     def inverse_kinematics(self, s):
         """The six leg lengths ``L_i = |R b_i + t - a_i|`` at Study points.
@@ -289,7 +257,19 @@ class GoughStewart:
                 return False
         return True
 
-    def _check_not_singular(self):
+    def check_design(self):
+        """Refuse an architecturally singular design (the direct kinematics calls this).
+
+        Raises
+        ------
+        DegenerateDesignError
+            If :attr:`architecturally_singular`.
+
+        Examples
+        --------
+        >>> rng = np.random.default_rng(0)
+        >>> GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3))).check_design()
+        """
         if self.architecturally_singular:
             raise DegenerateDesignError(
                 "the design is architecturally singular (det J vanishes at every pose, e.g. "
@@ -320,12 +300,6 @@ class GoughStewart:
         return QuadricFamily(A, E, np.array([0, 1, 2, 3, 4, 5, -1]), 6, GOUGH_STEWART_BOUND,
                              self._exact_quadrics, self._aspects_or_empty, sc)
 
-    @cached_property
-    def _scale(self):
-        # a power of two near the anchors' size: dividing by it is exact
-        size = float(np.abs(np.concatenate([self.base_points, self.platform_points])).max())
-        return float(2.0 ** np.round(np.log2(size))) if size > 0 else 1.0
-
     def _aspects_or_empty(self, pts):
         return self.aspects(pts) if pts.shape[0] else np.zeros(0, np.int8)
 
@@ -345,163 +319,6 @@ class GoughStewart:
         sc = self._scale
         return [sphere_quadric_exact(self.base_points[i] / sc, self.platform_points[i] / sc, 0)
                 for i in range(6)]
-
-    @cached_property
-    def start_system(self):
-        """The 40 (or fewer, for special designs) solutions at generic complex lengths, once per design.
-
-        Returns
-        -------
-        imagespace.spatial.homotopy.StartSystem
-
-        Examples
-        --------
-        >>> rng = np.random.default_rng(0)
-        >>> len(GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3))).start_system.solutions)
-        40
-        """
-        return start_system(self.family())
-
-    def direct_kinematics(self, lengths, certify=False, method="fast"):
-        """Every real assembly mode for given leg lengths.
-
-        Parameters
-        ----------
-        lengths : (6,) float
-            Leg lengths, positive. Floats are taken as the exact binary rationals they are.
-        certify : bool
-            Prove the count and every mode: Krawczyk boxes in arb on the exact quadrics around all
-            40 complex solutions (complete by the 40-solution theorem), else msolve. Costs about
-            0.05-0.2 s (Krawczyk) or 1-3 s (msolve).
-        method : {"fast", "exact"}
-            ``"fast"``: the parameter homotopy (one start system per design, then 40 compiled paths).
-            ``"exact"``: msolve on the exact system (needs ``imagespace[exact]``); always certified.
-
-        Returns
-        -------
-        SpatialDKResult
-            ``study_points``, ``rotations``, ``translations``, ``residuals``, ``aspects``,
-            ``count``, ``complex_count``, ``certified``, ``reliable``, ``method``.
-
-        Raises
-        ------
-        InputError
-            If ``lengths`` is not six positive finite numbers, or ``method`` is unknown.
-        DegenerateDesignError
-            If the design is architecturally singular (:attr:`architecturally_singular`), or with
-            ``method="exact"`` (or a certification that falls back to it) if the solution set is
-            positive-dimensional.
-
-        Warns
-        -----
-        NearSingularWarning
-            When the fast path's float checks fail (two paths at one endpoint, a mode neither
-            clearly real nor clearly complex, a path that did not arrive), or a requested
-            certificate is not available.
-
-        Examples
-        --------
-        >>> rng = np.random.default_rng(0)
-        >>> gs = GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
-        >>> from imagespace.spatial.study import study_point
-        >>> s = study_point([1.0, 0.2, -0.1, 0.3], [0.1, 0.2, 1.5])
-        >>> res = gs.direct_kinematics(gs.inverse_kinematics(s), certify=True)
-        >>> res.certified, res.complex_count
-        (True, 40)
-        >>> bool(np.min(np.abs(res.study_points - s).max(axis=1)) < 1e-9)
-        True
-        """
-        L = check_lengths(lengths)
-        certify = as_flag(certify, "certify")
-        if method not in _METHODS:
-            raise InputError(f"method must be one of {_METHODS}, got {method!r}")
-        self._check_not_singular()
-        if method == "exact":
-            return self._exact_result(L)
-        if certify:
-            return certify_row(self.family(), self.start_system, L, self.tolerances,
-                               exact_solver=self._exact_solver_or_none())
-        batch = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances)
-        res = batch[0]
-        if not res.reliable:
-            import warnings
-
-            from ..exceptions import NearSingularWarning
-            warnings.warn(f"the fast path is not sure of this row ({res.complex_count} distinct complex "
-                          "endpoints, or a mode close to the real/complex boundary): use certify=True",
-                          NearSingularWarning, stacklevel=2)
-        return res
-
-    def direct_kinematics_batch(self, lengths, certify=False):
-        """Real assembly modes of many rows of leg lengths (the fast path, per-row masks).
-
-        Parameters
-        ----------
-        lengths : (n, 6) float
-            One row per problem. Rows with a non-positive or non-finite length are marked invalid
-            (``valid[i] = False``, no modes) instead of raising.
-        certify : bool
-            Prove every valid row (see :meth:`direct_kinematics`; ~0.1 s a row).
-
-        Returns
-        -------
-        SpatialDKBatch
-            ``counts``, ragged ``study_points`` (row ``i``: ``batch[i]``), ``reliable``,
-            ``certified``, ``valid`` masks.
-
-        Raises
-        ------
-        InputError
-            If ``lengths`` does not have shape ``(n, 6)``.
-        DegenerateDesignError
-            If the design is architecturally singular.
-
-        Examples
-        --------
-        >>> rng = np.random.default_rng(0)
-        >>> gs = GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
-        >>> b = gs.direct_kinematics_batch([[2.0] * 6, [float("nan")] * 6])
-        >>> b.valid.tolist()
-        [True, False]
-        """
-        L = np.asarray(lengths, dtype=float)
-        if L.ndim != 2 or L.shape[1] != 6:
-            raise InputError(f"lengths must have shape (n, 6), got {L.shape}")
-        certify = as_flag(certify, "certify")
-        self._check_not_singular()
-        valid = np.all(np.isfinite(L) & (L > 0), axis=1)
-        P = np.where(valid[:, None], L, 1.0) ** 2
-        batch = solve_rows(self.family(), self.start_system, P, self.tolerances, valid=valid)
-        if not certify:
-            return batch
-        return self._certify_batch(batch, L, valid)
-
-    def _certify_batch(self, batch, L, valid):
-        from .results import SpatialDKBatch
-
-        rows = [certify_row(self.family(), self.start_system, L[i], self.tolerances,
-                            exact_solver=self._exact_solver_or_none()) if valid[i] else None
-                for i in range(L.shape[0])]
-        counts = np.array([r.count if r is not None else 0 for r in rows])
-        pts = [r.study_points for r in rows if r is not None]
-        return SpatialDKBatch(counts, np.concatenate([[0], np.cumsum(counts)]),
-                              np.vstack(pts) if pts else np.zeros((0, 8)),
-                              np.concatenate([r.residuals for r in rows if r is not None] or [np.zeros(0)]),
-                              np.concatenate([r.aspects for r in rows if r is not None]
-                                             or [np.zeros(0, np.int8)]).astype(np.int8),
-                              np.array([r.complex_count if r is not None else 0 for r in rows]),
-                              np.array([r.reliable if r is not None else False for r in rows]),
-                              np.array([r.certified if r is not None else False for r in rows]), valid)
-
-    def _exact_solver_or_none(self):
-        from ..core.msolve import msolve_available
-
-        return exact_study_solver if msolve_available() else None
-
-    def _exact_result(self, L):
-        from .solver import exact_result
-
-        return exact_result(self.family(), L)
 
 
 def _exact_jacobian(q, t, A, B):
@@ -538,36 +355,3 @@ def _exact_det(M):
                 for j in range(k, n):
                     M[i][j] -= f * M[k][j]
     return det
-
-
-def check_lengths(lengths, name="lengths", count=6, allow_batch=False):
-    """Leg lengths as a checked float array: finite and positive.
-
-    Parameters
-    ----------
-    lengths : (count,) or (n, count) float
-    name : str
-    count : int
-    allow_batch : bool
-
-    Returns
-    -------
-    (count,) or (n, count) float
-
-    Raises
-    ------
-    InputError
-        On a wrong shape, NaN/inf, or a length <= 0 (named by its index).
-
-    Examples
-    --------
-    >>> check_lengths([1, 2, 3, 4, 5, 6])
-    array([1., 2., 3., 4., 5., 6.])
-    """
-    L = as_float_array(lengths, name, last=count, allow_batch=allow_batch, finite=False)
-    bad = np.argwhere(~(np.isfinite(L) & (L > 0)))
-    if bad.size:
-        idx = tuple(int(v) for v in bad[0])
-        raise InputError(f"{name} must be positive finite leg lengths, got {L[idx]} at index "
-                         f"{idx if len(idx) > 1 else idx[0]}")
-    return L

@@ -491,7 +491,7 @@ def study_condition(s):
 
 
 def normalize_study(s):
-    """The normalised representative: ``x . x = 1``, first non-zero of ``x`` positive.
+    """The normalised representative: ``|x| = 1``, first non-zero of ``x`` positive.
 
     Parameters
     ----------

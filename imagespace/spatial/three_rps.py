@@ -29,26 +29,15 @@ from functools import cached_property
 
 import numpy as np
 
-from .._validate import as_flag, as_float_array, as_tolerances
+from .._validate import as_tolerances
 from ..exceptions import DegenerateDesignError, InputError
 from .certify import exact_matrix
-from .gough_stewart import check_lengths
+from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import (point_on_plane_quadric, sphere_quadric, sphere_quadric_exact,
                        study_quadric_matrix)
-from .solver import (QuadricFamily, certify_row, exact_result, exact_study_solver, solve_rows,
-                     start_system, study_jacobian_signs)
-from .study import rotation_matrix, translation
+from .solver import QuadricFamily, study_jacobian_signs
 
 __all__ = ["ThreeRPS"]
-
-_METHODS = ("fast", "exact")
-
-
-def _points(value, name):
-    P = np.array(as_float_array(value, name, allow_batch=True), dtype=float, copy=True)
-    if P.shape != (3, 3):
-        raise InputError(f"{name} must have shape (3, 3), got {P.shape}")
-    return P
 
 
 def _tangent_axes(a):
@@ -59,11 +48,7 @@ def _tangent_axes(a):
     return np.cross(n, a - c)
 
 
-def _exact_displacements(Q_exact):
-    return exact_study_solver(Q_exact, exclude_null_rotations=None)
-
-
-class ThreeRPS:
+class ThreeRPS(QuadricPlatform):
     """A 3-RPS parallel manipulator.
 
     Parameters
@@ -92,10 +77,12 @@ class ThreeRPS:
     array([2.062, 2.055, 2.055])
     """
 
+    leg_count = 3
+
     def __init__(self, base_points, platform_points, base_axes=None, tolerances=None):
         self.tolerances = as_tolerances(tolerances)
-        self.base_points = _points(base_points, "base_points")
-        self.platform_points = _points(platform_points, "platform_points")
+        self.base_points = anchor_points(base_points, "base_points", 3)
+        self.platform_points = anchor_points(platform_points, "platform_points", 3)
         tol = self.tolerances.spatial_collinear
         for name, P in (("base_points", self.base_points), ("platform_points", self.platform_points)):
             scale = max(float(np.abs(P).max()), 1.0)
@@ -104,41 +91,15 @@ class ThreeRPS:
                                             "line; expected a triangle")
         if base_axes is None:
             self.base_axes = _tangent_axes(self.base_points)
+            self.base_axes.setflags(write=False)
         else:
-            self.base_axes = _points(base_axes, "base_axes")
+            self.base_axes = anchor_points(base_axes, "base_axes", 3)
             if np.any(np.linalg.norm(self.base_axes, axis=1) == 0):
                 raise InputError("base_axes must be non-zero vectors, got a zero row")
-        for arr in (self.base_points, self.platform_points, self.base_axes):
-            arr.setflags(write=False)
 
     def __repr__(self):
         return (f"ThreeRPS(base_points={self.base_points.tolist()}, "
                 f"platform_points={self.platform_points.tolist()}, base_axes={self.base_axes.tolist()})")
-
-    def leg_vectors(self, s):
-        """``R b_i + t - a_i`` at Study points: ``(3, 3)`` or ``(n, 3, 3)``.
-
-        Parameters
-        ----------
-        s : (8,) or (n, 8) float
-
-        Returns
-        -------
-        (3, 3) or (n, 3, 3) float
-
-        Raises
-        ------
-        InputError
-            If ``x = 0``, on wrong shapes or non-finite entries.
-
-        Examples
-        --------
-        >>> m = ThreeRPS(np.eye(3), 0.5 * np.eye(3))
-        >>> m.leg_vectors([1, 0, 0, 0, 0, 0, 0, 0]).shape
-        (3, 3)
-        """
-        R, t = rotation_matrix(s), translation(s)
-        return np.einsum("...ij,kj->...ki", R, self.platform_points) + t[..., None, :] - self.base_points
 
     def inverse_kinematics(self, s):
         """Leg lengths ``|R b_i + t - a_i|``; the pose must keep each leg in its plane.
@@ -202,11 +163,6 @@ class ThreeRPS:
                                                 self.base_axes[i]) for i in range(3)])
 
     @cached_property
-    def _scale(self):
-        size = float(np.abs(np.concatenate([self.base_points, self.platform_points])).max())
-        return float(2.0 ** np.round(np.log2(size))) if size > 0 else 1.0
-
-    @cached_property
     def _family(self):
         import sympy as sp
 
@@ -251,76 +207,3 @@ class ThreeRPS:
         3
         """
         return self._family
-
-    @cached_property
-    def start_system(self):
-        """The solutions at generic complex lengths (16 for a general design), once per design.
-
-        Returns
-        -------
-        imagespace.spatial.homotopy.StartSystem
-
-        Examples
-        --------
-        >>> m = ThreeRPS([[1, 0, 0], [-0.5, 0.8, 0], [-0.5, -0.8, 0]],
-        ...              [[0.5, 0, 0], [-0.25, 0.4, 0], [-0.25, -0.4, 0]])
-        >>> len(m.start_system.solutions)
-        16
-        """
-        return start_system(self.family())
-
-    def direct_kinematics(self, lengths, certify=False, method="fast"):
-        """Every real assembly mode for given leg lengths.
-
-        Parameters
-        ----------
-        lengths : (3,) float
-            Positive leg lengths.
-        certify : bool
-            Prove the result (msolve on the exact system; needs ``imagespace[exact]``).
-        method : {"fast", "exact"}
-
-        Returns
-        -------
-        SpatialDKResult
-
-        Raises
-        ------
-        InputError
-            On bad lengths or an unknown method.
-        DegenerateDesignError
-            If the exact path finds a positive-dimensional solution set.
-
-        Warns
-        -----
-        NearSingularWarning
-            When the fast path's float checks fail, or a requested certificate is not available.
-
-        Examples
-        --------
-        >>> m = ThreeRPS([[1, 0, 0], [-0.5, 0.8, 0], [-0.5, -0.8, 0]],
-        ...              [[0.5, 0, 0], [-0.25, 0.4, 0], [-0.25, -0.4, 0]])
-        >>> res = m.direct_kinematics([2.0, 2.0, 2.0])
-        >>> res.complex_count, res.count
-        (16, 16)
-        """
-        L = check_lengths(lengths, count=3)
-        certify = as_flag(certify, "certify")
-        if method not in _METHODS:
-            raise InputError(f"method must be one of {_METHODS}, got {method!r}")
-        if method == "exact":
-            return exact_result(self.family(), L)
-        if certify:
-            from ..core.msolve import msolve_available
-
-            return certify_row(self.family(), self.start_system, L, self.tolerances,
-                               exact_solver=_exact_displacements if msolve_available() else None)
-        res = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances)[0]
-        if not res.reliable:
-            import warnings
-
-            from ..exceptions import NearSingularWarning
-            warnings.warn(f"the fast path is not sure of this row ({res.complex_count} distinct complex "
-                          "endpoints, or a mode close to the real/complex boundary): use certify=True",
-                          NearSingularWarning, stacklevel=2)
-        return res

@@ -1,0 +1,291 @@
+"""What every spatial parallel platform of this package shares: anchors, leg vectors, and the
+direct kinematics of its quadric family (fast, certified, exact; one row or a batch).
+
+A platform subclass (:class:`~imagespace.spatial.GoughStewart`,
+:class:`~imagespace.spatial.ThreeRPS`) supplies ``leg_count``, :meth:`QuadricPlatform.family` and,
+where it has one, a design check (:meth:`QuadricPlatform.check_design`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from functools import cached_property
+
+import numpy as np
+
+from .._validate import as_flag, as_float_array
+from ..exceptions import InputError, NearSingularWarning
+from .results import SpatialDKBatch
+from .solver import certify_row, exact_result, exact_study_solver, solve_rows, start_system
+from .study import rotation_matrix, translation
+
+__all__ = ["QuadricPlatform", "anchor_points", "check_lengths", "DK_METHODS"]
+
+#: the direct kinematics' methods
+DK_METHODS = ("fast", "exact")
+
+
+def anchor_points(value, name, count):
+    """Anchor coordinates as a private read-only ``(count, 3)`` float copy.
+
+    Parameters
+    ----------
+    value : (count, 3) float
+    name : str
+    count : int
+
+    Returns
+    -------
+    (count, 3) float
+
+    Raises
+    ------
+    InputError
+        On a wrong shape or non-finite entries.
+
+    Examples
+    --------
+    >>> anchor_points([[0, 0, 0], [1, 0, 0], [0, 1, 0]], "base_points", 3).shape
+    (3, 3)
+    """
+    P = np.array(as_float_array(value, name, allow_batch=True), dtype=float, copy=True)
+    if P.shape != (count, 3):
+        raise InputError(f"{name} must have shape ({count}, 3), got {P.shape}")
+    P.setflags(write=False)
+    return P
+
+
+def check_lengths(lengths, name="lengths", count=6, allow_batch=False):
+    """Leg lengths as a checked float array: finite and positive.
+
+    Parameters
+    ----------
+    lengths : (count,) or (n, count) float
+    name : str
+    count : int
+    allow_batch : bool
+
+    Returns
+    -------
+    (count,) or (n, count) float
+
+    Raises
+    ------
+    InputError
+        On a wrong shape, NaN/inf, or a length <= 0 (named by its index).
+
+    Examples
+    --------
+    >>> check_lengths([1, 2, 3, 4, 5, 6])
+    array([1., 2., 3., 4., 5., 6.])
+    """
+    L = as_float_array(lengths, name, last=count, allow_batch=allow_batch, finite=False)
+    bad = np.argwhere(~(np.isfinite(L) & (L > 0)))
+    if bad.size:
+        idx = tuple(int(v) for v in bad[0])
+        raise InputError(f"{name} must be positive finite leg lengths, got {L[idx]} at index "
+                         f"{idx if len(idx) > 1 else idx[0]}")
+    return L
+
+
+class QuadricPlatform:
+    """Base of the spatial platforms: ``base_points``, ``platform_points``, ``tolerances``.
+
+    Subclasses set ``leg_count`` and define :meth:`family`.
+    """
+
+    leg_count = 0
+
+    def family(self):  # pragma: no cover - every subclass defines it
+        """The direct kinematics as a :class:`~imagespace.spatial.solver.QuadricFamily`."""
+        raise NotImplementedError
+
+    def check_design(self):
+        """Refuse designs whose direct kinematics is not finite (a hook; nothing by default).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3)).check_design()
+        """
+
+    def leg_vectors(self, s):
+        """The leg vectors ``R b_i + t - a_i`` at Study points.
+
+        Parameters
+        ----------
+        s : (8,) or (n, 8) float
+
+        Returns
+        -------
+        (legs, 3) or (n, legs, 3) float
+
+        Raises
+        ------
+        InputError
+            If ``x = 0``, on wrong shapes or non-finite entries.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> gs = isp.GoughStewart(np.eye(6, 3), np.eye(6, 3)[::-1] + 1)
+        >>> gs.leg_vectors([1, 0, 0, 0, 0, 0, 0, 0]).shape
+        (6, 3)
+        """
+        R, t = rotation_matrix(s), translation(s)
+        return np.einsum("...ij,kj->...ki", R, self.platform_points) + t[..., None, :] - self.base_points
+
+    @cached_property
+    def _scale(self):
+        # a power of two near the anchors' size: dividing by it is exact
+        size = float(np.abs(np.concatenate([self.base_points, self.platform_points])).max())
+        return float(2.0 ** np.round(np.log2(size))) if size > 0 else 1.0
+
+    @cached_property
+    def start_system(self):
+        """The family's solutions at generic complex lengths, computed once per design.
+
+        40 for a general Gough-Stewart platform, 16 for a 6-3 or 3-3 one or a general 3-RPS.
+
+        Returns
+        -------
+        imagespace.spatial.homotopy.StartSystem
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> rng = np.random.default_rng(0)
+        >>> len(isp.GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3))).start_system.solutions)
+        40
+        """
+        return start_system(self.family())
+
+    def _exact_solver_or_none(self):
+        from ..core.msolve import msolve_available
+
+        return exact_study_solver if msolve_available() else None
+
+    def direct_kinematics(self, lengths, certify=False, method="fast"):
+        """Every real assembly mode for given leg lengths.
+
+        Parameters
+        ----------
+        lengths : (legs,) float
+            Leg lengths, positive. Floats are taken as the exact binary rationals they are.
+        certify : bool
+            Prove the count and every mode. Where the family has a theorem's bound on its number
+            of solutions (40 for Gough-Stewart), Krawczyk boxes in arb on the exact quadrics
+            around all endpoints (0.05-0.2 s); otherwise, or where that does not settle it,
+            msolve on the exact system (1-6 s; needs ``imagespace[exact]``).
+        method : {"fast", "exact"}
+            ``"fast"``: the parameter homotopy (one start system per design, then one compiled
+            path per start solution). ``"exact"``: msolve on the exact system; always certified.
+
+        Returns
+        -------
+        SpatialDKResult
+            ``study_points``, ``rotations``, ``translations``, ``residuals``, ``aspects``,
+            ``count``, ``complex_count``, ``certified``, ``reliable``, ``method``.
+
+        Raises
+        ------
+        InputError
+            If ``lengths`` is not ``legs`` positive finite numbers, or ``method`` is unknown.
+        DegenerateDesignError
+            If the design check refuses the design (an architecture singularity), or with
+            ``method="exact"`` (or a certification that falls back to it) if the solution set is
+            positive-dimensional.
+
+        Warns
+        -----
+        NearSingularWarning
+            When the fast path's float checks fail (two paths at one endpoint, a mode neither
+            clearly real nor clearly complex, a path that did not arrive), or a requested
+            certificate is not available.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.spatial.study import study_point
+        >>> rng = np.random.default_rng(0)
+        >>> gs = isp.GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
+        >>> s = study_point([1.0, 0.2, -0.1, 0.3], [0.1, 0.2, 1.5])
+        >>> res = gs.direct_kinematics(gs.inverse_kinematics(s), certify=True)
+        >>> res.certified, res.complex_count
+        (True, 40)
+        >>> bool(np.min(np.abs(res.study_points - s).max(axis=1)) < 1e-9)
+        True
+        """
+        L = check_lengths(lengths, count=self.leg_count)
+        certify = as_flag(certify, "certify")
+        if method not in DK_METHODS:
+            raise InputError(f"method must be one of {DK_METHODS}, got {method!r}")
+        self.check_design()
+        if method == "exact":
+            return exact_result(self.family(), L)
+        if certify:
+            return certify_row(self.family(), self.start_system, L, self.tolerances,
+                               exact_solver=self._exact_solver_or_none())
+        res = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances)[0]
+        if not res.reliable:
+            warnings.warn(f"the fast path is not sure of this row ({res.complex_count} distinct complex "
+                          "endpoints, or a mode close to the real/complex boundary): use certify=True",
+                          NearSingularWarning, stacklevel=2)
+        return res
+
+    def direct_kinematics_batch(self, lengths, certify=False):
+        """Real assembly modes of many rows of leg lengths (the fast path, per-row masks).
+
+        Parameters
+        ----------
+        lengths : (n, legs) float
+            One row per problem. Rows with a non-positive or non-finite length are marked invalid
+            (``valid[i] = False``, no modes) instead of raising.
+        certify : bool
+            Prove every valid row (see :meth:`direct_kinematics`; ~0.07 s a Gough-Stewart row).
+
+        Returns
+        -------
+        SpatialDKBatch
+            ``counts``, ragged ``study_points`` (row ``i``: ``batch[i]``), ``reliable``,
+            ``certified``, ``valid`` masks.
+
+        Raises
+        ------
+        InputError
+            If ``lengths`` does not have shape ``(n, legs)``.
+        DegenerateDesignError
+            If the design check refuses the design.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> rng = np.random.default_rng(0)
+        >>> gs = isp.GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
+        >>> b = gs.direct_kinematics_batch([[2.0] * 6, [float("nan")] * 6])
+        >>> b.valid.tolist()
+        [True, False]
+        """
+        L = np.asarray(lengths, dtype=float)
+        k = self.leg_count
+        if L.ndim != 2 or L.shape[1] != k:
+            raise InputError(f"lengths must have shape (n, {k}), got {L.shape}")
+        certify = as_flag(certify, "certify")
+        self.check_design()
+        valid = np.all(np.isfinite(L) & (L > 0), axis=1)
+        if not certify:
+            P = np.where(valid[:, None], L, 1.0) ** 2
+            return solve_rows(self.family(), self.start_system, P, self.tolerances, valid=valid)
+        solver = self._exact_solver_or_none()
+        rows = [certify_row(self.family(), self.start_system, L[i], self.tolerances, exact_solver=solver)
+                if valid[i] else None for i in range(L.shape[0])]
+        done = [r for r in rows if r is not None]
+        counts = np.array([r.count if r is not None else 0 for r in rows], dtype=np.int64)
+        return SpatialDKBatch(
+            counts, np.concatenate([[0], np.cumsum(counts)]),
+            np.vstack([r.study_points for r in done]) if done else np.zeros((0, 8)),
+            np.concatenate([r.residuals for r in done]) if done else np.zeros(0),
+            np.concatenate([r.aspects for r in done]).astype(np.int8) if done else np.zeros(0, np.int8),
+            np.array([r.complex_count if r is not None else 0 for r in rows]),
+            np.array([r.reliable if r is not None else False for r in rows]),
+            np.array([r.certified if r is not None else False for r in rows]), valid)
