@@ -15,7 +15,7 @@ import lazy_loader as _lazy
 _SUBMODULES = [
     "core", "solve", "singular", "paths", "design", "spatial", "dynamics",
     "examples", "manipulator", "plotting", "widgets", "drawing", "cli", "tolerances", "exceptions",
-    "display",
+    "display", "spatial_surfaces",
 ]
 # short names of modules that live in the layered packages (ARCHITECTURE.md), e.g. isp.screws
 _MODULE_ALIASES = {
@@ -49,6 +49,7 @@ _ATTRIBUTES = {
     "tolerances": ["TOLERANCES", "Tolerances"],
     "spatial.gough_stewart": ["GoughStewart"],
     "spatial.three_rps": ["ThreeRPS"],
+    "spatial_surfaces": ["mesh_constant_orientation_singularity"],
 }
 _lazy_getattr, _lazy_dir, _ = _lazy.attach(__name__, submodules=_SUBMODULES, submod_attrs=_ATTRIBUTES)
 

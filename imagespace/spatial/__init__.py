@@ -1,7 +1,10 @@
 """The spatial side: screw theory (:mod:`~imagespace.spatial.screws`) and the spatial kinematic image
 space: Study's map (:mod:`~imagespace.spatial.study`), constraint quadrics in ``P^7``
-(:mod:`~imagespace.spatial.quadrics`) and the Gough-Stewart platform
-(:mod:`~imagespace.spatial.gough_stewart`). Imports ``core`` only.
+(:mod:`~imagespace.spatial.quadrics`), the Gough-Stewart platform
+(:mod:`~imagespace.spatial.gough_stewart`) and the 3-RPS (:mod:`~imagespace.spatial.three_rps`),
+their direct kinematics (:mod:`~imagespace.spatial.homotopy`, :mod:`~imagespace.spatial.certify`,
+:mod:`~imagespace.spatial.exact`) and singularities (:mod:`~imagespace.spatial.singularities`; the
+meshes of :mod:`imagespace.spatial_surfaces`). Imports ``core`` only.
 """
 
 import lazy_loader as _lazy
@@ -17,6 +20,8 @@ _ATTRIBUTES = {
     "gough_stewart": ["GoughStewart", "GOUGH_STEWART_BOUND"],
     "three_rps": ["ThreeRPS"],
     "platform": ["QuadricPlatform", "check_lengths"],
+    "singularities": ["leg_line_forms", "jacobian_matrix", "jacobian_determinant", "aspect",
+                      "constant_orientation_singularity", "ConstantOrientationSingularity"],
     "results": ["SpatialDKResult", "SpatialDKBatch"],
     "exact": ["exact_real_study_points", "ExactStudyResult"],
     "certify": ["krawczyk_certify", "KrawczykResult"],
@@ -24,7 +29,7 @@ _ATTRIBUTES = {
     "homotopy": ["StartSystem", "solve_start_system", "track_parameters"],
 }
 __getattr__, __dir__, _ = _lazy.attach(__name__, submodules=["screws", "study", "quadrics", "gough_stewart", "results", "exact", "certify", "solver",
-                                                                   "three_rps", "platform",
+                                                                   "three_rps", "platform", "singularities",
                                                                    "homotopy"],
                                        submod_attrs=_ATTRIBUTES)
 __all__ = sorted({n for names in _ATTRIBUTES.values() for n in names})

@@ -190,22 +190,34 @@ class GoughStewart(QuadricPlatform):
         V = self.leg_vectors(s)
         return np.concatenate([V, np.cross(self.base_points, V)], axis=-1)
 
-    def aspects(self, s):
-        """Sign of ``det J`` at each Study point (``0`` where it is below ``Tolerances.spatial_aspect``
-        times Hadamard's bound, i.e. on or very near a singularity).
+    def aspects(self, s, tolerances=None):
+        """The aspect of poses: the sign of ``det J`` (+1, -1), or 0 at a singularity.
+
+        The decision is scale-free: the moment columns are divided by the design's length scale
+        ``c = max |a_i|`` (both halves of a row are then lengths; this multiplies ``det J`` by
+        ``c^-3 > 0`` and keeps its sign), and the pose is singular (aspect 0) when
+        ``|det| <= Tolerances.spatial_aspect * prod(row norms)`` for these balanced rows (Hadamard's
+        bound). Without the balancing the ratio would change with the unit of length (rows mix
+        lengths and squared lengths): the same design in micrometres would look singular
+        everywhere. Moving the base origin adds cross products of the first three columns to the
+        last three, which leaves ``det J`` unchanged.
 
         Parameters
         ----------
         s : (8,) or (n, 8) float
+        tolerances : Tolerances, optional
+            Default: the design's own ``tolerances``.
 
         Returns
         -------
-        int8 or (n,) int8
+        int or (n,) int8
 
         Raises
         ------
         InputError
             If ``x = 0``, on wrong shapes or non-finite entries.
+        TypeError
+            If ``tolerances`` is not a Tolerances.
 
         Examples
         --------
@@ -213,11 +225,13 @@ class GoughStewart(QuadricPlatform):
         >>> int(gs.aspects([1, 0, 0, 0, 0, 0, 0, 0])) in (-1, 0, 1)
         True
         """
-        J = self.jacobian(s)
-        det = np.linalg.det(J)
-        hadamard = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-        out = np.where(np.abs(det) <= self.tolerances.spatial_aspect * hadamard, 0, np.sign(det))
-        return out.astype(np.int8)
+        tol = (self.tolerances if tolerances is None else as_tolerances(tolerances)).spatial_aspect
+        J = np.array(self.jacobian(s), dtype=float)
+        J[..., 3:] /= float(np.max(np.linalg.norm(self.base_points, axis=1)))
+        norms = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
+        d = np.linalg.det(J)
+        out = np.where(np.abs(d) > tol * norms, np.sign(d), 0).astype(np.int8)
+        return int(out) if out.ndim == 0 else out
 
     @cached_property
     def architecturally_singular(self):
@@ -301,7 +315,7 @@ class GoughStewart(QuadricPlatform):
                              self._exact_quadrics, self._aspects_or_empty, sc)
 
     def _aspects_or_empty(self, pts):
-        return self.aspects(pts) if pts.shape[0] else np.zeros(0, np.int8)
+        return np.atleast_1d(self.aspects(pts)).astype(np.int8) if pts.shape[0] else np.zeros(0, np.int8)
 
     def _exact_quadrics(self, squared_lengths):
         out = np.empty((7, 8, 8), dtype=object)

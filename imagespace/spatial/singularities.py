@@ -298,16 +298,7 @@ def aspect(gs, s, tolerances=None):
     >>> aspect(gs, [1, 0, 0, 0, 0, 0, 0, 0]) in (-1, 1)
     True
     """
-    gs = _check_gs(gs)
-    tol = (gs.tolerances if tolerances is None else as_tolerances(tolerances)).spatial_aspect
-    J = jacobian_matrix(gs, s)
-    c = float(np.max(np.linalg.norm(gs.base_points, axis=1)))
-    J = J.copy()
-    J[..., 3:] /= c
-    norms = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-    d = np.linalg.det(J)
-    out = np.where(np.abs(d) > tol * norms, np.sign(d), 0).astype(np.int8)
-    return int(out) if out.ndim == 0 else out
+    return _check_gs(gs).aspects(s, tolerances)
 
 
 # --------------------------------------------------------------------------- constant orientation
