@@ -164,6 +164,7 @@ def test_referee_finds_the_generating_pose_exact_lengths(seed):
     assert _matches(ref.rotations, ref.translations, ref.rotations, ref.translations) is None
 
 
+@pytest.mark.slow
 def test_referee_finds_the_generating_pose_float_lengths():
     # the API's situation: float lengths, the referee solves for their exact binary squares
     name, design, lengths, pose = _case(0)
@@ -202,6 +203,7 @@ def test_referee_half_turn_random_axis_exact_lengths():
     assert ref.half_turns.sum() == 1
 
 
+@pytest.mark.slow
 def test_referee_complex_count_general_design():
     # Raghavan, Ronga-Vust, Lazard, Mourrain (1993): 40 complex poses of a general 6-6 platform
     name, design, lengths, pose = _case(0)
@@ -251,6 +253,7 @@ def test_referee_dietmaier_40_real_float_data():
     assert _contains_pose(ref, d.pose_rotation, d.pose_translation, tol=1e-11)
 
 
+@pytest.mark.slow
 def test_referee_searched_design_count():
     d = D.SEARCHED_DESIGN
     ref = _searched_referee()
@@ -285,6 +288,7 @@ def test_api_matches_referee(i, method):
 
 
 @needs_api
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["exact", "fast"])
 def test_api_complex_count_general_design(method):
     name, design, lengths, pose = _case(0)
@@ -307,7 +311,7 @@ def test_api_exact_half_turn(seed, method):
 
 @needs_api
 @pytest.mark.parametrize("method", ["exact", "fast"])
-@pytest.mark.parametrize("seed", [31, pytest.param(32, marks=pytest.mark.slow),
+@pytest.mark.parametrize("seed", [pytest.param(31, marks=pytest.mark.slow), pytest.param(32, marks=pytest.mark.slow),
                                   pytest.param(33, marks=pytest.mark.slow)])
 def test_api_half_turn_random_axis(seed, method):
     # a half-turn about a random rational axis; float lengths put q0 within ~1e-16 of 0
@@ -320,6 +324,7 @@ def test_api_half_turn_random_axis(seed, method):
 
 
 @needs_api
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["exact", "fast"])
 def test_api_searched_design_count(method):
     d = D.SEARCHED_DESIGN
