@@ -199,8 +199,9 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     Z, status : optional
         The row's tracked endpoints (tracked here when omitted).
     exact_solver : callable, optional
-        ``exact_solver(Q_exact) -> (study_points (k, 8) float)``, raising on positive-dimensional
-        systems; used when Krawczyk does not prove the row.
+        ``exact_solver(Q_exact) -> (study_points (k, 8) float, complex_count)``, raising on
+        positive-dimensional systems (:func:`exact_study_solver`); used when Krawczyk does not
+        prove the row.
 
     Returns
     -------
