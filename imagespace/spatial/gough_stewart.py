@@ -23,12 +23,12 @@ in Robot Kinematics 1998, doi:10.1007/978-94-015-9064-8_1.
 
 from __future__ import annotations
 
-import numpy as np
-
 from functools import cached_property
 
-from .._validate import as_float_array, as_tolerances
-from ..exceptions import DegenerateDesignError, InputError
+import numpy as np
+
+from .._validate import as_tolerances
+from ..exceptions import DegenerateDesignError
 from .certify import exact_matrix
 from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
@@ -39,7 +39,6 @@ __all__ = ["GoughStewart", "GOUGH_STEWART_BOUND"]
 #: Every Gough-Stewart platform has at most 40 isolated assembly modes over C (Raghavan 1993;
 #: Ronga & Vust 1992, Lazard 1993, Mourrain 1993).
 GOUGH_STEWART_BOUND = 40
-
 
 
 def _collinear(P, tol):

@@ -23,8 +23,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..exceptions import NearSingularWarning
-from .homotopy import (PATH_OK, StartSystem, classify_batch, recentre, solve_start_system,
-                       track_parameters)
+from .homotopy import PATH_OK, classify_batch, recentre, solve_start_system, track_parameters
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
