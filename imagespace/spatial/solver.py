@@ -300,7 +300,8 @@ def exact_study_solver(Q_exact, exclude_null_rotations=None):
     -------
     study_points : (k, 8) float
     complex_count : int
-        Complex solutions in the chart ``x0 = 1``.
+        Complex solutions with ``x != 0``: the sum over the four strata (a symmetric design can
+        have modes with ``x0 = 0``, which the chart ``x0 = 1`` alone would not count).
 
     Raises
     ------
@@ -324,7 +325,8 @@ def exact_study_solver(Q_exact, exclude_null_rotations=None):
 
     res = exact_real_study_points(quadric_polynomials(Q_exact), study_quadric=False,
                                   exclude_null_rotations=exclude_null_rotations)
-    return res.study_points, res.complex_count
+    # the strata x0 = 1, (x0 = 0, x1 = 1), ... hold every point with x != 0 exactly once
+    return res.study_points, int(sum(res.stratum_complex_counts))
 
 
 def exact_result(family, lengths, exclude_null_rotations=None):

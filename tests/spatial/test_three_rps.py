@@ -94,3 +94,16 @@ def test_bad_input():
         m.direct_kinematics([1.0, float("nan"), 1.0])
     with pytest.raises(InputError, match="method"):
         m.direct_kinematics([1.0, 1.0, 1.0], method="magic")
+
+
+@needs_msolve
+def test_complex_count_includes_half_turn_modes():
+    # a symmetric design whose modes include half-turns (x0 = 0): msolve's count in the chart
+    # x0 = 1 alone misses them; the count over the four strata equals the homotopy's 16
+    m = isp.ThreeRPS([[1, 0, 0], [-0.5, 0.8, 0], [-0.5, -0.8, 0]],
+                     [[0.5, 0, 0], [-0.25, 0.4, 0], [-0.25, -0.4, 0]])
+    exact = m.direct_kinematics([2.0, 2.0, 2.0], method="exact")
+    fast = m.direct_kinematics([2.0, 2.0, 2.0])
+    assert exact.complex_count == 16 == len(m.start_system.solutions)
+    assert exact.count == fast.count == 16
+    assert np.any(np.abs(exact.study_points[:, 0]) < 1e-12)           # some modes are half-turns
