@@ -306,6 +306,12 @@ class GoughStewart(QuadricPlatform):
         >>> gs.family().bound
         40
         """
+        return self._family
+
+    @cached_property
+    def _family(self):
+        # built once per design: every direct-kinematics call (and every certified batch row)
+        # reads it
         sc = self._scale
         A = np.concatenate([sphere_quadric(self.base_points / sc, self.platform_points / sc, 0.0),
                             study_quadric_matrix()[None]], axis=0)
@@ -334,6 +340,13 @@ class GoughStewart(QuadricPlatform):
                 for i in range(6)]
 
 
+def _exact_det(rows):
+    """Determinant of a square matrix of Fractions, exactly (python-flint's ``fmpq_mat``)."""
+    import flint
+
+    return flint.fmpq_mat([[flint.fmpq(v.numerator, v.denominator) for v in r] for r in rows]).det()
+
+
 def _exact_jacobian(q, t, A, B):
     """Rows ``(s_i, a_i x s_i)`` at the rational pose (quaternion ``q``, translation ``t``)."""
     n = sum(v * v for v in q)
@@ -347,24 +360,3 @@ def _exact_jacobian(q, t, A, B):
         m = [a[1] * s[2] - a[2] * s[1], a[2] * s[0] - a[0] * s[2], a[0] * s[1] - a[1] * s[0]]
         rows.append(s + m)
     return rows
-
-
-def _exact_det(M):
-    """Determinant of a square matrix of Fractions (fraction-exact Gaussian elimination)."""
-    M = [list(r) for r in M]
-    n = len(M)
-    det = 1
-    for k in range(n):
-        p = next((i for i in range(k, n) if M[i][k] != 0), None)
-        if p is None:
-            return 0
-        if p != k:
-            M[k], M[p] = M[p], M[k]
-            det = -det
-        det *= M[k][k]
-        for i in range(k + 1, n):
-            f = M[i][k] / M[k][k]
-            if f:
-                for j in range(k, n):
-                    M[i][j] -= f * M[k][j]
-    return det
