@@ -33,7 +33,7 @@ import numpy as np
 import sympy as sp
 
 from .._validate import as_float_array
-from ..exceptions import InputError
+from ..exceptions import DegenerateDesignError, InputError
 from .elimination import form_coefficients
 
 __all__ = ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
@@ -612,8 +612,10 @@ def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):
     err : (n, d+1) float, optional
         Rigorous bounds ``|exact - F| <= err`` per coefficient. Requires ``exact``.
     exact : callable, optional
-        ``exact(i)`` returns the exact coefficients of row ``i`` (sympy numbers or Fractions)
-        for the rows the discs cannot decide. Default: the floats of ``F`` themselves.
+        ``exact(i)`` returns the exact coefficients of row ``i`` (sympy numbers or Fractions),
+        or directly its :class:`RealRootCertificate` (e.g. one decided on enclosures of
+        transcendental coefficients), for the rows the discs cannot decide. Default: the floats
+        of ``F`` themselves.
     return_intervals : bool
         Also return the real-root intervals.
 
@@ -623,9 +625,10 @@ def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):
         Distinct real roots on the projective line; ``-1`` for rows that are not finite, that
         vanish identically (``path == "zero"``) or could not be certified.
     path : (n,) str array
-        ``"discs"`` (vectorised inclusion discs), ``"flint"`` (exact fallback), ``"zero"`` (the
-        exact form vanishes identically), ``"uncertified"`` (the exact fallback could not decide,
-        irrational coefficients with a multiple root) or ``"invalid"``.
+        ``"discs"`` (vectorised inclusion discs), ``"flint"`` (exact fallback, rational
+        coefficients), ``"arb"`` (fallback on arb enclosures of irrational or transcendental
+        coefficients), ``"zero"`` (the exact form vanishes identically), ``"uncertified"`` (the
+        fallback could not decide, irrational coefficients with a multiple root) or ``"invalid"``.
     intervals : (n, d, 2) float, only with ``return_intervals``
         For each certified real root, an interval of ``t = x1/x0`` that contains it and no other
         root, rounded outwards, in ascending order; ``(inf, inf)`` for the root ``x0 = 0``; NaN
@@ -691,15 +694,16 @@ def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):
             ivals[idx[gi]] = sub
     for i in np.flatnonzero(finite & ~decided):
         try:
-            cert = certify_real_roots(exact(int(i)))
-        except InputError:
+            val = exact(int(i))
+            cert = val if isinstance(val, RealRootCertificate) else certify_real_roots(val)
+        except (InputError, DegenerateDesignError):
             path[i] = "zero"
             continue
         if not cert.certified:
             path[i] = "uncertified"
             continue
         counts[i] = cert.count
-        path[i] = "flint"
+        path[i] = "flint" if cert.exact else "arb"
         if return_intervals:
             rows = list(cert.intervals) + ([(np.inf, np.inf)] if cert.at_infinity else [])
             for j, (a, b) in enumerate(rows[:d]):

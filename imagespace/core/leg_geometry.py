@@ -39,27 +39,35 @@ def exact_cos_sin(angle: Any, name: str) -> tuple[Any, Any]:
     """Exact (cos, sin) of an angle.
 
     Symbols stay symbolic; angles whose cosine and sine sympy evaluates in closed form (``pi/2``,
-    ``7*pi/18`` ...) stay exact; any other number (a float, or a rational such as a float joint
-    value made exact) enters through the binary rationals of its float cosine and sine, so that no
-    unevaluated ``cos(331254131695027/140737488355328)`` reaches the elimination.
+    ``0``, ``atan(3/4)`` ...) stay exact; any other number (a float is the exact binary rational
+    it stores) gives the exact transcendental ``cos(r)``, ``sin(r)`` of its rational ``r``, never a
+    rounded value: sympy keeps them as atoms, arb encloses them
+    (:func:`imagespace.core.certify.to_arb`), and the certified paths decide with them exactly
+    (:mod:`imagespace.core.transcendental`).
 
     Raises
     ------
     InputError
         the angle's float is not finite.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> exact_cos_sin(0.5, "q")
+    (cos(1/2), sin(1/2))
+    >>> exact_cos_sin(sp.pi / 3, "q")
+    (1/2, sqrt(3)/2)
     """
     if isinstance(angle, sp.Basic):
         if angle.free_symbols:
             return sp.cos(angle), sp.sin(angle)
-        c, s = sp.cos(angle), sp.sin(angle)
-        if not (c.has(sp.cos, sp.sin) or s.has(sp.cos, sp.sin)):
-            return c, s
-        if angle.has(sp.pi):
-            return c, s
+        if not isinstance(angle, sp.Float):
+            return sp.cos(angle), sp.sin(angle)
     a = float(as_exact(angle, name))
     if not np.isfinite(a):
         raise InputError(f"{name} must be an angle within the float range, got {short_text(angle)}")
-    return sp.Rational(np.cos(a)), sp.Rational(np.sin(a))
+    r = sp.Rational(a)
+    return sp.cos(r), sp.sin(r)
 
 
 def short_text(value: Any) -> str:

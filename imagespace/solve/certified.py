@@ -152,36 +152,46 @@ class _ExactCramer:
         return self.X2(tq) / d, self.X3(tq) / d
 
 
-def _arb_cramer(D, X2, X3, root, t):
-    """Irrational coefficients: D's arb ball over the isolating interval must exclude zero."""
+def _sympy_balls(D, X2, X3):
+    """``balls(prec)`` of exact sympy coefficient lists (arb enclosures, see :func:`to_arb`)."""
+    def balls(prec):
+        return tuple([to_arb(sp.sympify(c), prec) for c in f] for f in (D, X2, X3))
+    return balls
+
+
+def _arb_cramer(balls, root, t):
+    """Irrational or transcendental coefficients: D's arb ball over the isolating interval must
+    exclude zero. ``balls(prec)`` gives arb enclosures of the coefficients of ``(D, X2, X3)``."""
     import flint
 
     with flint_precision(ARB_BITS):
+        Db, X2b, X3b = balls(ARB_BITS)
+
         def ev(form, x):
             acc = flint.arb(0)
             for c in reversed(form):
-                acc = acc * x + to_arb(sp.sympify(c), ARB_BITS)
+                acc = acc * x + c
             return acc
 
         if root is None:
-            d = to_arb(sp.sympify(D[-1]), ARB_BITS)
+            d = Db[-1]
             if d.contains(0):
                 return None
-            x2, x3 = to_arb(sp.sympify(X2[-1]), ARB_BITS) / d, to_arb(sp.sympify(X3[-1]), ARB_BITS) / d
+            x2, x3 = X2b[-1] / d, X3b[-1] / d
             return float(x2.mid()), float(x3.mid())
         lo, hi = root
         mid = (lo + hi) / 2
         rad = (hi - lo) / 2
         tb = flint.arb(flint.fmpq(mid.numerator, mid.denominator)) \
             + flint.arb(0, float(rad) * 2 + 1e-300)
-        if ev(D, tb).contains(0):
+        if ev(Db, tb).contains(0):
             return None
         tm = flint.arb(flint.fmpq(t.numerator, t.denominator))
-        d = ev(D, tm)
-        return float((ev(X2, tm) / d).mid()), float((ev(X3, tm) / d).mid())
+        d = ev(Db, tm)
+        return float((ev(X2b, tm) / d).mid()), float((ev(X3b, tm) / d).mid())
 
 
-def plan_roots(P, D, X2, X3, certificate, case_a):
+def plan_roots(P, D, X2, X3, certificate, case_a, cramer_balls=None):
     """Turn each certified real root into a :class:`RootPlan`.
 
     Parameters
@@ -194,6 +204,10 @@ def plan_roots(P, D, X2, X3, certificate, case_a):
         Of ``P``; must be certified.
     case_a : bool
         ``D`` vanishes identically (``P`` is then the orientation form).
+    cramer_balls : callable, optional
+        ``cramer_balls(prec)`` returns arb enclosures of the coefficients of ``(D, X2, X3)``; for
+        transcendental coefficients (:mod:`imagespace.core.transcendental`), where ``P, D, X2,
+        X3`` are not sympy lists (they are then not read).
 
     Returns
     -------
@@ -212,8 +226,12 @@ def plan_roots(P, D, X2, X3, certificate, case_a):
     roots = [(iv, m) for iv, m in zip(cert.exact_intervals, cert.multiplicities)]
     if cert.at_infinity:
         roots.append((None, cert.at_infinity))
-    rational = _is_rational(list(P) + list(D) + list(X2) + list(X3))
-    exact = _ExactCramer(D, X2, X3, P) if rational and cert.exact and not case_a else None
+    if cramer_balls is None and not case_a:
+        rational = _is_rational(list(P) + list(D) + list(X2) + list(X3))
+        exact = _ExactCramer(D, X2, X3, P) if rational and cert.exact else None
+        cramer_balls = None if exact is not None else _sympy_balls(D, X2, X3)
+    else:
+        exact = None
     plans = []
     for k, (iv, mult) in enumerate(roots):
         t = None if iv is None else (iv[0] + iv[1]) / 2
@@ -223,7 +241,7 @@ def plan_roots(P, D, X2, X3, certificate, case_a):
             if exact is not None:
                 pos = exact.point(iv, t)
             else:
-                pos = _arb_cramer(D, X2, X3, iv, t)
+                pos = _arb_cramer(cramer_balls, iv, t)
         if pos is None:
             plans.append(RootPlan(k, "orientation", int(mult), x0, x1))
         else:
@@ -285,6 +303,56 @@ def _exact_at(enc, q, q_exact):
     return enc.exact_sympy(q_exact)
 
 
+def _has_angle_constants(m):
+    """True when the design's exact geometry holds ``cos``/``sin`` of a rational angle (a fixed
+    angle given as a float)."""
+    for qd in m.quadrics(None):
+        for c in qd.coefficients():
+            c = sp.sympify(c)
+            if any(isinstance(a, (sp.cos, sp.sin)) and a.args[0].is_Rational for a in c.atoms(sp.cos, sp.sin)):
+                return True
+    return False
+
+
+def transcendental_forms(m, q_exact):
+    """The exact elimination at ``q_exact`` when ``cos``/``sin`` of a rational angle enter the
+    quadrics (an actuated revolute, a fixed angle given as a float): a
+    :class:`~imagespace.core.transcendental.TranscendentalElimination`, or None where every
+    coefficient is rational or irrational only through radicals (the rational/sympy paths apply).
+    Not public API.
+
+    Raises
+    ------
+    DegenerateDesignError
+        The kinematic polynomial vanishes identically at ``q_exact`` (a continuum)."""
+    if not m.is_numeric or any(v.free_symbols for v in q_exact):
+        return None
+    if not (any(leg.actuated_is_angle for leg in m.legs)
+            or m.cached("angle_constants", lambda: _has_angle_constants(m))):
+        return None
+    from ..core.transcendental import transcendental_elimination
+
+    return transcendental_elimination(m.quadrics(list(q_exact)), m.elimination_plan)
+
+
+def exact_certificate(m, q):
+    """The real-root certificate of the kinematic polynomial at the float joint vector ``q`` on
+    its exact input (floats as binary rationals, ``cos``/``sin`` of angles enclosed, never
+    rounded). Not public API.
+
+    Raises
+    ------
+    DegenerateDesignError
+        The kinematic polynomial vanishes identically at ``q`` (a continuum of modes)."""
+    q_exact = [as_exact(float(v), f"q[{i}]") for i, v in enumerate(q)]
+    tr = transcendental_forms(m, q_exact)
+    if tr is not None:
+        from ..core.transcendental import certify_transcendental
+
+        return certify_transcendental(tr.P)
+    return certify_real_roots(exact_coefficients(m, q))
+
+
 def exact_coefficients(m, q):
     """Exact coefficients (sympy numbers) of the kinematic polynomial at the joint vector ``q``
     (floats as the binary rationals they are): from the general-q forms where they are rational,
@@ -318,7 +386,7 @@ def exact_root_count(m, q):
     ------
     DegenerateDesignError
         The kinematic polynomial vanishes identically at ``q`` (a continuum of modes)."""
-    cert = certify_real_roots(exact_coefficients(m, q))
+    cert = exact_certificate(m, q)
     if not cert.certified:
         return -1, "uncertified"
     return cert.count, ("flint" if cert.exact else "arb")
@@ -332,8 +400,17 @@ def certified_modes(m, q, qf):
     (out of ``__all__``)."""
     items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
     q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
-    fast = _fast_exact_forms(m, q_exact)
-    if fast is not None:
+    tr = transcendental_forms(m, q_exact)
+    balls = None
+    fast = None if tr is not None else _fast_exact_forms(m, q_exact)
+    if tr is not None:          # cos/sin of an angle: exact in Q(tan(r/2)), decided on arb enclosures
+        from ..core.transcendental import certify_transcendental
+
+        P = D = X2 = X3 = None
+        case_a = tr.case_a
+        cert = certify_transcendental(tr.P)
+        balls = None if case_a else tr.cramer_balls
+    elif fast is not None:
         P, D, X2, X3 = fast
         case_a = False
         cert = certify_real_roots(P)
@@ -348,7 +425,7 @@ def certified_modes(m, q, qf):
                       f"certified ({cert.method}); the floating-point modes are returned",
                       NearSingularWarning, stacklevel=3)
         return CertifiedModes(res.modes(0), cert, (), ())
-    plans = plan_roots(P, D, X2, X3, cert, case_a)
+    plans = plan_roots(P, D, X2, X3, cert, case_a, cramer_balls=balls)
     C, _, L = scaled_quadrics(m, qf[None, :])
     quads = row_quadrics(m, C[0])
     tol = m.tolerances
@@ -397,7 +474,12 @@ def _disc_certificate(m, Q, res):
     F, E = enc.evaluate(Qs)
     F = np.where(res.row_ok[:, None], F, np.nan)
 
+    trig = any(leg.actuated_is_angle for leg in m.legs) or m.cached(
+        "angle_constants", lambda: _has_angle_constants(m))
+
     def exact(i):
+        if trig:
+            return exact_certificate(m, Q[i])
         vals = enc.exact(Q[i])
         if vals is not None:
             return [sp.Rational(v.numerator, v.denominator) for v in vals]

@@ -13,7 +13,7 @@ import numpy.typing as npt
 from .._memory import check_memory
 from .._validate import as_count, as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
-from .certified import certified_modes, certify_batch, exact_coefficients, exact_root_count
+from .certified import certified_modes, certify_batch, exact_certificate, exact_root_count
 from .numpy_path import complex_modes, check_rows, solve_batch
 from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
@@ -239,7 +239,7 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
         todo = ok[c < 0]
     elif ok.size:
         F, E = m.enclosure().evaluate(Q[ok])
-        c, p = certify_real_roots_batch(F, E, lambda i: exact_coefficients(m, Q[ok[i]]))
+        c, p = certify_real_roots_batch(F, E, lambda i: exact_certificate(m, Q[ok[i]]))
         counts[ok], path[ok] = c, p
         todo = ok[p == "zero"]
     else:
