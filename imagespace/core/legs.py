@@ -234,7 +234,7 @@ class Leg:
             q = as_exact(q, "q")
             if not q.free_symbols:
                 if self.actuated_is_angle:
-                    in_float_range(q, "q")      # its cosine and sine are taken in float
+                    in_float_range(q, "q")      # cos/sin stay exact atoms of its rational value
                 qf = float(q)
                 self.check_joint_value(qf if np.isfinite(qf) else float(np.sign(qf)))
             g = self._geometry()

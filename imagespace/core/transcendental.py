@@ -52,6 +52,7 @@ from .certify import (REFINE_BITS, RealRootCertificate, arb_bounds, flint_precis
 from .elimination import eliminate
 
 __all__ = ["ExactConstants", "ExactForm", "TranscendentalElimination", "transcendental_elimination",
+           "TranscendentalDesign",
            "certify_transcendental", "PRECISIONS", "MAX_BITS_ONE_GROUP", "MAX_BITS"]
 
 #: Working precisions (bits) tried in turn for the direct isolation of the real roots.
@@ -106,6 +107,8 @@ class ExactConstants:
     ----------
     exprs : sequence of sympy numbers
         Exact numbers (no free symbols).
+    angles : sequence of Fraction, optional
+        Further angles (joint values) whose groups the ring must have.
 
     Attributes
     ----------
@@ -127,10 +130,11 @@ class ExactConstants:
     ((Fraction(1, 2),), (sqrt(2),))
     """
 
-    def __init__(self, exprs):
+    def __init__(self, exprs, angles=()):
         import flint
 
-        angles, others = set(), set()
+        angles, others = {Fraction(a) for a in angles if a != 0}, set()
+        angles = {abs(a) for a in angles}
         for e in exprs:
             e = sp.sympify(e)
             if e.free_symbols:
@@ -171,6 +175,21 @@ class ExactConstants:
         """True when every zero test is decidable by precision alone: at most one angle group
         and no other irrational constant."""
         return self.ngroups <= 1 and not self.others
+
+    @property
+    def signature(self):
+        """A hashable key of the ring (its groups, their variables and the other atoms)."""
+        return (self.angles, self.cot, self.others)
+
+    def group(self, r):
+        """``(g, sign)`` of the rational angle ``r != 0``: its group and the sign of ``sin``."""
+        r = Fraction(r)
+        return self.angles.index(abs(r)), (1 if r > 0 else -1)
+
+    def trig_parts(self, g):
+        """``(cn, sn, w)``: ``cos r = cn / w``, ``sin r = sn / w`` for group ``g`` (ring elements,
+        ``w = 1 + tau**2 > 0``)."""
+        return self._trig_parts(g)
 
     def _trig_parts(self, g):
         """Numerators of ``cos r``, ``sin r`` over ``1 + tau**2`` for group ``g``, and that
@@ -401,6 +420,145 @@ class TranscendentalElimination:
         return self.D.balls(prec), self.X2.balls(prec), self.X3.balls(prec)
 
 
+def _finish_elimination(k, ring, plan):
+    """Eliminate ring quadrics and divide out the circle factors (see
+    :func:`transcendental_elimination`)."""
+    el = eliminate(ring, plan)
+    D = list(el.D)
+    if all(v.is_zero() for v in D):
+        P = _orientation_form(el.rows)
+        return TranscendentalElimination(k, ExactForm(k, P), None, None, None, True)
+    F = list(el.F)
+    if all(v.is_zero() for v in F):
+        raise DegenerateDesignError("the kinematic polynomial vanishes identically at these joint "
+                                    "values: infinitely many assembly modes (a continuum)")
+    P = _divide_circle(F)
+    return TranscendentalElimination(k, ExactForm(k, P), ExactForm(k, D), ExactForm(k, el.X2),
+                                     ExactForm(k, el.X3), False)
+
+
+class TranscendentalDesign:
+    """A design's legs as exact templates in the features ``q, cos q, sin q`` of their joint
+    values, for the exact elimination at any exact joint vector without sympy per call.
+
+    Each leg's quadric with a symbolic joint value is expanded once on the monomials
+    ``q**a cos(q)**b sin(q)**c`` with exact constant coefficients (the design's own irrational
+    constants, a fixed angle given as a float included). At a joint vector the quadrics are built
+    directly in the polynomial ring of :class:`ExactConstants` (rational constants never touch
+    sympy) and eliminated there.
+
+    Parameters
+    ----------
+    mechanism : PlanarParallel
+        A numeric design.
+
+    Raises
+    ------
+    ValueError
+        A leg's quadric is not polynomial in ``q, cos q, sin q`` with constant coefficients.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> import imagespace as isp
+    >>> from imagespace.core.transcendental import TranscendentalDesign
+    >>> m = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(1, 2)),
+    ...                         isp.RPR(base=(4, 0), platform=(1, 0)),
+    ...                         isp.RPR(base=(0, 4), platform=(0, 1))])
+    >>> el = TranscendentalDesign(m).elimination([0.5, 3.0, 3.0])
+    >>> el.constants.angles, el.P.degree
+    ((Fraction(1, 2),), 6)
+    """
+
+    def __init__(self, mechanism):
+        self.plan = mechanism.elimination_plan
+        self.kinds = tuple(mechanism.kinds)
+        self.legs = []
+        consts = []
+        for i, leg in enumerate(mechanism.legs):
+            q = sp.Dummy(f"q{i}", real=True)
+            gens = (q, sp.cos(q), sp.sin(q))
+            coeffs = [sp.expand(sp.sympify(c)) for c in leg.dyad(q).coefficients()]
+            terms = {}
+            for k, c in enumerate(coeffs):
+                try:
+                    poly = sp.Poly(c, *gens)
+                except sp.PolynomialError:
+                    raise ValueError(f"leg {i}'s quadric is not polynomial in q, cos q, sin q") from None
+                for mono, val in poly.terms():
+                    if val.free_symbols:
+                        raise ValueError(f"leg {i}'s quadric has symbolic constants: {val}")
+                    terms.setdefault(mono, [sp.Integer(0)] * 8)[k] = val
+            monos = sorted(terms)
+            self.legs.append((monos, [terms[mo] for mo in monos],
+                              any(mo[1] or mo[2] for mo in monos)))
+            consts += [v for mo in monos for v in terms[mo]]
+        self.rational = all(v.is_Rational for v in consts)
+        self._design_constants = [v for v in consts if not v.is_Rational]
+        self._const_cache = {}
+
+    def _constants(self, k, i):
+        """Leg ``i``'s constant coefficients as ring elements (one common positive factor)."""
+        key = (k.signature, i)
+        if key not in self._const_cache:
+            monos, rows, _ = self.legs[i]
+            flat = [v for row in rows for v in row]
+            if all(v.is_Rational for v in flat):
+                zero = k.ctx.from_dict({})
+                polys = [zero + _fmpq(v) for v in flat]
+            else:
+                polys = k.polys(flat)
+                if polys is None:
+                    raise ValueError(f"leg {i}'s constants are not polynomial in their atoms")
+            self._const_cache[key] = [polys[8 * j:8 * j + 8] for j in range(len(monos))]
+            if len(self._const_cache) > 256:
+                self._const_cache.pop(next(iter(self._const_cache)))
+        return self._const_cache[key]
+
+    def elimination(self, q):
+        """The exact elimination at the joint vector ``q`` (floats as binary rationals, or exact
+        rationals): a :class:`TranscendentalElimination`, or None when every number is rational
+        (the rational paths apply).
+
+        Raises
+        ------
+        DegenerateDesignError
+            The kinematic polynomial vanishes identically at ``q`` (a continuum of modes).
+        """
+        import flint
+
+        r = [Fraction(v) if not isinstance(v, sp.Basic) else Fraction(int(v.p), int(v.q)) for v in q]
+        angles = [ri for ri, (_, _, trig) in zip(r, self.legs) if trig and ri != 0]
+        if not angles and self.rational:
+            return None
+        k = ExactConstants(self._design_constants, angles=angles)
+        zero = k.ctx.from_dict({})
+        ring = []
+        for i, ((monos, _, trig), ri, kind) in enumerate(zip(self.legs, r, self.kinds)):
+            consts = self._constants(k, i)
+            rq = flint.fmpq(ri.numerator, ri.denominator)
+            if trig and ri != 0:
+                g, sign = k.group(ri)
+                cn, sn, w = k.trig_parts(g)
+                sn = sn * sign
+                K = max(mo[1] + mo[2] for mo in monos)
+            coeffs = [zero] * 8
+            for mo, row in zip(monos, consts):
+                a, b, c = mo
+                f = zero + rq**a
+                if b or c:
+                    if ri == 0:              # cos 0 = 1, sin 0 = 0 exactly
+                        if c:
+                            continue
+                    else:
+                        f = f * cn**b * sn**c * w**(K - b - c)
+                elif trig and ri != 0:
+                    f = f * w**K
+                coeffs = [acc + f * v for acc, v in zip(coeffs, row)]
+            ring.append(_RingQuadric(kind, tuple(coeffs)))
+        return _finish_elimination(k, ring, self.plan)
+
+
 def transcendental_elimination(quadrics, plan):
     """Eliminate ``(x2, x3)`` from three exact quadrics whose coefficients hold ``cos``/``sin`` of
     rational angles (or other irrational constants), exactly (see the module docstring).
@@ -444,19 +602,7 @@ def transcendental_elimination(quadrics, plan):
         if polys is None:
             return None
         ring.append(_RingQuadric(q.kind, tuple(polys)))
-    el = eliminate(ring, plan)
-    D = list(el.D)
-    case_a = all(v.is_zero() for v in D)
-    if case_a:
-        P = _orientation_form(el.rows)
-        return TranscendentalElimination(k, ExactForm(k, P), None, None, None, True)
-    F = list(el.F)
-    if all(v.is_zero() for v in F):
-        raise DegenerateDesignError("the kinematic polynomial vanishes identically at these joint "
-                                    "values: infinitely many assembly modes (a continuum)")
-    P = _divide_circle(F)
-    return TranscendentalElimination(k, ExactForm(k, P), ExactForm(k, D), ExactForm(k, el.X2),
-                                     ExactForm(k, el.X3), False)
+    return _finish_elimination(k, ring, plan)
 
 
 # --------------------------------------------------------------------------- root isolation

@@ -330,8 +330,15 @@ def transcendental_forms(m, q_exact):
     if not (any(leg.actuated_is_angle for leg in m.legs)
             or m.cached("angle_constants", lambda: _has_angle_constants(m))):
         return None
-    from ..core.transcendental import transcendental_elimination
+    from ..core.transcendental import TranscendentalDesign, transcendental_elimination
 
+    if all(v.is_Rational for v in q_exact):
+        try:
+            design = m.cached("transcendental_design", lambda: TranscendentalDesign(m))
+        except ValueError:
+            design = None
+        if design is not None:
+            return design.elimination(q_exact)
     return transcendental_elimination(m.quadrics(list(q_exact)), m.elimination_plan)
 
 
