@@ -66,7 +66,8 @@ _WITNESS_TRIES = 6            # converged cusps handed to the interval proof, at
 _NEWTON_STEPS = 20
 _KRAWCZYK_RADII = (1e-9, 1e-7, 1e-5)   # relative half-widths of the boxes tried
 _PREC = 120                   # arb working precision (bits)
-_LAGRANGE_FORM = (3, -5, 7, 11)        # the linear form l: coefficients of (v1, v2, v3, t)
+_NEAR = 0.05                  # verify_cusp: Newton may move the joints this far (relative), no further
+_LAGRANGE_FORM = (3, -5, 7, 0)         # the linear form l: coefficients of (v1, v2, v3, t)
 
 
 # -- results -------------------------------------------------------------------------------------------
@@ -428,7 +429,8 @@ def verify_cusp(manipulator, x, joint_box=None, fixed=None):
     Returns
     -------
     CuspWitness or None
-        None when the proof does not go through (not near a simple cusp, or outside the box).
+        None when the proof does not go through (no simple cusp within 5 % of ``x``'s joint
+        values, or outside the box).
 
     Raises
     ------
@@ -454,9 +456,10 @@ def verify_cusp(manipulator, x, joint_box=None, fixed=None):
     cp = cusp_polynomials(manipulator)
     if cp.degree < 3:
         return None
+    x0 = x.copy()
     x = _newton_curve(manipulator, x)
-    if x is None:
-        return None
+    if x is None or np.max(np.abs(x[1:] - x0[1:])) > _NEAR * (1 + np.max(np.abs(x0[1:]))):
+        return None                       # no cusp near the point given
     G, J, _s = cusp_system(manipulator, x[None, :])
     _, _, vt = np.linalg.svd(J[0])
     tangent = vt[-1]

@@ -8,7 +8,8 @@ a joint box is built from **certified counts only**:
 1. the counts at the nodes of a regular grid of the box, each proven
    (:meth:`PlanarParallel.certified_root_counts`: kernel-proven or exact per row; a node nothing
    could certify is marked ``-1`` and left out);
-2. the **regions**: connected sets of grid nodes (6-neighbourhood) of equal count; every label is
+2. the **regions**: connected sets of grid nodes (26-neighbourhood: a thin slab sampled along a
+   diagonal stays one region) of equal count; every label is
    the certified count at each of its nodes, the region's ``sample`` is its deepest node; volume
    fractions are node fractions (estimates at the grid's resolution, exact labels);
 3. the **surface**: scikit-image's marching cubes on the count volume, one level between each
@@ -129,6 +130,9 @@ class JointAtlas:
         Certified counts at the two ends of the vertex's bracket (below, above the level).
     evidence_width : (V,) float
         Length of the bracket (joint units).
+    evidence_points : (V, 2, 3) float
+        The bracket's ends: certified counts ``evidence[:, 0]`` at ``evidence_points[:, 0]`` and
+        ``evidence[:, 1]`` at ``evidence_points[:, 1]``; the vertex is their midpoint.
     removed : int
         Vertices removed for lack of evidence.
     cusp_curves : tuple of (k, 3) float
@@ -152,6 +156,7 @@ class JointAtlas:
     evidence: np.ndarray
     evidence_width: np.ndarray
     removed: int
+    evidence_points: np.ndarray = None
     cusp_curves: tuple = ()
     cusp_half_angles: tuple = ()
     uncertified_nodes: int = 0
@@ -383,7 +388,7 @@ def _regions(counts, axes, box):
     found = []
     total = int((counts >= 0).sum())
     for c in np.unique(counts[counts >= 0]):
-        lab, n = ndimage.label(counts == c)
+        lab, n = ndimage.label(counts == c, structure=np.ones((3, 3, 3), dtype=bool))
         if n == 0:
             continue
         sizes = np.bincount(lab.ravel(), minlength=n + 1)
@@ -445,7 +450,7 @@ def _surface(manipulator, counts, axes, box, tolerances):
     h = np.array([a[1] - a[0] for a in axes])
     valid = counts >= 0
     vol = counts.astype(np.float64)
-    V_all, F_all, L_all, E_all, W_all = [], [], [], [], []
+    V_all, F_all, L_all, E_all, W_all, B_all = [], [], [], [], [], []
     removed = 0
     offset = 0
     for level in _levels(counts):
@@ -482,12 +487,13 @@ def _surface(manipulator, counts, axes, box, tolerances):
         L_all.append(np.full(int(keep.sum()), float(level)))
         E_all.append(np.column_stack([clo, chi])[keep])
         W_all.append(width[keep])
+        B_all.append(np.stack([lo, hi], axis=1)[keep])
         offset += int(keep.sum())
     if not V_all:
         return (np.empty((0, 3)), np.empty((0, 3), dtype=np.int64), np.empty(0),
-                np.empty((0, 2), dtype=int), np.empty(0), removed)
+                np.empty((0, 2), dtype=int), np.empty(0), removed, np.empty((0, 2, 3)))
     return (np.vstack(V_all), np.vstack(F_all).astype(np.int64), np.concatenate(L_all),
-            np.vstack(E_all), np.concatenate(W_all), removed)
+            np.vstack(E_all), np.concatenate(W_all), removed, np.concatenate(B_all))
 
 
 def joint_atlas(manipulator, joint_box, resolution=40, cusps=True, progress=False):
@@ -548,7 +554,7 @@ def joint_atlas(manipulator, joint_box, resolution=40, cusps=True, progress=Fals
     labels, regions = _regions(counts, axes, box)
     seconds["regions"] = time.perf_counter() - t1
     t2 = time.perf_counter()
-    V, F, L, E, W, removed = _surface(manipulator, counts, axes, box, tol)
+    V, F, L, E, W, removed, B = _surface(manipulator, counts, axes, box, tol)
     seconds["surface"] = time.perf_counter() - t2
     curves, angles = (), ()
     if cusps:
@@ -562,5 +568,5 @@ def joint_atlas(manipulator, joint_box, resolution=40, cusps=True, progress=Fals
     seconds["total"] = time.perf_counter() - t0
     if progress:
         print("joint_atlas: " + ", ".join(f"{k} {v:.2f} s" for k, v in seconds.items()))
-    return JointAtlas(manipulator.name, box, axes, counts, labels, regions, V, F, L, E, W, removed,
+    return JointAtlas(manipulator.name, box, axes, counts, labels, regions, V, F, L, E, W, removed, B,
                       curves, angles, int((counts < 0).sum()), seconds)
