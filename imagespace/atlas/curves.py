@@ -250,7 +250,8 @@ def cusp_curves(manipulator, joint_box, seeds=None, sections=1, resolution=48):
     --------
     >>> import imagespace as isp
     >>> from imagespace.atlas.curves import cusp_curves
-    >>> curves = cusp_curves(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)], sections=1)
+    >>> curves = cusp_curves(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)],
+    ...                      seeds=[[9.78, 3.96, 10.0]], sections=0)
     >>> all(c.shape[1] == 4 for c in curves) and len(curves) > 0
     True
     """
