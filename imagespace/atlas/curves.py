@@ -30,6 +30,8 @@ _STEP_START = 0.03         # first continuation step, scaled units (box side = p
 _STEP_MAX = 0.08
 _STEP_MIN = 1e-5
 _MAX_POINTS = 3000         # per direction
+_EDGE = 1e-12              # a traced point this far (scaled) past a face has left the box
+_LEAD = 1e-12              # seeding: forms whose leading coefficient is below this (relative) are skipped
 
 
 def _scaled_system(m, y, lo, scale):
@@ -139,7 +141,7 @@ def _trace(m, y0, direction, lo, scale, tol, box_scaled):
             if h < _STEP_MIN:
                 return np.array(pts), "stalled"
             continue
-        outside = np.any(y_new[1:] < -1e-12) or np.any(y_new[1:] > box_scaled + 1e-12)
+        outside = np.any(y_new[1:] < -_EDGE) or np.any(y_new[1:] > box_scaled + _EDGE)
         if outside:
             # the last point inside and the crossing of the box's face (linear, for the drawing)
             d = y_new - y
@@ -172,7 +174,7 @@ def _roots_theta(manipulator, Q):
     d = d1 - 1
     out = np.full((n, d), np.nan + 0j)
     lead = C[:, -1]
-    ok = np.abs(lead) > 1e-12 * np.abs(C).sum(axis=1)
+    ok = np.abs(lead) > _LEAD * np.abs(C).sum(axis=1)
     if not ok.any() or d < 1:
         return out
     comp = np.zeros((int(ok.sum()), d, d))

@@ -50,6 +50,7 @@ import sympy as sp
 
 from .._html import dataclass_html, dataclass_repr
 from .._validate import _short, as_count
+from ..core.certify import float_down, float_up
 from ..core.mechanism import check_mechanism
 from ..exceptions import InputError
 from ..singular.cusps import cusp_system
@@ -66,6 +67,8 @@ _WITNESS_TRIES = 6            # converged cusps handed to the interval proof, at
 _NEWTON_STEPS = 20
 _KRAWCZYK_RADII = (1e-9, 1e-7, 1e-5)   # relative half-widths of the boxes tried
 _PREC = 120                   # arb working precision (bits)
+_NEWTON_STOP = 1e-15          # the float Newton on a section stops at steps below this (relative)
+_SAME_SEED = 1e-6             # witness search: converged points this close (relative) are tried once
 _NEAR = 0.05                  # verify_cusp: Newton may move the joints this far (relative), no further
 _LAGRANGE_FORM = (3, -5, 7, 0)         # the linear form l: coefficients of (v1, v2, v3, t)
 
@@ -482,7 +485,7 @@ def verify_cusp(manipulator, x, joint_box=None, fixed=None):
         except np.linalg.LinAlgError:
             return None
         xs[[0, 1 + a, 1 + b]] += d
-        if np.max(np.abs(d)) <= 1e-15 * (1 + np.max(np.abs(xs))):
+        if np.max(np.abs(d)) <= _NEWTON_STOP * (1 + np.max(np.abs(xs))):
             break
     theta = float(xs[0])
     tval = np.tan(theta) if chart == "t" else 1.0 / np.tan(theta)
@@ -516,12 +519,8 @@ def verify_cusp(manipulator, x, joint_box=None, fixed=None):
                 if cp.even[k]:
                     if lo_v <= 0:
                         break
-                    sgn = 1.0 if q[k] >= 0 else -1.0
-                    lo_q = flint.arb(flint.fmpq(*float(lo_v).as_integer_ratio())).sqrt()
-                    hi_q = flint.arb(flint.fmpq(*float(hi_v).as_integer_ratio())).sqrt()
-                    lo_f = float(lo_q.mid() - lo_q.rad()) * (1 - 1e-15)
-                    hi_f = float(hi_q.mid() + hi_q.rad()) * (1 + 1e-15)
-                    enc[k] = (lo_f, hi_f) if sgn > 0 else (-hi_f, -lo_f)
+                    lo_f, hi_f = _sqrt_interval(Fraction(float(lo_v)), Fraction(float(hi_v)))
+                    enc[k] = (lo_f, hi_f) if q[k] >= 0 else (-hi_f, -lo_f)
                 else:
                     enc[k] = (lo_v, hi_v)
             else:
@@ -568,7 +567,7 @@ def _find_witness(m, box, rng):
     good = good[np.argsort(res[good])]
     tried = []
     for i in good:
-        if any(np.max(np.abs(X[i, 1:] - Y[1:])) < 1e-6 * (1 + np.max(np.abs(Y[1:]))) for Y in tried):
+        if any(np.max(np.abs(X[i, 1:] - Y[1:])) < _SAME_SEED * (1 + np.max(np.abs(Y[1:]))) for Y in tried):
             continue
         tried.append(X[i])
         w = verify_cusp(m, X[i], box)
@@ -586,17 +585,9 @@ def _rat(x):
 
 def _constants_ok(cp, boxes, offset):
     """Keep msolve boxes whose constant coordinates isolate the design's constants (s > 0 root)."""
-    out = []
-    for bx in boxes:
-        ok = True
-        for k, (s, _d, c) in enumerate(cp.constants):
-            lo, hi = bx[offset + k]
-            val = float(c)
-            if not (float(lo) - 1e-9 * abs(val) <= val <= float(hi) + 1e-9 * abs(val)) or hi < 0:
-                ok = False
-        if ok:
-            out.append(bx)
-    return out
+    # each constant is sqrt(k) > 0, one of the two roots +-sqrt(k) of its defining equation
+    return [bx for bx in boxes
+            if all(bx[offset + k][0] > 0 for k in range(len(cp.constants)))]
 
 
 def _in_range(lo, hi, a, b):
@@ -738,6 +729,18 @@ def _third_derivative_nonzero(cp, bx):
         return not acc.contains(0)
 
 
+def _sqrt_interval(lo, hi):
+    """Floats ``a <= sqrt(lo)`` and ``b >= sqrt(hi)`` (exact rationals in, outward rounding)."""
+    import flint
+
+    from ..core.certify import arb_bounds, flint_precision
+
+    with flint_precision(_PREC):
+        a = arb_bounds(flint.arb(flint.fmpq(lo.numerator, lo.denominator)).sqrt())[0]
+        b = arb_bounds(flint.arb(flint.fmpq(hi.numerator, hi.denominator)).sqrt())[1]
+    return float_down(max(a, Fraction(0))), float_up(b)
+
+
 def _msolve_witness(cp, bx, fixed, bound, free):
     """A CuspWitness from an msolve isolating box (coordinates t, v...)."""
     lo_t, hi_t = bx[0]
@@ -750,9 +753,9 @@ def _msolve_witness(cp, bx, fixed, bound, free):
         else:
             lo, hi = bx[1 + (free.index(k) if free is not None else k)]
         if cp.even[k]:
-            lo_f, hi_f = np.sqrt(float(lo)) * (1 - 1e-15), np.sqrt(float(hi)) * (1 + 1e-15)
+            lo_f, hi_f = _sqrt_interval(max(Fraction(lo), Fraction(0)), Fraction(hi))
         else:
-            lo_f, hi_f = float(lo), float(hi)
+            lo_f, hi_f = float_down(Fraction(lo)), float_up(Fraction(hi))
         enc[k] = (lo_f, hi_f)
         q[k] = 0.5 * (lo_f + hi_f)
     return CuspWitness(q, float(np.arctan(tmid)), -1 if fixed is None else fixed,

@@ -53,6 +53,7 @@ from .boxes import check_joint_box
 
 __all__ = ["UniquenessDomains", "uniqueness_domains", "workspace_box", "plot_uniqueness_domains"]
 
+_MARGIN = 0.05                 # the pose box reaches this share of its sides beyond the modes
 _WORKSPACE_SAMPLES = 6000      # random joint vectors whose modes bound the pose box (a knob)
 _CLASS_SAMPLES = 60            # nodes per basic region followed to find its equivalent regions
 _CLASS_VOTE = 0.3              # share of those samples that must agree before two regions are equivalent
@@ -90,7 +91,7 @@ def workspace_box(manipulator, joint_box, seed=0):
         raise InputError(f"no assembly mode found for joint vectors of joint_box {box.tolist()}: the "
                          "workspace is empty")
     lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)
-    pad = 0.05 * (hi - lo) + 1e-9
+    pad = _MARGIN * (hi - lo) + _MARGIN
     return np.array([[lo[0] - pad[0], hi[0] + pad[0]], [lo[1] - pad[1], hi[1] + pad[1]], [-np.pi, np.pi]])
 
 

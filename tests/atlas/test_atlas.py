@@ -98,6 +98,7 @@ def _kinematic_functions(m):
     return f, coeffs
 
 
+@pytest.mark.slow
 def test_cusp_curve_points_are_triple_roots_by_mpmath(design, atlas):
     """Points of the traced cusp curves, re-solved by mpmath (50 digits) on the exact kinematic
     polynomial in the section q3 = const through them, are triple roots."""
@@ -168,6 +169,7 @@ def test_input_validation(design):
         joint_atlas("design", BOX, 8)
 
 
+@pytest.mark.slow
 def test_seed002_atlas_regions_and_cusps():
     """Seed 002 (Stigger-Husty): its six-mode joint vector lies in a six-mode region; the cusp
     curves satisfy the cusp system."""

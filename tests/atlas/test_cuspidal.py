@@ -57,7 +57,7 @@ def triple_root_check(m, w):
 
 @pytest.mark.parametrize("name, box", [
     ("general_3rpr", [(8, 14), (2, 8), (7, 13)]),
-    ("stigger_husty", [(6, 14), (11, 19), (9, 17)]),
+    pytest.param("stigger_husty", [(6, 14), (11, 19), (9, 17)], marks=pytest.mark.slow),
 ])
 def test_seed_designs_are_cuspidal_with_verified_witness(name, box):
     m = getattr(isp.examples, name)()
