@@ -3,8 +3,7 @@
 A manipulator is *cuspidal* when it can change assembly mode without crossing a singularity; for
 3-DOF designs this happens exactly when the joint space holds a **cusp point**, where three
 solutions of the direct kinematics merge (Wenger, *Cuspidal and noncuspidal robot manipulators*,
-Robotica 25 (2007) 677-689, doi:10.1017/S0263574707003761; Zein, Wenger & Chablat, MMT 43 (2008)
-480-490). With the kinematic polynomial ``p(t; q) = P(1, t; q)`` (``t = x1/x0 = tan(phi/2)``) a cusp
+Robotica 25(6), 2007, hal-00454562; Zein, Wenger & Chablat, MMT 43 (2008) 480-490). With the kinematic polynomial ``p(t; q) = P(1, t; q)`` (``t = x1/x0 = tan(phi/2)``) a cusp
 is a real solution of
 
     p = dp/dt = d2p/dt2 = 0           (three equations in t, q1, q2, q3: a curve),
@@ -799,10 +798,10 @@ def is_cuspidal(manipulator, joint_box=None, exact=True, timeout=120.0, seed=0):
 
     References
     ----------
-    P. Wenger, *Cuspidal and noncuspidal robot manipulators*, Robotica 25 (2007) 677-689,
-    doi:10.1017/S0263574707003761; P. Wenger, D. Chablat, M. Zein, *Degeneracy study of the
-    forward kinematics of planar 3-RPR parallel manipulators*, J. Mech. Des. 129 (2007)
-    1265-1268, doi:10.1115/1.2779893 (similar base and platform: no cusp).
+    P. Wenger, *Cuspidal and noncuspidal robot manipulators*, Robotica 25(6), 2007
+    (hal-00454562); P. Wenger, D. Chablat, M. Zein, *Degeneracy study of the forward kinematics
+    of planar 3-RPR parallel manipulators*, J. Mech. Des. 129, 2007 (similar base and platform:
+    no cusp; cited from memory, the text was not reachable here).
 
     Examples
     --------

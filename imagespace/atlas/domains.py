@@ -29,13 +29,16 @@ basic regions too small to take part).
 
 References
 ----------
-D. Chablat, P. Wenger, *Working modes and aspects in fully parallel manipulators*, Proc. IEEE
-ICRA 1998, 1964-1969, doi:10.1109/ROBOT.1998.680601, arXiv:0707.2006; D. Chablat, P. Wenger,
-*Séparation des solutions aux modèles géométriques direct et inverse pour les manipulateurs
-pleinement parallèles*, Mech. Mach. Theory 36 (2001) 763-783,
-doi:10.1016/S0094-114X(01)00009-2, arXiv:0705.1148 (characteristic surfaces, basic regions,
-uniqueness domains); P. Wenger, *Cuspidal and noncuspidal robot manipulators*, Robotica 25 (2007)
-677-689, doi:10.1017/S0263574707003761.
+D. Chablat, P. Wenger, *Working modes and aspects in fully parallel manipulators*, IEEE ICRA
+1998, arXiv:0707.2006 (working modes, aspects; illustrated on an RR-RRR); D. Chablat, P. Wenger,
+arXiv:0705.1148 (working modes, aspects, characteristic surfaces and uniqueness domains of fully
+parallel manipulators); P. Wenger, *Cuspidal and noncuspidal robot manipulators*, Robotica 25(6),
+2007, hal-00454562 (characteristic surfaces, uniqueness domains, the non-cuspidal criterion).
+
+Only the abstracts of the two Chablat-Wenger papers were reachable when this was written, so
+their example's number of uniqueness domains is not reproduced here; the construction follows
+the definitions above, and the tests check it against the direct kinematics and against the
+non-cuspidal criterion instead.
 """
 
 from __future__ import annotations

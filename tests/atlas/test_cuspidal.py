@@ -3,7 +3,7 @@
 Independent checks: a witness is re-solved with mpmath (50 digits) on the exact kinematic
 polynomial in its own section and must be a triple root inside the witness's enclosure; the
 non-cuspidal designs are the literature's (3-RPR with similar base and platform triangles:
-Wenger, Chablat & Zein, J. Mech. Des. 129 (2007) 1265, "no cusp points").
+Wenger, Chablat & Zein, J. Mech. Des. 129, 2007: no cusp points).
 """
 
 import mpmath

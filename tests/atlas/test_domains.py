@@ -3,7 +3,7 @@
 Independent checks: the direct kinematics (certified batch) restricted to a uniqueness domain has
 exactly one solution at 1,200 sampled joint vectors of its image; a non-cuspidal design (similar
 base and platform, no cusp by the literature and by is_cuspidal's proof) has its aspects as
-uniqueness domains (Wenger, Robotica 25 (2007) 677: a manipulator is non-cuspidal exactly when
+uniqueness domains (Wenger, Robotica 25(6), 2007: a manipulator is non-cuspidal exactly when
 its uniqueness domains are its aspects).
 """
 
