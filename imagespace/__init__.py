@@ -13,7 +13,7 @@ import lazy_loader as _lazy
 # ``import imagespace`` takes milliseconds, sympy/flint load on the first use of a function and
 # numba, matplotlib, trimesh, scikit-image, scipy and dask only where a feature needs them.
 _SUBMODULES = [
-    "core", "solve", "singular", "paths", "design", "spatial", "dynamics",
+    "core", "solve", "singular", "paths", "design", "atlas", "spatial", "dynamics",
     "examples", "manipulator", "plotting", "widgets", "drawing", "cli", "tolerances", "exceptions",
     "display", "spatial_surfaces",
 ]
@@ -50,6 +50,7 @@ _ATTRIBUTES = {
     "spatial.gough_stewart": ["GoughStewart"],
     "spatial.three_rps": ["ThreeRPS"],
     "spatial_surfaces": ["mesh_constant_orientation_singularity"],
+    "atlas": ["JointAtlas", "joint_atlas", "is_cuspidal", "CuspidalityResult", "atlas_figure"],
 }
 _lazy_getattr, _lazy_dir, _ = _lazy.attach(__name__, submodules=_SUBMODULES, submod_attrs=_ATTRIBUTES)
 
@@ -105,4 +106,5 @@ __all__ = [
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError", "NearSingularWarning",
     "Tolerances", "TOLERANCES",
     "GoughStewart", "ThreeRPS",
+    "JointAtlas", "joint_atlas", "is_cuspidal", "CuspidalityResult", "atlas_figure",
 ]

@@ -130,6 +130,22 @@ class Tolerances:
     mesh_min_altitude : float
         ``mesh_implicit``: faces whose altitude is below this times ``tol * size`` are dropped as
         degenerate.
+    atlas_evidence_width : float
+        :func:`imagespace.atlas.joint_atlas`: a surface vertex is kept when the two points of
+        different certified counts that bracket it are at most this many grid cells apart;
+        vertices with a wider (or no) bracket are removed and counted.
+    atlas_cusp_residual : float
+        ``joint_atlas`` (cusp curves): a corrected point is on a cusp curve when
+        ``max(|f|, |f'|, |f''|)`` is below this times the sum of the form's coefficients'
+        absolute values (a float decision for the drawing; cusps are proven by
+        :func:`imagespace.atlas.is_cuspidal`).
+    atlas_cusp_seed_reach : float
+        ``joint_atlas`` (cusp curves): a seed closer than this (in the scaled unknowns, box
+        sides scaled to pi) to a traced curve lies on it and starts no new curve.
+    aspect_singular : float
+        :func:`imagespace.atlas.uniqueness_domains`: a pose-grid node whose
+        ``|det J| / prod(row norms)`` is below this is on the singularity surface and belongs to
+        no aspect.
     plot_orientation : float
         :func:`imagespace.plotting.plot_conic_section`: an assembly mode is marked when its
         orientation is within this (radians, modulo ``2 pi``) of the section's ``phi``.
@@ -257,6 +273,10 @@ class Tolerances:
     mesh_node_merge: float = 1e-9
     mesh_min_altitude: float = 1e-3
     plot_orientation: float = 1e-6
+    atlas_evidence_width: float = 1 / 64
+    atlas_cusp_residual: float = 1e-10
+    atlas_cusp_seed_reach: float = 0.05
+    aspect_singular: float = 1e-9
     chart_x0: float = 1e-12
     # design/, dynamics/, spatial/
     workspace_inside: float = 1e-12

@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parents[1] / "imagespace"
 # stand beside solve and use core only
 BASE = {"exceptions", "tolerances", "_validate", "_memory", "_files", "_html"}
 RANK = {"base": 0, "core": 1, "solve": 2, "spatial": 2, "dynamics": 2, "singular": 3, "paths": 4,
-        "design": 5, "top": 9}
+        "design": 5, "atlas": 6, "top": 9}
 SIDE = {"spatial", "dynamics"}           # may use base and core only
 
 

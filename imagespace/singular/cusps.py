@@ -40,8 +40,8 @@ from ..core.mechanism import check_mechanism
 from .._validate import as_tolerances
 from .._html import dataclass_html, dataclass_repr
 
-__all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "free_joints", "half_angle_gap",
-           "linking_number"]
+__all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "cusp_system", "free_joints",
+           "half_angle_gap", "linking_number"]
 
 
 @dataclass(frozen=True)
@@ -253,6 +253,89 @@ def _system(m, x, fixed, value):
         J[:, :, col] = (_series(x[:, 0], allc[:, n * (1 + j): n * (2 + j)], d) * _FACT)[:, :3]
     scale = np.sum(np.abs(c), axis=1)
     return G, J, scale, q
+
+
+def cusp_system(manipulator, X):
+    """The cusp system ``(f, df/dtheta, d2f/dtheta2)`` and its Jacobian in all four unknowns.
+
+    ``f(theta; q) = F(cos theta, sin theta; q)`` is the kinematic binary form at the half-angle
+    ``theta`` (see the module notes); a cusp is a common zero of the three values. Floating point
+    (a speed path for continuation and seeding; decisions are made elsewhere, exactly).
+
+    Parameters
+    ----------
+    manipulator : PlanarParallel
+    X : (n, 4) float
+        Rows ``(theta, q1, q2, q3)``.
+
+    Returns
+    -------
+    G : (n, 3) float
+        ``f, f', f''`` (derivatives in ``theta``).
+    J : (n, 3, 4) float
+        Their derivatives in ``(theta, q1, q2, q3)``.
+    scale : (n,) float
+        Sum of the absolute values of the form's coefficients (to make residuals relative).
+
+    Raises
+    ------
+    TypeError
+        ``manipulator`` not a design; non-numeric ``X``.
+    InputError
+        ``X`` not of shape ``(n, 4)`` (or ``(4,)``).
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> from imagespace.singular.cusps import cusp_system
+    >>> G, J, scale = cusp_system(isp.examples.general_3rpr(), np.array([[0.3, 11.0, 5.0, 10.0]]))
+    >>> G.shape, J.shape
+    ((1, 3), (1, 3, 4))
+    """
+    check_mechanism(manipulator)
+    X = as_float_array(X, "X", last=4)
+    if X.ndim == 1:
+        X = X[None, :]
+    if X.ndim != 2:
+        raise InputError(f"X must be (n, 4) rows (theta, q1, q2, q3), got shape {X.shape}")
+    d, fn = _coefficient_functions(manipulator)
+    M, freq = _fourier_matrix(d)
+    n = d + 1
+    allc = np.atleast_2d(np.asarray(fn(*X[:, 1:].T), dtype=float))
+    if allc.shape[0] != len(X):
+        allc = np.broadcast_to(allc, (len(X), allc.shape[1]))
+    # f(theta) = sum_k c_k cos^(d-k) sin^k = Re sum_m a_m e^(i m theta): derivatives are (i m)^j a_m
+    E = np.exp(1j * np.outer(X[:, 0], freq))                           # (n, d + 1)
+    powers = np.stack([(1j * freq) ** j for j in range(4)])             # (4, d + 1)
+    blocks = allc.reshape(len(X), 4, n) @ M                             # (n, 4, d + 1) Fourier coeffs
+    D = np.einsum("nbm,jm,nm->nbj", blocks, powers, E).real             # (n, 4 blocks, 4 derivs)
+    G = D[:, 0, :3]
+    J = np.empty((len(X), 3, 4))
+    J[:, :, 0] = D[:, 0, 1:4]
+    J[:, :, 1:] = np.transpose(D[:, 1:, :3], (0, 2, 1))
+    return G, J, np.sum(np.abs(allc[:, :n]), axis=1)
+
+
+_FOURIER = {}
+
+
+def _fourier_matrix(d):
+    """``(d + 1, d + 1)`` complex matrix taking the coefficients ``c_k`` of
+    ``sum_k c_k cos^(d-k) sin^k`` to the coefficients ``a_m`` of ``e^(i m theta)``,
+    ``m = -d, -d + 2, ..., d`` (exact expansion of ``cos = (z + 1/z)/2``, ``sin = (z - 1/z)/2i``)."""
+    if d not in _FOURIER:
+        cos = np.array([0.5, 0, 0.5], dtype=complex)          # Laurent coefficients of z^-1 .. z^1
+        sin = np.array([-0.5 / 1j, 0, 0.5 / 1j], dtype=complex)
+        rows = []
+        for k in range(d + 1):
+            p = np.array([1.0 + 0j])
+            for _ in range(d - k):
+                p = np.convolve(p, cos)
+            for _ in range(k):
+                p = np.convolve(p, sin)
+            rows.append(p[::2])                               # exponents -d, -d+2, ..., d
+        _FOURIER[d] = (np.array(rows), np.arange(-d, d + 1, 2, dtype=float))
+    return _FOURIER[d]
 
 
 def half_angle_gap(phi, theta):

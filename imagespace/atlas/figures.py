@@ -1,0 +1,311 @@
+"""Figures of the atlas: matplotlib (static, for papers and notebooks) and plotly (interactive,
+for the explorer). Both libraries are imported lazily, inside the functions.
+
+:func:`atlas_figure` is the explorer's panel: the singularity surface of the joint box (one
+colour per count threshold), the cusp curves, and the current joint vector ``q`` marked with its
+certified number of modes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validate import _short, as_float_array
+from ..exceptions import InputError
+
+__all__ = ["plot_atlas", "atlas_figure", "atlas_traces", "plot_atlas_section", "LEVEL_COLOURS"]
+
+LEVEL_COLOURS = {1.0: "#4C72B0", 3.0: "#DD8452", 5.0: "#55A868", 2.0: "#8172B3", 4.0: "#C44E52"}
+"""Colour of the sheet separating ``k - 1`` from ``k + 1`` modes, by level ``k`` (layout only)."""
+
+COUNT_COLOURS = {0: "#f0f0f0", 2: "#9ecae1", 4: "#fdae6b", 6: "#a1d99b", 1: "#dadaeb", 3: "#fcbba1",
+                 5: "#c7e9c0"}
+"""Colour of a region by its number of real modes (layout only)."""
+
+
+_ATLAS_FIELDS = ("box", "axes", "counts", "vertices", "faces", "vertex_level", "cusp_curves")
+
+
+def _check_atlas(atlas):
+    # duck-typed (the class lives in .jointspace, which draws through this module)
+    if type(atlas).__name__ != "JointAtlas" or not all(hasattr(atlas, f) for f in _ATLAS_FIELDS):
+        raise TypeError(f"atlas must be a JointAtlas (imagespace.atlas.joint_atlas), got "
+                        f"{type(atlas).__name__} {_short(atlas)}")
+
+
+def _level_name(level):
+    lo, hi = int(np.floor(level)), int(np.ceil(level))
+    if lo == hi:
+        lo, hi = lo - 1, lo + 1
+    return f"{lo} | {hi} modes"
+
+
+def _check_q(atlas, q):
+    if q is None:
+        return None
+    Q = as_float_array(q, "q", last=3)
+    if Q.ndim != 1:
+        raise InputError(f"q must be one joint vector (3,), got shape {Q.shape}")
+    return Q
+
+
+def _q_count(atlas, q, manipulator=None):
+    """Certified count at q: proven anew when the design is at hand, else the atlas's grid."""
+    if manipulator is not None:
+        c, _ = manipulator.certified_root_counts(q[None, :])
+        return int(c[0]), "certified at q"
+    inside = np.all(q >= atlas.box[:, 0]) and np.all(q <= atlas.box[:, 1])
+    return (atlas.count_at(q), "nearest grid node") if inside else (None, "outside the box")
+
+
+def plot_atlas(atlas, q=None, ax=None, manipulator=None, max_faces=40000, alpha=0.35, labels=None):
+    """Matplotlib 3D figure: the singularity surface in joint space, cusp curves, and ``q``.
+
+    Parameters
+    ----------
+    atlas : JointAtlas
+    q : (3,) float, optional
+        A joint vector to mark (its count is certified anew when ``manipulator`` is given).
+    ax : matplotlib 3D Axes, optional
+    manipulator : PlanarParallel, optional
+    max_faces : int
+        Faces drawn per sheet at most (an even subsample beyond; layout only).
+    alpha : float
+        Surface transparency.
+    labels : sequence of str, optional
+        Axis labels (default ``q1, q2, q3``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    TypeError
+        ``atlas`` not a JointAtlas; non-numeric ``q``.
+    InputError
+        ``q`` not a single joint vector.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.atlas import joint_atlas, plot_atlas
+    >>> a = joint_atlas(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)], 12, cusps=False)
+    >>> len(plot_atlas(a, q=[11, 5, 10]).axes)
+    1
+    """
+    import matplotlib.pyplot as plt
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    _check_atlas(atlas)
+    q = _check_q(atlas, q)
+    if ax is None:
+        fig = plt.figure(figsize=(7.5, 6.5))
+        ax = fig.add_subplot(projection="3d")
+    fig = ax.figure
+    handles = []
+    for level in np.unique(atlas.vertex_level):
+        vmask = atlas.vertex_level == level
+        fmask = vmask[atlas.faces].all(axis=1)
+        F = atlas.faces[fmask]
+        if len(F) > max_faces:
+            F = F[np.linspace(0, len(F) - 1, max_faces).astype(int)]
+        colour = LEVEL_COLOURS.get(float(level), "#999999")
+        coll = Poly3DCollection(atlas.vertices[F], facecolor=colour, edgecolor="none", alpha=alpha)
+        ax.add_collection3d(coll)
+        handles.append(plt.Line2D([], [], color=colour, lw=6, alpha=0.6, label=_level_name(level)))
+    for k, c in enumerate(atlas.cusp_curves):
+        ax.plot(c[:, 0], c[:, 1], c[:, 2], color="crimson", lw=2.2)
+    if atlas.cusp_curves:
+        handles.append(plt.Line2D([], [], color="crimson", lw=2.2, label="cusp curves"))
+    if q is not None:
+        count, how = _q_count(atlas, q, manipulator)
+        ax.scatter(*q, color="black", s=60, depthshade=False)
+        handles.append(plt.Line2D([], [], color="black", marker="o", lw=0,
+                                  label=f"q: {count} modes ({how})"))
+    labels = labels or ("q1", "q2", "q3")
+    ax.set_xlim(*atlas.box[0])
+    ax.set_ylim(*atlas.box[1])
+    ax.set_zlim(*atlas.box[2])
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    ax.set_zlabel(labels[2])
+    fr = atlas.fractions()
+    ax.set_title(f"{atlas.name}: joint-space atlas\n" +
+                 ", ".join(f"{c} modes {100 * v:.1f}%" for c, v in sorted(fr.items())), fontsize=10)
+    ax.legend(handles=handles, loc="upper left", fontsize=8)
+    return fig
+
+
+def plot_atlas_section(atlas, axis=2, index=None, ax=None, q=None):
+    """Matplotlib 2D figure: the certified counts on one grid plane of the atlas.
+
+    Parameters
+    ----------
+    atlas : JointAtlas
+    axis : int
+        The joint held constant (0, 1 or 2).
+    index : int, optional
+        Grid plane along ``axis`` (default the middle one; or the one nearest ``q``).
+    ax : matplotlib Axes, optional
+    q : (3,) float, optional
+        A joint vector to mark (and to choose the plane).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    TypeError
+        ``atlas`` not a JointAtlas, ``axis``/``index`` not whole numbers.
+    InputError
+        ``axis`` not 0, 1 or 2, ``index`` outside the grid.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.atlas import joint_atlas, plot_atlas_section
+    >>> a = joint_atlas(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)], 12, cusps=False)
+    >>> len(plot_atlas_section(a).axes) >= 1
+    True
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    from .._validate import as_index
+    from ..singular.cusps import free_joints
+
+    _check_atlas(atlas)
+    fa, fb = free_joints(axis)
+    q = _check_q(atlas, q)
+    n = len(atlas.axes[axis])
+    if index is None:
+        index = (int(np.argmin(np.abs(atlas.axes[axis] - q[axis]))) if q is not None else n // 2)
+    index = as_index(index, "index", n)
+    C = np.take(atlas.counts, index, axis=axis).astype(float)
+    C[C < 0] = np.nan
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6, 5))
+    fig = ax.figure
+    top = 7
+    cmap = ListedColormap([COUNT_COLOURS.get(k, "#cccccc") for k in range(top)])
+    norm = BoundaryNorm(np.arange(-0.5, top), cmap.N)
+    im = ax.pcolormesh(atlas.axes[fa], atlas.axes[fb], C.T, cmap=cmap, norm=norm, shading="nearest")
+    cb = fig.colorbar(im, ax=ax, ticks=range(top))
+    cb.set_label("certified number of real modes")
+    value = atlas.axes[axis][index]
+    for c in atlas.cusp_curves:
+        near = np.abs(c[:, axis] - value) < 0.5 * atlas.cell[axis]
+        if near.any():
+            ax.plot(c[near, fa], c[near, fb], "o", color="crimson", ms=3)
+    if q is not None:
+        ax.plot(q[fa], q[fb], "k*", ms=12)
+    ax.set_xlabel(f"q{fa + 1}")
+    ax.set_ylabel(f"q{fb + 1}")
+    ax.set_title(f"{atlas.name}: q{axis + 1} = {value:.4g}", fontsize=10)
+    return fig
+
+
+def atlas_traces(atlas, q=None, manipulator=None, max_faces=60000):
+    """Plotly traces of the atlas: one ``Mesh3d`` per sheet, ``Scatter3d`` cusp curves, and ``q``.
+
+    Parameters
+    ----------
+    atlas : JointAtlas
+    q : (3,) float, optional
+    manipulator : PlanarParallel, optional
+        When given, the count at ``q`` is certified anew (else read from the atlas grid).
+    max_faces : int
+        Faces per sheet at most (layout only).
+
+    Returns
+    -------
+    list of plotly.graph_objects traces
+
+    Raises
+    ------
+    TypeError
+        ``atlas`` not a JointAtlas; non-numeric ``q``.
+    InputError
+        ``q`` not a single joint vector.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.atlas import joint_atlas, atlas_traces
+    >>> a = joint_atlas(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)], 12, cusps=False)
+    >>> [t.type for t in atlas_traces(a, q=[11, 5, 10])][-1]
+    'scatter3d'
+    """
+    import plotly.graph_objects as go
+
+    _check_atlas(atlas)
+    q = _check_q(atlas, q)
+    traces = []
+    for level in np.unique(atlas.vertex_level):
+        vmask = atlas.vertex_level == level
+        fmask = vmask[atlas.faces].all(axis=1)
+        F = atlas.faces[fmask]
+        if len(F) > max_faces:
+            F = F[np.linspace(0, len(F) - 1, max_faces).astype(int)]
+        V = atlas.vertices
+        traces.append(go.Mesh3d(x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
+                                color=LEVEL_COLOURS.get(float(level), "#999999"), opacity=0.45,
+                                name=_level_name(level), showlegend=True, hoverinfo="name",
+                                flatshading=True))
+    for k, c in enumerate(atlas.cusp_curves):
+        traces.append(go.Scatter3d(x=c[:, 0], y=c[:, 1], z=c[:, 2], mode="lines",
+                                   line=dict(color="crimson", width=6), name="cusp curves",
+                                   legendgroup="cusps", showlegend=k == 0))
+    if q is not None:
+        count, how = _q_count(atlas, q, manipulator)
+        traces.append(go.Scatter3d(x=[q[0]], y=[q[1]], z=[q[2]], mode="markers",
+                                   marker=dict(size=7, color="black", symbol="diamond"),
+                                   name=f"q: {count} modes ({how})",
+                                   hovertext=f"q = {np.round(q, 4).tolist()}: {count} real modes ({how})",
+                                   hoverinfo="text"))
+    return traces
+
+
+def atlas_figure(atlas, q=None, manipulator=None):
+    """Plotly figure of the atlas with the current joint vector ``q`` marked (the explorer's panel).
+
+    Parameters
+    ----------
+    atlas : JointAtlas
+    q : (3,) float, optional
+    manipulator : PlanarParallel, optional
+        When given, the count at ``q`` is certified anew.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+
+    Raises
+    ------
+    TypeError
+        ``atlas`` not a JointAtlas; non-numeric ``q``.
+    InputError
+        ``q`` not a single joint vector.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.atlas import joint_atlas, atlas_figure
+    >>> a = joint_atlas(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)], 12, cusps=False)
+    >>> atlas_figure(a, q=[11, 5, 10]).layout.scene.xaxis.title.text
+    'q1'
+    """
+    import plotly.graph_objects as go
+
+    fig = go.Figure(atlas_traces(atlas, q=q, manipulator=manipulator))
+    fr = atlas.fractions()
+    fig.update_layout(
+        title=f"{atlas.name}: joint-space atlas (" +
+              ", ".join(f"{c} modes {100 * v:.1f}%" for c, v in sorted(fr.items())) + ")",
+        scene=dict(xaxis=dict(title="q1", range=list(atlas.box[0])),
+                   yaxis=dict(title="q2", range=list(atlas.box[1])),
+                   zaxis=dict(title="q3", range=list(atlas.box[2])), aspectmode="cube"),
+        legend=dict(x=0, y=1), margin=dict(l=0, r=0, t=40, b=0))
+    return fig
