@@ -15,6 +15,8 @@ from .._validate import as_count, as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
 from .certified import certified_modes, certify_batch, exact_coefficients, exact_root_count
 from .numpy_path import complex_modes, check_rows, solve_batch
+from .continuum import continuum_at
+from .proof import batch_kernel, have_numba as _have_numba
 from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 
@@ -30,11 +32,6 @@ _KERNEL_MIN_ROWS = 2000
 BATCH_PEAK_BYTES_PER_ROW = {"numpy": 5000, "kernel": 500, "certify": 4000}
 
 
-def _have_numba():
-    """Whether numba is installed, without importing it (its import alone takes ~0.3 s)."""
-    import importlib.util
-
-    return importlib.util.find_spec("numba") is not None
 
 
 def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bool = False) -> list[AssemblyMode]:
@@ -190,6 +187,12 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     A root carries one mode except where the Cramer denominator vanishes at it (case (b):
     0, 1 or 2 modes); ``direct_kinematics_batch(Q, certify=True)`` reports both.
 
+    A continuum of modes is reported as such (count -1, path ``"continuum"``): the kinematic
+    polynomial vanishing identically, or the positions forming a curve at one orientation,
+    decided exactly by :func:`imagespace.solve.continuum.continuum_at` on the rows with a
+    multiple root (only those can hold one; in Cramer case (a) every row with a real root is
+    tested).
+
     Parameters
     ----------
     Q : (n, 3) float
@@ -198,8 +201,8 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     Returns
     -------
     counts : (n,) int8
-        -1 for invalid rows, rows whose polynomial vanishes identically (a continuum) and the
-        rare rows nothing could certify (see ``path``).
+        -1 for invalid rows, continua (the polynomial vanishing identically, or a curve of
+        positions at one orientation) and the rare rows nothing could certify (see ``path``).
     path : (n,) str
         ``"kernel"`` (proven in the kernel), ``"discs"``, ``"flint"``, ``"arb"``,
         ``"uncertified"``, ``"continuum"`` or ``"invalid"``.
@@ -219,6 +222,12 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     >>> counts, path = m.certified_root_counts(np.array([m.q_example_float, [np.nan, 1, 1]]))
     >>> counts.tolist(), path.tolist()[1]
     ([6, -1], 'invalid')
+
+    A platform congruent to its base, all legs of one length: it can translate on a circle.
+
+    >>> m = isp.PlanarParallel([isp.RPR((0, 0), (0, 0)), isp.RPR((4, 0), (4, 0)), isp.RPR((1, 3), (1, 3))])
+    >>> m.certified_root_counts(np.array([[2.0, 2.0, 2.0]]))[1].tolist()
+    ['continuum']
     """
     from ..core.certify import certify_real_roots_batch
     from ..exceptions import DegenerateDesignError
@@ -249,6 +258,11 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
             counts[i], path[i] = exact_root_count(m, Q[i])
         except DegenerateDesignError:
             counts[i], path[i] = -1, "continuum"
+    if kernel is None and ok.size and m.exact_forms(None)[2]:
+        # Cramer case (a): a simple orientation root may carry a continuum of positions
+        for i in ok[counts[ok] > 0]:
+            if continuum_at(m, Q[i])[0]:
+                counts[i], path[i] = -1, "continuum"
     return counts, path.astype(str)
 
 
@@ -304,32 +318,6 @@ def _chunks(m, Q, chunk_size, certify, method):
     """The generator behind :func:`direct_kinematics_chunks` (its arguments already checked)."""
     for start in range(0, Q.shape[0], chunk_size):
         yield start, direct_kinematics_batch(m, Q[start:start + chunk_size], certify, method)
-
-
-def batch_kernel(m: Any) -> Any:
-    """The batch kernel of the design ``m`` (the generic compiled loops bound to the design's
-    tables; built once, cached on it), or None where it does not apply (numba missing, free
-    symbols in the design, a PP dyad, a Cramer denominator vanishing identically).
-
-    Examples
-    --------
-    >>> import imagespace as isp
-    >>> from imagespace.solve.dispatch import batch_kernel
-    >>> from imagespace.solve.kernel import HAVE_NUMBA
-    >>> (batch_kernel(isp.examples.general_3rpr()) is not None) == HAVE_NUMBA
-    True
-    """
-    return m.cached("kernel", lambda: _build_batch_kernel(m))
-
-
-def _build_batch_kernel(m):
-    """Build the compiled kernel of ``m`` (None where it does not apply): the factory behind
-    :func:`batch_kernel`."""
-    if not m.is_numeric or not _have_numba():
-        return None
-    from .kernel import build_kernel          # numba is imported on the first kernel only
-
-    return build_kernel(m)
 
 
 #: Rows per kernel call in :func:`_solve_kernel`: each chunk's padded arrays (~0.4 kB a row) are
