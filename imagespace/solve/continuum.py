@@ -55,17 +55,41 @@ def _fmpq(v):
     return flint.fmpq(int(v.p), int(v.q))
 
 
-def _rows(quads):
-    """The rows ``(c, alpha, beta, kappa)`` as fmpq_poly in ``t = x1/x0`` (chart ``x0 = 1``), and
-    the constant rows at ``x0 = 0, x1 = 1``; None where a coefficient is not rational."""
+def _quadric_enclosure(m):
+    """The 24 quadric coefficients general in the joint values, for exact evaluation at rational
+    joint values (:class:`~imagespace.core.codegen.CoefficientEnclosure`), or None where they are
+    not polynomial in the joint features."""
+    from ..core.codegen import CoefficientEnclosure
+
+    coeffs = [v for qd in m.quadrics(None) for v in qd.coefficients()]
+    try:
+        return CoefficientEnclosure(coeffs, m.joint_symbols)
+    except ValueError:
+        return None
+
+
+def _exact_coefficients(m, q):
+    """The 24 quadric coefficients at ``q`` as sympy rationals, or None where one is not rational
+    (irrational geometry, the cosine of a non-zero actuated angle)."""
+    rational_q = all(isinstance(v, (float, np.floating, int, np.integer)) or sp.sympify(v).is_Rational for v in q)
+    enc = m.cached("continuum_quadrics", lambda: _quadric_enclosure(m)) if rational_q else None
+    if enc is not None and enc.rational:
+        qq = [Fraction(float(v)) if isinstance(v, (float, np.floating)) else
+              Fraction(int(sp.Rational(v).p), int(sp.Rational(v).q)) for v in q]
+        return [sp.Rational(v.numerator, v.denominator) for v in enc.exact(qq)]
+    q_exact = [sp.Rational(float(v)) if isinstance(v, (float, np.floating)) else sp.sympify(v) for v in q]
+    cf = [sp.sympify(v) for qd in m.quadrics(q_exact) for v in qd.coefficients()]
+    return cf if all(v.is_Rational for v in cf) else None
+
+
+def _rows(cf):
+    """The rows ``(c, alpha, beta, kappa)`` of the 24 rational coefficients ``cf`` as fmpq_poly in
+    ``t = x1/x0`` (chart ``x0 = 1``), and the constant rows at ``x0 = 0, x1 = 1``."""
     import flint
 
     rows, top = [], []
-    for qd in quads:
-        cf = [sp.sympify(v) for v in qd.coefficients()]
-        if not all(v.is_Rational for v in cf):
-            return None, None
-        c, a0, a1, b0, b1, k0, k1, k2 = (_fmpq(v) for v in cf)
+    for i in range(3):
+        c, a0, a1, b0, b1, k0, k1, k2 = (_fmpq(v) for v in cf[8 * i:8 * i + 8])
         P = flint.fmpq_poly
         rows.append((P([c]), P([a0, a1]), P([b0, b1]), P([k0, k1, k2])))
         top.append((c, a1, b1, k2))
@@ -150,6 +174,8 @@ def _orientations(rows):
         if mnr.degree() < 0:
             continue
         g = mnr if g is None else g.gcd(mnr)
+        if g.degree() < 1:
+            return []               # a constant gcd: rank 2 at every orientation (the usual case)
     if g is None:
         return "all"
     if g.degree() < 1:
@@ -222,10 +248,10 @@ def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     >>> continuum_at(m, [2, 2, 2.5])
     (False, None)
     """
-    q_exact = [sp.Rational(float(v)) if isinstance(v, (float, np.floating)) else sp.sympify(v) for v in q]
-    rows, top = _rows(m.quadrics(q_exact))
-    if rows is None:
+    cf = _exact_coefficients(m, q)
+    if cf is None:
         return None, None
+    rows, top = _rows(cf)
     pp = "PP" in m.kinds
     undecided = False
     # x0 = 0: constant rows

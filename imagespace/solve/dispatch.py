@@ -64,8 +64,11 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
     Warns
     -----
     NearSingularWarning
-        Without ``certify``: the floating-point count may be wrong (roots closer than the
-        float path can separate, or modes that do not account for the real roots).
+        Without ``certify``: the floating-point count may be wrong. The count is checked
+        against the proven real roots of the exact kinematic polynomial
+        (:func:`imagespace.solve.proof.proven_roots`): the warning comes whenever the proof
+        cannot decide them (a double or nearly double root) or the modes do not sit one per
+        proven root, so a count returned without it is proven.
 
     Examples
     --------
@@ -114,9 +117,9 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
         path. Fills ``certified_roots``, ``certificate_path`` and ``consistent``.
     method : {"auto", "kernel", "numpy"}
         ``"kernel"``: the compiled one-pass kernel of :mod:`imagespace.solve.kernel` (numba; real
-        roots only, no eigenvalues); rows it cannot decide in floating point are handed to
-        the numpy path (``special``) or, for a root touching the axis, to the certified
-        per-row path. ``"numpy"``: the vectorised numpy path (companion eigenvalues,
+        roots only, no eigenvalues; the roots isolated on a rigorous enclosure of the
+        kinematic form, so a count it returns itself is proven); rows it cannot decide are
+        handed to the numpy path (``special``). ``"numpy"``: the vectorised numpy path (companion eigenvalues,
         Newton, every mode checked by the legs' inverse kinematics). ``"auto"``: the kernel
         for batches of at least 2,000 rows when numba is installed and the design suits it
         (no PP dyad, Cramer denominator not identically zero), else numpy. The kernel is one
@@ -329,7 +332,6 @@ KERNEL_CHUNK_ROWS = 65536
 def _kernel_chunk(m, Q, row_ok, kernel):
     """One chunk of :func:`_solve_kernel`: the kernel on the rows ``row_ok`` of ``Q``, compacted."""
     n = Q.shape[0]
-    tol = m.tolerances
     ok = np.flatnonzero(row_ok)
     if ok.size == n:                       # the usual case: the kernel's arrays are the chunk
         X, P, R, A8, cnt, flag = kernel(Q)
@@ -345,25 +347,18 @@ def _kernel_chunk(m, Q, row_ok, kernel):
     solver = np.where(row_ok, SOLVER_NAMES.index("kernel"), SOLVER_NAMES.index("invalid")).astype(np.uint8)
     special = row_ok & (flag != 0)
     valid = np.arange(MAX_MODES) < cnt[:, None]
-    # cheap indicators of a count the kernel may have got wrong: a real root pair closer
-    # than near_singular_gap (in the half-angle), or an odd count (the kinematic polynomial
-    # has even degree and real coefficients: an odd number of distinct real roots means a
-    # multiple root)
-    with np.errstate(invalid="ignore"):
-        half = np.where(valid, np.arctan2(X[..., 1], X[..., 0]), np.nan)
-        hs = np.sort(np.where(valid, half, np.inf), axis=1)
-        gaps = np.diff(hs, axis=1)
-        wrap = hs[:, 0] + np.pi - np.max(np.where(np.isfinite(hs), hs, -np.inf), axis=1)
-    close = np.any(np.where(np.isfinite(gaps), gaps, np.inf) < tol.near_singular_gap, axis=1)
-    close |= (cnt > 1) & (wrap < tol.near_singular_gap)
-    near = row_ok & ((cnt % 2 == 1) | close)
+    # a row the kernel answers itself has a proven count (its roots isolated on the rigorous
+    # enclosure of the kinematic form, one mode per root): never near-singular; the rows it
+    # hands on get the numpy path's mask in _solve_kernel
+    near = np.zeros(n, dtype=bool)
     return DKBatchResult.from_padded(P, valid, R, A8, row_ok, count=cnt, special=special,
                                      solver=solver, near_singular=near)
 
 
 def _solve_kernel(m, Q, kernel):
-    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags go to
-    the numpy path (``special``) or to the certified per-row path (a root touching the axis).
+    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags (1: a
+    float decision failed; 2: its bounds cannot separate the roots) go to the numpy path
+    (``special``), which masks the ones whose count it cannot prove ``near_singular``.
     The kernel runs on chunks of :data:`KERNEL_CHUNK_ROWS` rows, each compacted at once."""
     n = Q.shape[0]
     row_ok, errors = check_rows(m, Q)

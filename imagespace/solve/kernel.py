@@ -844,6 +844,7 @@ from imagespace.solve.kernel import (_solve_row, _WORK_SIZE as WORK_SIZE, design
 """
 
 _DISK_ATTEMPTS = 3         # loads from the disk cache before compiling in memory (see _compile)
+_SERIAL_ROWS = 16          # certified counts of at most this many rows run serially (a speed knob)
 
 
 def _numba_files(dispatchers):
@@ -1062,9 +1063,27 @@ class BatchKernel:
         lo = np.full((n, _MAX), np.nan)
         hi = np.full((n, _MAX), np.nan)
         chart = np.full((n, _MAX), -1, dtype=np.int8)
-        if n:
+        if n > _SERIAL_ROWS:
             _generic_loop("run_counts")(Q, *self.tables.arrays(), counts, lo, hi, chart)
+        elif n:
+            self._counts_serial(Q, counts, lo, hi, chart)
         return counts, lo, hi, chart
+
+    def _counts_serial(self, Q, counts, lo, hi, chart):
+        """The rows of ``run_counts`` one by one from Python, through the same compiled steps
+        (``design_row``, ``eliminate_row``, ``count_real_roots_row``): a few rows (the per-call
+        float path's proof) cost microseconds here, where starting the parallel loop's threads
+        can cost milliseconds on a loaded machine."""
+        expo, coef, cerr, nmono, trig, plan = self.tables.arrays()
+        buf = np.empty(48 + ELIMINATION_ROW_SIZE)
+        Ce = np.zeros(24)
+        eout = np.zeros(ELIMINATION_ROW_SIZE)
+        ework = np.empty(ELIMINATION_WORK_SIZE + 8)
+        iwork = np.empty(ISOLATE_WORK_SIZE)
+        for r in range(Q.shape[0]):
+            design_row(Q[r], expo, coef, cerr, nmono, trig, True, buf, Ce, ework)
+            d = eliminate_row(buf, Ce, plan, buf[48:], eout, ework, True)
+            counts[r] = count_real_roots_row(buf[48 + ROW_F:], eout[ROW_F:], d, lo[r], hi[r], chart[r], iwork)
 
 
 _SOURCE = _HEADER + _LOOP_SOURCE + _COUNTS_SOURCE
