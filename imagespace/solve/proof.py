@@ -136,8 +136,10 @@ def modes_match_roots(half: np.ndarray, valid: np.ndarray, proof: tuple, spuriou
         holding one of them may hold no mode.
     special : (n,) bool, optional
         Rows solved orientation by orientation (Cramer cases), where a root may carry 0, 1 or 2
-        modes: there every mode must lie in a root interval, no root may hold more than two, and
-        a root holding none must hold one of the ``examined`` orientations.
+        modes: where the proof decided the row, every mode must lie in a root interval, no root
+        may hold more than two, and a root holding none must hold one of the ``examined``
+        orientations; where it did not, the row passes here and is left to the float path's
+        own criteria (merging positions, clusters, conditioning).
     examined : (n, e) float, optional
         Half-angles of the orientations the float path solved on special rows (NaN padded).
 
@@ -145,7 +147,7 @@ def modes_match_roots(half: np.ndarray, valid: np.ndarray, proof: tuple, spuriou
     -------
     (n,) bool
         True where the count is proven: the proof decided the row and every proven real root
-        holds exactly one mode (special rows: as above), no mode outside them. False rows are
+        holds exactly one mode, no mode outside them (special rows: as above). False rows are
         ``near_singular``.
 
     Examples
@@ -182,5 +184,8 @@ def modes_match_roots(half: np.ndarray, valid: np.ndarray, proof: tuple, spuriou
             seen = np.any(_inside(np.cos(he), np.sin(he), lo, hi, chart) & ex_ok[:, :, None], axis=1)
         loose = np.all(np.where(real_slot, (per_root <= 2) & ((per_root > 0) | seen | exempt), per_root == 0),
                        axis=1)
-        ok = np.where(special, (counts >= 0) & modes_in & loose, ok)
+        # an undecided proof says nothing on a Cramer-case row: a nearly vanishing Cramer
+        # denominator makes two well-separated modes of one orientation a pair of roots the
+        # bounds cannot separate; such rows are judged by the float path's own criteria
+        ok = np.where(special, (counts < 0) | (modes_in & loose), ok)
     return ok

@@ -115,14 +115,14 @@ def test_float_paths_flag_wrong_counts_next_to_the_discriminant_fast():
 @pytest.mark.slow
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel needs numba")
 def test_float_paths_flag_wrong_counts_next_to_the_discriminant():
-    """Eight designs over all seven leg types (random actuated joints, angles included), rows at
-    relative distances 1e-3 ... 1e-12 and adjacent floats from a change of the certified count."""
+    """Seven designs over all seven leg types (random actuated joints, angles included), rows at
+    relative distances 1e-3 ... 1e-14 and adjacent floats from a change of the certified count."""
     record = {}
     levels = np.zeros(len(LEVELS), dtype=int)
-    for m, Q, truth, level in sample(range(1, 9), 4):
+    for m, Q, truth, level in sample(range(1, 8), 3):
         levels += np.bincount(level, minlength=len(LEVELS))
         check_flags(m, Q, truth, record)
-    assert np.all(levels >= 20)                       # every distance is represented
+    assert np.all(levels >= 12)                       # every distance is represented
     for path, (wrong, right, flagged_right) in record.items():
         assert wrong > 0, path                        # the sample reaches rows floats get wrong
         # sanity only: most rows whose count is right are not flagged
