@@ -162,7 +162,6 @@ def modes_match_roots(half: np.ndarray, valid: np.ndarray, proof: tuple, spuriou
     [False]
     """
     counts, lo, hi, chart = proof
-    n = half.shape[0]
     real_slot = chart >= 0
     h = np.where(valid, half, 0.0)
     inside = _inside(np.cos(h), np.sin(h), lo, hi, chart) & valid[:, :, None]
