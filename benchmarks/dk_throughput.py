@@ -53,6 +53,11 @@ def main(n=20000):
     kern = batch_kernel(m)
     t, _ = timed(lambda: kern(Q))
     rows["batch kernel alone (no masks, no result assembly)"] = n / t
+    # baseline in the same run: the isolation on the float coefficients taken as exact (no bounds;
+    # an unflagged count could be wrong next to a double root), the kernel before issue [14]
+    t, (_, _, _, _, cnt_np, flag_np) = timed(lambda: kern(Q, proof=False))
+    rows["batch kernel alone, isolation without bounds (baseline)"] = n / t
+    _, _, _, _, cnt_p, flag_p = kern(Q)
     t, res_np = timed(lambda: m.direct_kinematics_batch(Q, method="numpy"), 1)
     rows["direct_kinematics_batch, numpy path"] = n / t
     same = np.array_equal(res.count, res_np.count)
@@ -100,6 +105,9 @@ def main(n=20000):
     t, _ = timed(lambda: [m.direct_kinematics(Q[i]) for i in range(k)], 1)
     rows["direct_kinematics per call"] = k / t
 
+    print(f"rows: {n}  (kernel rows flagged with bounds: {int(np.sum(flag_p != 0))}, without: "
+          f"{int(np.sum(flag_np != 0))}; unflagged counts differing: "
+          f"{int(np.sum((flag_p == 0) & (flag_np == 0) & (cnt_p != cnt_np)))})")
     solver = {k: int(v) for k, v in zip(*np.unique(res.solver, return_counts=True))}
     print(f"rows: {n}  (in-kernel certified counts = disc counts on every row: {kernel_same}; "
           f"decided in the kernel: {np.sum(kpath == 'kernel')}, exact fallback: {np.sum(kpath != 'kernel')})")

@@ -60,9 +60,10 @@ class Tolerances:
         Newton on the full system stops when a step is below this times the point's size;
         a Jacobian with ``|det| <= newton_stop * prod(row norms)`` takes no step.
     near_singular_gap : float
-        The compiled kernel's rows: two real roots of the kinematic polynomial closer than this
-        (in the half-angle) make the row ``near_singular``; on the numpy path, a root this close
-        to the spurious orientation of a PP dyad is that root.
+        Numpy path: a root this close (in the half-angle) to the spurious orientation of a PP
+        dyad is that root (only where no proof of the roots is available), and a mode this
+        close to a cluster of roots the discs cannot separate belongs to it (Cramer cases).
+        No longer a criterion of the compiled kernel: its counts are proven.
     near_singular_condition : float
         Rows solved orientation by orientation (Cramer cases): a mode whose
         ``|det J| / prod(row norms)`` is below this, or a line-circle intersection whose

@@ -41,6 +41,7 @@ from ..core.kinematic_map import pose_of as _pose_of
 from ..core.elimination import form_coefficients
 from ..core.quadrics import dk_system as _system
 from ..exceptions import DegenerateDesignError, NearSingularWarning
+from .continuum import continuum_at
 from .numpy_path import finish_candidates, row_quadrics, scaled_quadrics, solve_batch, solve_orientation, store_modes
 from .results import AssemblyMode, CertifiedModes, MAX_MODES
 
@@ -396,7 +397,24 @@ def exact_root_count(m, q):
     cert = exact_certificate(m, q)
     if not cert.certified:
         return -1, "uncertified"
+    _raise_if_continuum(m, q, cert, False)
     return cert.count, ("flint" if cert.exact else "arb")
+
+
+def _raise_if_continuum(m, q, cert, case_a):
+    """Raise :class:`~imagespace.exceptions.DegenerateDesignError` when the positions form a
+    continuum at one orientation, decided exactly (:func:`~imagespace.solve.continuum.continuum_at`).
+    Only a multiple root of the kinematic polynomial, or any root in Cramer case (a), can carry
+    one (see :mod:`imagespace.solve.continuum`), so certificates with simple roots only are not
+    tested."""
+    if not (case_a or cert.at_infinity > 1 or any(k > 1 for k in cert.multiplicities)):
+        return
+    verdict, phi = continuum_at(m, q)
+    if verdict:
+        raise DegenerateDesignError(
+            f"{m.name} at q = {np.asarray(q, dtype=float).tolist()}: a continuum of assembly modes "
+            f"at phi = {phi:.6g} (the positions at that orientation form a curve: architecture "
+            f"singularity or singular joint values)")
 
 
 def certified_modes(m, q, qf):
@@ -432,6 +450,7 @@ def certified_modes(m, q, qf):
                       f"certified ({cert.method}); the floating-point modes are returned",
                       NearSingularWarning, stacklevel=3)
         return CertifiedModes(res.modes(0), cert, (), ())
+    _raise_if_continuum(m, q_exact, cert, case_a)
     plans = plan_roots(P, D, X2, X3, cert, case_a, cramer_balls=balls)
     C, _, L = scaled_quadrics(m, qf[None, :])
     quads = row_quadrics(m, C[0])

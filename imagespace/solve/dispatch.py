@@ -15,6 +15,8 @@ from .._validate import as_count, as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
 from .certified import certified_modes, certify_batch, exact_certificate, exact_root_count
 from .numpy_path import complex_modes, check_rows, solve_batch
+from .continuum import continuum_at
+from .proof import batch_kernel, have_numba as _have_numba
 from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 
@@ -30,11 +32,6 @@ _KERNEL_MIN_ROWS = 2000
 BATCH_PEAK_BYTES_PER_ROW = {"numpy": 5000, "kernel": 500, "certify": 4000}
 
 
-def _have_numba():
-    """Whether numba is installed, without importing it (its import alone takes ~0.3 s)."""
-    import importlib.util
-
-    return importlib.util.find_spec("numba") is not None
 
 
 def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bool = False) -> list[AssemblyMode]:
@@ -67,8 +64,11 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
     Warns
     -----
     NearSingularWarning
-        Without ``certify``: the floating-point count may be wrong (roots closer than the
-        float path can separate, or modes that do not account for the real roots).
+        Without ``certify``: the floating-point count may be wrong. The count is checked
+        against the proven real roots of the exact kinematic polynomial
+        (:func:`imagespace.solve.proof.proven_roots`): the warning comes whenever the proof
+        cannot decide them (a double or nearly double root) or the modes do not sit one per
+        proven root, so a count returned without it is proven.
 
     Examples
     --------
@@ -117,9 +117,9 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
         path. Fills ``certified_roots``, ``certificate_path`` and ``consistent``.
     method : {"auto", "kernel", "numpy"}
         ``"kernel"``: the compiled one-pass kernel of :mod:`imagespace.solve.kernel` (numba; real
-        roots only, no eigenvalues); rows it cannot decide in floating point are handed to
-        the numpy path (``special``) or, for a root touching the axis, to the certified
-        per-row path. ``"numpy"``: the vectorised numpy path (companion eigenvalues,
+        roots only, no eigenvalues; the roots isolated on a rigorous enclosure of the
+        kinematic form, so a count it returns itself is proven); rows it cannot decide are
+        handed to the numpy path (``special``). ``"numpy"``: the vectorised numpy path (companion eigenvalues,
         Newton, every mode checked by the legs' inverse kinematics). ``"auto"``: the kernel
         for batches of at least 2,000 rows when numba is installed and the design suits it
         (no PP dyad, Cramer denominator not identically zero), else numpy. The kernel is one
@@ -190,6 +190,12 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     A root carries one mode except where the Cramer denominator vanishes at it (case (b):
     0, 1 or 2 modes); ``direct_kinematics_batch(Q, certify=True)`` reports both.
 
+    A continuum of modes is reported as such (count -1, path ``"continuum"``): the kinematic
+    polynomial vanishing identically, or the positions forming a curve at one orientation,
+    decided exactly by :func:`imagespace.solve.continuum.continuum_at` on the rows with a
+    multiple root (only those can hold one; in Cramer case (a) every row with a real root is
+    tested).
+
     Parameters
     ----------
     Q : (n, 3) float
@@ -198,8 +204,8 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     Returns
     -------
     counts : (n,) int8
-        -1 for invalid rows, rows whose polynomial vanishes identically (a continuum) and the
-        rare rows nothing could certify (see ``path``).
+        -1 for invalid rows, continua (the polynomial vanishing identically, or a curve of
+        positions at one orientation) and the rare rows nothing could certify (see ``path``).
     path : (n,) str
         ``"kernel"`` (proven in the kernel), ``"discs"``, ``"flint"``, ``"arb"``,
         ``"uncertified"``, ``"continuum"`` or ``"invalid"``.
@@ -219,6 +225,12 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     >>> counts, path = m.certified_root_counts(np.array([m.q_example_float, [np.nan, 1, 1]]))
     >>> counts.tolist(), path.tolist()[1]
     ([6, -1], 'invalid')
+
+    A platform congruent to its base, all legs of one length: it can translate on a circle.
+
+    >>> m = isp.PlanarParallel([isp.RPR((0, 0), (0, 0)), isp.RPR((4, 0), (4, 0)), isp.RPR((1, 3), (1, 3))])
+    >>> m.certified_root_counts(np.array([[2.0, 2.0, 2.0]]))[1].tolist()
+    ['continuum']
     """
     from ..core.certify import certify_real_roots_batch
     from ..exceptions import DegenerateDesignError
@@ -249,6 +261,11 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
             counts[i], path[i] = exact_root_count(m, Q[i])
         except DegenerateDesignError:
             counts[i], path[i] = -1, "continuum"
+    if kernel is None and ok.size and m.exact_forms(None)[2]:
+        # Cramer case (a): a simple orientation root may carry a continuum of positions
+        for i in ok[counts[ok] > 0]:
+            if continuum_at(m, Q[i])[0]:
+                counts[i], path[i] = -1, "continuum"
     return counts, path.astype(str)
 
 
@@ -306,32 +323,6 @@ def _chunks(m, Q, chunk_size, certify, method):
         yield start, direct_kinematics_batch(m, Q[start:start + chunk_size], certify, method)
 
 
-def batch_kernel(m: Any) -> Any:
-    """The batch kernel of the design ``m`` (the generic compiled loops bound to the design's
-    tables; built once, cached on it), or None where it does not apply (numba missing, free
-    symbols in the design, a PP dyad, a Cramer denominator vanishing identically).
-
-    Examples
-    --------
-    >>> import imagespace as isp
-    >>> from imagespace.solve.dispatch import batch_kernel
-    >>> from imagespace.solve.kernel import HAVE_NUMBA
-    >>> (batch_kernel(isp.examples.general_3rpr()) is not None) == HAVE_NUMBA
-    True
-    """
-    return m.cached("kernel", lambda: _build_batch_kernel(m))
-
-
-def _build_batch_kernel(m):
-    """Build the compiled kernel of ``m`` (None where it does not apply): the factory behind
-    :func:`batch_kernel`."""
-    if not m.is_numeric or not _have_numba():
-        return None
-    from .kernel import build_kernel          # numba is imported on the first kernel only
-
-    return build_kernel(m)
-
-
 #: Rows per kernel call in :func:`_solve_kernel`: each chunk's padded arrays (~0.4 kB a row) are
 #: compacted into the ragged result before the next chunk is solved, which bounds the peak memory
 #: of a large batch (a memory knob, not a decision).
@@ -341,7 +332,6 @@ KERNEL_CHUNK_ROWS = 65536
 def _kernel_chunk(m, Q, row_ok, kernel):
     """One chunk of :func:`_solve_kernel`: the kernel on the rows ``row_ok`` of ``Q``, compacted."""
     n = Q.shape[0]
-    tol = m.tolerances
     ok = np.flatnonzero(row_ok)
     if ok.size == n:                       # the usual case: the kernel's arrays are the chunk
         X, P, R, A8, cnt, flag = kernel(Q)
@@ -357,25 +347,18 @@ def _kernel_chunk(m, Q, row_ok, kernel):
     solver = np.where(row_ok, SOLVER_NAMES.index("kernel"), SOLVER_NAMES.index("invalid")).astype(np.uint8)
     special = row_ok & (flag != 0)
     valid = np.arange(MAX_MODES) < cnt[:, None]
-    # cheap indicators of a count the kernel may have got wrong: a real root pair closer
-    # than near_singular_gap (in the half-angle), or an odd count (the kinematic polynomial
-    # has even degree and real coefficients: an odd number of distinct real roots means a
-    # multiple root)
-    with np.errstate(invalid="ignore"):
-        half = np.where(valid, np.arctan2(X[..., 1], X[..., 0]), np.nan)
-        hs = np.sort(np.where(valid, half, np.inf), axis=1)
-        gaps = np.diff(hs, axis=1)
-        wrap = hs[:, 0] + np.pi - np.max(np.where(np.isfinite(hs), hs, -np.inf), axis=1)
-    close = np.any(np.where(np.isfinite(gaps), gaps, np.inf) < tol.near_singular_gap, axis=1)
-    close |= (cnt > 1) & (wrap < tol.near_singular_gap)
-    near = row_ok & ((cnt % 2 == 1) | close)
+    # a row the kernel answers itself has a proven count (its roots isolated on the rigorous
+    # enclosure of the kinematic form, one mode per root): never near-singular; the rows it
+    # hands on get the numpy path's mask in _solve_kernel
+    near = np.zeros(n, dtype=bool)
     return DKBatchResult.from_padded(P, valid, R, A8, row_ok, count=cnt, special=special,
                                      solver=solver, near_singular=near)
 
 
 def _solve_kernel(m, Q, kernel):
-    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags go to
-    the numpy path (``special``) or to the certified per-row path (a root touching the axis).
+    """Batch DK through the compiled kernel: masked rows stay empty, rows the kernel flags (1: a
+    float decision failed; 2: its bounds cannot separate the roots) go to the numpy path
+    (``special``), which masks the ones whose count it cannot prove ``near_singular``.
     The kernel runs on chunks of :data:`KERNEL_CHUNK_ROWS` rows, each compacted at once."""
     n = Q.shape[0]
     row_ok, errors = check_rows(m, Q)

@@ -17,9 +17,13 @@ kernel then
    keeps its factors ``x0**2 + x1**2``, which have no real roots),
 3. finds the real roots of ``F`` on the projective line in two charts, ``t = x1/x0`` in
    ``[-1, 1]`` and ``s = x0/x1`` in ``(-1, 1)``, so half-turns are ordinary roots and no chart
-   sees a root beyond 1. The roots are isolated by Descartes' rule in the Bernstein basis with
-   the float coefficients taken as exact (:func:`imagespace.core.isolate.count_real_roots_row`),
-   each then refined by Newton kept inside its isolating interval. No eigenvalues, no complex
+   sees a root beyond 1. The roots are isolated by Descartes' rule in the Bernstein basis
+   (:func:`imagespace.core.isolate.count_real_roots_row`) on the rigorous enclosure of ``F``
+   that steps 1 and 2 compute alongside the values (``cos``/``sin`` enclosed, every rounding of
+   the elimination bounded), so the number of isolated roots is the proven number of distinct
+   real roots of the exact kinematic form at the binary-rational input, and a row whose bounds
+   cannot separate its roots is flagged (``suspect``) rather than guessed; each root is then
+   refined by Newton kept inside its isolating interval. No eigenvalues, no complex
    arithmetic (the derivative cascade of earlier versions stays as :func:`real_roots_cascade`),
 4. back-substitutes ``x2 = X2/D, x3 = X3/D``, polishes ``(x0..x3)`` by Newton on
    ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` (4x4 Gaussian elimination with partial pivoting) unless the
@@ -92,9 +96,9 @@ _CONDITIONED = 1e-2          # |det J| above this times Hadamard's bound is not 
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
 # into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
 # polynomial p, up to 12 chart candidates, the scaled quadrics Cs and Newton's val, dx, X, J.
-_WORK_SIZES = (49, 8, 8, 7, 6, 7, 48, 24, 4, 4, 4, 16, ISOLATE_WORK_SIZE, 6, 6, 6, 7)
+_WORK_SIZES = (49, 8, 8, 7, 6, 7, 48, 24, 4, 4, 4, 16, ISOLATE_WORK_SIZE, 6, 6, 6)
 (_W_W, _W_PTS, _W_VALS, _W_NEW, _W_RTS, _W_P, _W_CAND, _W_CS, _W_VAL, _W_DX, _W_X,
- _W_J, _W_ISO, _W_ILO, _W_IHI, _W_ICH, _W_E0) = (0, *itertools.accumulate(_WORK_SIZES[:-1]))
+ _W_J, _W_ISO, _W_ILO, _W_IHI, _W_ICH) = (0, *itertools.accumulate(_WORK_SIZES[:-1]))
 _WORK_SIZE = sum(_WORK_SIZES)
 
 # The kernel's decision thresholds arrive as one float array (from the design's Tolerances, see
@@ -408,7 +412,7 @@ def _solve4(J, r, dx, pivot):
 
 
 @njit(cache=True)
-def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
+def _solve_row(buf, Ef, layout, tol, out_X, out_P, out_res, out_asp, work):
     """Everything after the coefficients for one row. Returns (count, flag): flag 0 ok,
     1 special (careful path), 2 suspect (certified path). ``tol``: :func:`kernel_tolerances`;
     ``work``: ``_WORK_SIZE`` floats of scratch (named slices ``_W_*``)."""
@@ -446,15 +450,12 @@ def _solve_row(buf, layout, tol, out_X, out_P, out_res, out_asp, work):
         return 0, 1
     # the real roots of F on the projective line, in two charts (t = x1/x0 on [-1, 1], s = x0/x1
     # on (-1, 1), so half-turns are ordinary roots and every root is found where its chart is
-    # well conditioned): isolated by Descartes' rule in the Bernstein basis with the float
-    # coefficients taken as exact (core.isolate; a row it cannot decide, close or multiple
-    # roots, goes to the certified path), then each refined by Newton kept inside its isolating
-    # interval, on whose ends the polynomial has opposite signs
-    E0 = work[_W_E0:_W_E0 + 7]
-    for k in range(7):
-        E0[k] = 0.0
+    # well conditioned): isolated by Descartes' rule in the Bernstein basis on the box F +- Ef
+    # (core.isolate; Ef are rigorous bounds when the kernel runs with proof, so the count is
+    # proven; a row it cannot decide, close or multiple roots, is flagged 2), then each refined
+    # by Newton kept inside its isolating interval, on whose ends the polynomial has opposite signs
     ich = work[_W_ICH:_W_ICH + 6]
-    nr = count_real_roots_row(buf[oF:oF + dF + 1], E0, dF, work[_W_ILO:_W_ILO + 6],
+    nr = count_real_roots_row(buf[oF:oF + dF + 1], Ef, dF, work[_W_ILO:_W_ILO + 6],
                               work[_W_IHI:_W_IHI + 6], ich, work[_W_ISO:_W_ISO + ISOLATE_WORK_SIZE])
     if nr < 0:
         return 0, 2
@@ -780,7 +781,7 @@ def design_row(qr, expo, coef, cerr, nmono, trig, bounded, buf, Ce, acc):
 _LOOP_SOURCE = """
 
 @njit(parallel=True, cache=CACHE)
-def run(Q, expo, coef, cerr, nmono, trig, plan, tol, X, P, R, A, cnt, flag):
+def run(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, flag):
     n = Q.shape[0]
     nblocks = min(n, 64)
     dF = 4 if plan[6] == 1 else 6
@@ -797,9 +798,9 @@ def run(Q, expo, coef, cerr, nmono, trig, plan, tol, X, P, R, A, cnt, flag):
         layout[1] = 3
         layout[2] = dF
         for r in range(lo, hi):
-            design_row(Q[r], expo, coef, cerr, nmono, trig, False, buf, Ce, ework)
-            eliminate_row(buf, Ce, plan, buf[48:], eout, ework, False)
-            k, f = _solve_row(buf, layout, tol, X[r], P[r], R[r], A[r], work)
+            design_row(Q[r], expo, coef, cerr, nmono, trig, proof, buf, Ce, ework)
+            eliminate_row(buf, Ce, plan, buf[48:], eout, ework, proof)
+            k, f = _solve_row(buf, eout[ROW_F:], layout, tol, X[r], P[r], R[r], A[r], work)
             if f != 0:
                 k = 0
             for j in range(k, X.shape[1]):
@@ -843,6 +844,7 @@ from imagespace.solve.kernel import (_solve_row, _WORK_SIZE as WORK_SIZE, design
 """
 
 _DISK_ATTEMPTS = 3         # loads from the disk cache before compiling in memory (see _compile)
+_SERIAL_ROWS = 16          # certified counts of at most this many rows run serially (a speed knob)
 
 
 def _numba_files(dispatchers):
@@ -892,7 +894,7 @@ def _warm(mod, name):
               np.zeros((3, MAX_MONOMIALS, 16)), np.zeros(3, dtype=i64), np.zeros(3, dtype=i64),
               np.zeros(7, dtype=i64))
     if name == "run":
-        mod.run(np.empty((0, 3)), *tables, np.zeros(len(kernel_tolerances(TOLERANCES))),
+        mod.run(np.empty((0, 3)), *tables, np.zeros(len(kernel_tolerances(TOLERANCES))), True,
                 np.empty((0, _MAX, 4)), np.empty((0, _MAX, 3)), np.empty((0, _MAX)),
                 np.empty((0, _MAX), dtype=np.int8), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8))
     else:
@@ -983,13 +985,34 @@ class BatchKernel:
         self.layout = np.array([2, 3, tables.degree], dtype=np.int64)
         self.tolerances = kernel_tolerances(TOLERANCES if tolerances is None else tolerances)
 
-    def __call__(self, Q):
+    def __call__(self, Q, proof=True):
         """Solve joint vectors ``Q`` (n, 3) (finite, in the joints' domains).
+
+        Parameters
+        ----------
+        Q : (n, 3) float
+        proof : bool
+            Isolate the real roots with rigorous bounds on the coefficients of ``F`` (quadric
+            coefficients with ``cos``/``sin`` enclosed, bounded elimination): the count of an
+            unflagged row is then the proven number of distinct real roots of the exact
+            kinematic form, and a row the bounds cannot decide is flagged 2. ``False`` takes
+            the float coefficients as exact (an unflagged count may then be wrong near a
+            double root; kept as the baseline of ``benchmarks/dk_throughput.py``).
 
         Returns
         -------
         X (n, 6, 4), poses (n, 6, 3), residual (n, 6), aspect (n, 6) int8, count (n,) int64,
         flag (n,) int8 (0 solved, 1 careful path needed, 2 certified path needed)
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import imagespace as isp
+        >>> from imagespace.solve.dispatch import batch_kernel
+        >>> m = isp.examples.general_3rpr()
+        >>> X, P, R, A, count, flag = batch_kernel(m)(np.array([m.q_example_float]))
+        >>> count.tolist(), flag.tolist()
+        ([6], [0])
         """
         Q = np.ascontiguousarray(Q, dtype=float)
         n = Q.shape[0]
@@ -1001,7 +1024,7 @@ class BatchKernel:
         cnt = np.empty(n, dtype=np.int64)
         flag = np.empty(n, dtype=np.int8)
         if n:
-            _generic_loop("run")(Q, *self.tables.arrays(), self.tolerances, X, P, R, A, cnt, flag)
+            _generic_loop("run")(Q, *self.tables.arrays(), self.tolerances, bool(proof), X, P, R, A, cnt, flag)
         return X, P, R, A, cnt, flag
 
     def certified_counts(self, Q):
@@ -1040,9 +1063,27 @@ class BatchKernel:
         lo = np.full((n, _MAX), np.nan)
         hi = np.full((n, _MAX), np.nan)
         chart = np.full((n, _MAX), -1, dtype=np.int8)
-        if n:
+        if n > _SERIAL_ROWS:
             _generic_loop("run_counts")(Q, *self.tables.arrays(), counts, lo, hi, chart)
+        elif n:
+            self._counts_serial(Q, counts, lo, hi, chart)
         return counts, lo, hi, chart
+
+    def _counts_serial(self, Q, counts, lo, hi, chart):
+        """The rows of ``run_counts`` one by one from Python, through the same compiled steps
+        (``design_row``, ``eliminate_row``, ``count_real_roots_row``): a few rows (the per-call
+        float path's proof) cost microseconds here, where starting the parallel loop's threads
+        can cost milliseconds on a loaded machine."""
+        expo, coef, cerr, nmono, trig, plan = self.tables.arrays()
+        buf = np.empty(48 + ELIMINATION_ROW_SIZE)
+        Ce = np.zeros(24)
+        eout = np.zeros(ELIMINATION_ROW_SIZE)
+        ework = np.empty(ELIMINATION_WORK_SIZE + 8)
+        iwork = np.empty(ISOLATE_WORK_SIZE)
+        for r in range(Q.shape[0]):
+            design_row(Q[r], expo, coef, cerr, nmono, trig, True, buf, Ce, ework)
+            d = eliminate_row(buf, Ce, plan, buf[48:], eout, ework, True)
+            counts[r] = count_real_roots_row(buf[48 + ROW_F:], eout[ROW_F:], d, lo[r], hi[r], chart[r], iwork)
 
 
 _SOURCE = _HEADER + _LOOP_SOURCE + _COUNTS_SOURCE

@@ -18,6 +18,8 @@ from ..core.elimination import form_coefficients
 from ..core.quadrics import Quadric, dk_system as _system
 from ..core.roots import real_half_angles
 from ..exceptions import DegenerateDesignError
+from .continuum import continuum_at
+from .proof import modes_match_roots, proven_roots
 from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 __all__: list[str] = []
@@ -245,9 +247,6 @@ def solve_batch(m, Q, raise_degenerate):
     if cand.shape[1] < width:
         pad = np.full((n, width - cand.shape[1], 4), np.nan)
         cand = np.concatenate([cand, pad], axis=1)
-    # separation of the roots (inclusion discs on the normalised float polynomial, in the
-    # chart of its largest leading coefficient): where they overlap the count is not trusted
-    separated, n_real = _separated(Fn)
     # careful path for special rows
     extra = {}
     near_special = {}
@@ -270,36 +269,96 @@ def solve_batch(m, Q, raise_degenerate):
     res = finish_candidates(m, Q, C, cand, row_ok, errors, special, L)
     # the half-angle atan2(x1, x0) of each mode's normalised image point: phi / 2 (pose_of)
     half = res.poses[..., 2] / 2
-    distinct = _distinct_orientations_batch(half, res.valid, tol.duplicate)
-    # the spurious orientation phi_c + pi of a PP dyad is a root that carries no mode
-    n_real = n_real - _spurious_roots(m, C, theta)
-    near = row_ok & ~special & (~separated | (distinct != n_real))
-    continuum = []
-    for i, (flag, clusters) in near_special.items():
+    # the count is trusted only where the modes sit one per proven real root of the exact
+    # kinematic polynomial (proof.py: bounded isolation in the kernel or on the enclosure)
+    proof = _proof(m, Q, row_ok)
+    if proof is not None:
+        examined = np.full((n, max([len(v[2]) for v in near_special.values()] + [1])), np.nan)
+        for i, (_, _, thetas) in near_special.items():
+            examined[i, :len(thetas)] = thetas
+        near = row_ok & ~modes_match_roots(half, res.valid, proof, _spurious_half_angles(m, C),
+                                           special, examined)
+    else:
+        # no proof for this design: separation of the float roots by inclusion discs and the
+        # distinct orientations against them (the spurious root of a PP dyad carries no mode)
+        separated, n_real = _separated(Fn)
+        distinct = _distinct_orientations_batch(half, res.valid, tol.duplicate)
+        n_real = n_real - _spurious_roots(m, C, theta)
+        near = row_ok & ~special & (~separated | (distinct != n_real))
+    for i, (flag, clusters, _) in near_special.items():
         # a cluster of k roots the discs cannot separate must carry k modes (case (b): a
         # double root with two positions); anything else is a count not to be trusted
         hv = half[i][res.valid[i]]
         for theta_c, rad, size in clusters:
             dist = np.abs(np.remainder(hv - theta_c + np.pi / 2, np.pi) - np.pi / 2)
             flag = flag or int(np.sum(dist <= rad + tol.near_singular_gap)) != size
-        near[i] = row_ok[i] and (flag or bool(res.near_singular[i]))
-        if near[i]:
-            # a continuum hides behind a Cramer case seen in floating point: decide exactly
-            try:
-                m.direct_kinematics(Q[i], certify=True)
-            except DegenerateDesignError as e:
-                if raise_degenerate:
-                    raise
-                row_ok[i] = False
-                errors[int(i)] = str(e)
-                continuum.append(int(i))
-                near[i] = False
+        near[i] = row_ok[i] and (near[i] or flag or bool(res.near_singular[i]))
+    # a continuum of positions sits on a multiple root of the kinematic polynomial (continuum.py)
+    # and hides behind a flagged row whose proof found no simple roots only, or a Cramer case:
+    # decide those exactly
+    undecided = np.ones(n, dtype=bool) if proof is None else proof[0] < 0
+    continuum = []
+    for i in np.flatnonzero(near & (undecided | special)):
+        message = _continuum_message(m, Q[i], bool(special[i]))
+        if message is None:
+            continue
+        if raise_degenerate:
+            raise DegenerateDesignError(message)
+        row_ok[i] = False
+        errors[int(i)] = message
+        continuum.append(int(i))
+        near[i] = False
     if continuum:                          # one rebuild for every row found degenerate
         store_modes(res, continuum, [[] for _ in continuum])
         res.set_solver(continuum, "invalid")
     res.near_singular = near
     res.release_padded()                   # poses and valid were read above: keep only the modes
     return res
+
+
+def _proof(m, Q, row_ok):
+    """:func:`~imagespace.solve.proof.proven_roots` of the valid rows of ``Q``, spread over all
+    rows (undecided, -1, elsewhere), or None when the design has no proof."""
+    n = Q.shape[0]
+    ok = np.flatnonzero(row_ok)
+    sub = proven_roots(m, Q[ok]) if ok.size else None
+    if sub is None:
+        return None if ok.size else (np.full(n, -1), np.full((n, 6), np.nan), np.full((n, 6), np.nan),
+                                     np.full((n, 6), -1, dtype=np.int8))
+    counts = np.full(n, -1, dtype=int)
+    lo = np.full((n, 6), np.nan)
+    hi = np.full((n, 6), np.nan)
+    chart = np.full((n, 6), -1, dtype=np.int8)
+    counts[ok], lo[ok], hi[ok], chart[ok] = sub
+    return counts, lo, hi, chart
+
+
+def _continuum_message(m, q, special):
+    """The message of a continuum of assembly modes at ``q`` (decided exactly by
+    :func:`~imagespace.solve.continuum.continuum_at`), or None. Where the exact test cannot
+    decide (irrational coefficients) a Cramer-case row is decided by the certified per-call
+    path, as before."""
+    verdict, phi = continuum_at(m, q)
+    if verdict:
+        return (f"{m.name} at q = {np.asarray(q, dtype=float).tolist()}: a continuum of assembly "
+                f"modes at phi = {phi:.6g} (the positions at that orientation form a curve: "
+                f"architecture singularity or singular joint values)")
+    if verdict is None and special:
+        try:
+            m.direct_kinematics(q, certify=True)
+        except DegenerateDesignError as e:
+            return str(e)
+    return None
+
+
+def _spurious_half_angles(m, C):
+    """(n, p) half-angles of the spurious orientation ``phi_c + pi`` of each PP dyad (see
+    :func:`_spurious_roots`); shape (n, 0) without one."""
+    cols = []
+    for j, kind in enumerate(m.kinds):
+        if kind == "PP":
+            cols.append(np.arctan2(-C[:, j, 5], C[:, j, 6] / 2) / 2 + np.pi / 2)
+    return np.stack(cols, axis=1) if cols else np.zeros((C.shape[0], 0))
 
 
 def _spurious_roots(m, C, theta):
@@ -392,7 +451,9 @@ def row_quadrics(m, c_row):
 
 def _special_candidates(m, q, C, L):
     """Candidates (balanced coordinates) for one row whose Cramer denominator vanishes
-    (identically or at a root), and whether the orientations could not be separated."""
+    (identically or at a root), and ``(flag, clusters, thetas)``: whether the orientations could
+    not be separated, the root clusters the discs could not separate, and the half-angles of the
+    orientations solved."""
     tol = m.tolerances
     quads = row_quadrics(m, C)
     el = eliminate(quads, m.elimination_plan)
@@ -429,7 +490,7 @@ def _special_candidates(m, q, C, L):
     flags = []
     for t in thetas:
         out += solve_orientation(m, q, quads, np.cos(t), np.sin(t), L, flags)
-    return out, (bool(flags), clusters)
+    return out, (bool(flags), clusters, [float(t) for t in thetas])
 
 
 def _exact_polynomial(m, q):

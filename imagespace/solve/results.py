@@ -260,12 +260,13 @@ class DKBatchResult:
         (``solver == "certified"``). False only where no certificate could be had (masked rows,
         irrational coefficients with a multiple root).
     near_singular : (n,) bool
-        The floating-point answer of this row may have the wrong count: the roots of its
-        kinematic polynomial could not be separated by inclusion discs, or the modes found do
-        not account for the real roots (compiled kernel: a root pair closer than
-        ``Tolerances.near_singular_gap``, or an odd count). Rows answered by the certified path
-        and, with ``certify=True``, every ``consistent`` row are never near-singular (their count
-        is proven).
+        The floating-point answer of this row may have the wrong count: the real roots of its
+        exact kinematic polynomial could not be proven simple and isolated
+        (:func:`imagespace.solve.proof.proven_roots`), or the modes found do not sit one per
+        proven root (:func:`imagespace.solve.proof.modes_match_roots`). A row without the flag
+        has the proven count. Rows the compiled kernel answers itself (their roots isolated
+        on a rigorous enclosure), rows answered by the certified path and, with
+        ``certify=True``, every ``consistent`` row are never near-singular.
     multiplicity : (n, 6) int8, read-only
         Multiplicity of each mode's root (1 except on rows solved by the certified path; 1 in
         unused slots as well). Not stored while every mode has multiplicity 1.

@@ -1,0 +1,304 @@
+r"""Exact detection of a continuum of assembly modes at given joint values.
+
+At a fixed orientation ``(x0 : x1)`` the three dyad quadrics are, in the positions ``(x2, x3)``,
+the rows ``(c_i, alpha_i, beta_i, kappa_i)`` of a 3x4 matrix ``M``: the circle or line
+``c (x2**2 + x3**2) + alpha x2 + beta x3 + kappa = 0``, with ``alpha = a0 x0 + a1 x1``,
+``beta = b0 x0 + b1 x1``, ``kappa = k0 x0**2 + k1 x0 x1 + k2 x1**2``. Two distinct circles or
+lines meet in at most two points, so the positions at that orientation form a continuum exactly
+when ``rank M <= 1`` (every non-zero row describes one curve) and that curve has infinitely many
+real points: a line (``c = 0``, ``(alpha, beta) != 0``), a circle of positive squared radius
+(``alpha**2 + beta**2 - 4 c kappa > 0``), or every row zero (the whole plane).
+
+With ``t = x1/x0``, the entries of ``M`` are polynomials in ``t``; ``rank M <= 1`` at a real
+``t`` exactly when ``t`` is a root of ``g``, the gcd of the eighteen 2x2 minors (the orientation
+``x0 = 0`` is tested on its own). :func:`continuum_at` computes ``g`` exactly (python-flint,
+rational coefficients: the joint values are the binary rationals of the floats), splits it into
+irreducible factors, and decides the reality of the curve at each real root exactly (a rational
+root directly; an irrational one by an isolating interval refined until the sign of
+``alpha**2 + beta**2 - 4 c kappa`` is proven). Orientations where ``rank M <= 1`` are also roots
+of the kinematic polynomial, at least double ones (its elimination forms ``D, X2, X3`` and the
+final determinant vanish there to first and second order), so a row whose real roots are all
+proven simple holds no continuum of positions: callers run this test only on rows whose proof
+found a multiple (or undecided) root, or that fall in a Cramer case.
+
+A continuum of orientations (the kinematic polynomial vanishing identically) is reported by
+:meth:`~imagespace.core.mechanism.Mechanism.exact_forms` (a
+:class:`~imagespace.exceptions.DegenerateDesignError`), not here.
+
+The spurious orientation ``phi_c + pi`` of a PP dyad satisfies the quadric but is not a mode:
+on designs with a PP dyad a continuum is confirmed by the legs' inverse kinematics at one of
+its points (a floating-point check with ``Tolerances.joint_residual``).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Any, Optional
+
+import numpy as np
+import sympy as sp
+
+from ..core.certify import certify_real_roots
+from ..core.kinematic_map import pose_of
+
+__all__ = ["continuum_at"]
+
+#: Bisections of an irrational root's isolating interval before the sign of the squared radius
+#: is given up on (a numerical-method knob: giving up answers "undecided", never a wrong verdict).
+_SIGN_REFINEMENTS = 200
+
+
+def _fmpq(v):
+    import flint
+
+    v = sp.Rational(v)
+    return flint.fmpq(int(v.p), int(v.q))
+
+
+def _quadric_enclosure(m):
+    """The 24 quadric coefficients general in the joint values, for exact evaluation at rational
+    joint values (:class:`~imagespace.core.codegen.CoefficientEnclosure`), or None where they are
+    not polynomial in the joint features."""
+    from ..core.codegen import CoefficientEnclosure
+
+    coeffs = [v for qd in m.quadrics(None) for v in qd.coefficients()]
+    try:
+        return CoefficientEnclosure(coeffs, m.joint_symbols)
+    except ValueError:
+        return None
+
+
+def _exact_coefficients(m, q):
+    """The 24 quadric coefficients at ``q`` as sympy rationals, or None where one is not rational
+    (irrational geometry, the cosine of a non-zero actuated angle)."""
+    rational_q = all(isinstance(v, (float, np.floating, int, np.integer)) or sp.sympify(v).is_Rational for v in q)
+    enc = m.cached("continuum_quadrics", lambda: _quadric_enclosure(m)) if rational_q else None
+    if enc is not None and enc.rational:
+        qq = [Fraction(float(v)) if isinstance(v, (float, np.floating)) else
+              Fraction(int(sp.Rational(v).p), int(sp.Rational(v).q)) for v in q]
+        return [sp.Rational(v.numerator, v.denominator) for v in enc.exact(qq)]
+    q_exact = [sp.Rational(float(v)) if isinstance(v, (float, np.floating)) else sp.sympify(v) for v in q]
+    cf = [sp.sympify(v) for qd in m.quadrics(q_exact) for v in qd.coefficients()]
+    return cf if all(v.is_Rational for v in cf) else None
+
+
+def _rows(cf):
+    """The rows ``(c, alpha, beta, kappa)`` of the 24 rational coefficients ``cf`` as fmpq_poly in
+    ``t = x1/x0`` (chart ``x0 = 1``), and the constant rows at ``x0 = 0, x1 = 1``."""
+    import flint
+
+    rows, top = [], []
+    for i in range(3):
+        c, a0, a1, b0, b1, k0, k1, k2 = (_fmpq(v) for v in cf[8 * i:8 * i + 8])
+        P = flint.fmpq_poly
+        rows.append((P([c]), P([a0, a1]), P([b0, b1]), P([k0, k1, k2])))
+        top.append((c, a1, b1, k2))
+    return rows, top
+
+
+def _minors(rows):
+    """The 2x2 minors of the 3x4 matrix of rows (any ring)."""
+    out = []
+    for i in range(3):
+        for j in range(i + 1, 3):
+            for a in range(4):
+                for b in range(a + 1, 4):
+                    out.append(rows[i][a] * rows[j][b] - rows[i][b] * rows[j][a])
+    return out
+
+
+def _squared_radius(row):
+    """``alpha**2 + beta**2 - 4 c kappa`` of a row (any ring): positive iff the circle is real
+    and not a point (for ``c != 0``)."""
+    c, al, be, ka = row
+    return al * al + be * be - 4 * c * ka
+
+
+def _real_curve(row, is_zero, sign):
+    """Whether one row, at one orientation, is a curve with infinitely many real points:
+    ``is_zero(e)`` decides an entry, ``sign(e)`` the sign of the squared radius (None:
+    undecided). Returns True, False or None."""
+    c, al, be, ka = row
+    if not is_zero(c):
+        return None if sign(_squared_radius(row)) is None else sign(_squared_radius(row)) > 0
+    if not (is_zero(al) and is_zero(be)):
+        return True                 # a line
+    return False                    # kappa = 0 alone: no solution (kappa != 0) -- callers skip zero rows
+
+
+def _sign_at_root(h, f, interval):
+    """The sign of the fmpq_poly ``h`` at the root of the irreducible ``f`` in ``interval``
+    (Fractions), ``h`` not divisible by ``f`` (so non-zero there): refine the interval by
+    bisection on the sign of ``f`` until ``h``'s enclosure over it excludes zero."""
+    lo, hi = interval
+    hc = [Fraction(int(v.p), int(v.q)) for v in (_sympy_rational(x) for x in h.coeffs())]
+    fc = [Fraction(int(v.p), int(v.q)) for v in (_sympy_rational(x) for x in f.coeffs())]
+
+    def ev(cs, x):
+        acc = Fraction(0)
+        for v in reversed(cs):
+            acc = acc * x + v
+        return acc
+
+    def slope_bound(cs, r):
+        return sum(abs(v) * k * r ** max(k - 1, 0) for k, v in enumerate(cs))
+
+    flo = ev(fc, lo)
+    for _ in range(_SIGN_REFINEMENTS):
+        mid = (lo + hi) / 2
+        r = max(abs(lo), abs(hi))
+        val = ev(hc, mid)
+        if abs(val) > slope_bound(hc, r) * (hi - lo) / 2:
+            return 1 if val > 0 else -1
+        fm = ev(fc, mid)
+        if fm == 0:
+            return 1 if ev(hc, mid) > 0 else -1
+        if (fm > 0) == (flo > 0):
+            lo, flo = mid, fm
+        else:
+            hi = mid
+    return None
+
+
+def _sympy_rational(x):
+    return sp.Rational(int(x.p), int(x.q))
+
+
+def _orientations(rows):
+    """The real orientations ``t`` (as ``(factor, interval or rational)``) where every 2x2 minor
+    vanishes; ``"all"`` when they vanish identically."""
+    import flint
+
+    g = None
+    for mnr in _minors(rows):
+        if mnr.degree() < 0:
+            continue
+        g = mnr if g is None else g.gcd(mnr)
+        if g.degree() < 1:
+            return []               # a constant gcd: rank 2 at every orientation (the usual case)
+    if g is None:
+        return "all"
+    if g.degree() < 1:
+        return []
+    num = flint.fmpz_poly([int(v) for v in (g * g.denom()).coeffs()])
+    _, factors = num.factor()
+    out = []
+    for fz, _mult in factors:
+        f = flint.fmpq_poly(fz.coeffs())
+        if f.degree() == 1:
+            a, b = f.coeffs()                           # a + b t
+            out.append((f, Fraction(int(-a.p * b.q), int(a.q * b.p))))
+            continue
+        cert = certify_real_roots([_sympy_rational(v) for v in f.coeffs()])
+        for iv in cert.exact_intervals:
+            out.append((f, tuple(iv)))
+    return out
+
+
+def _check_pose(m, q, row, t):
+    """Float confirmation by the legs' inverse kinematics (designs with a PP dyad): one point
+    of the real curve ``row`` at the orientation ``t`` (a float, None for ``x0 = 0``)."""
+    x0, x1 = (1.0, t) if t is not None else (0.0, 1.0)
+    c, al, be, ka = (float(v) for v in row)
+    if c != 0:
+        x2, x3 = -al / (2 * c) + np.sqrt(max(al * al + be * be - 4 * c * ka, 0.0)) / (2 * abs(c)), -be / (2 * c)
+    elif al != 0 or be != 0:
+        s = -ka / (al * al + be * be)
+        x2, x3 = al * s, be * s
+    else:
+        x2, x3 = 0.0, 0.0
+    h = np.hypot(x0, x1)
+    pose = pose_of(np.array([x0, x1, x2, x3]) / h)
+    return bool(m.joint_residual(pose, np.asarray(q, float)) <= m.tolerances.joint_residual)
+
+
+def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
+    """Decide exactly whether the design ``m`` has a continuum of assembly modes at one
+    orientation for the joint values ``q`` (floats taken as the binary rationals they are).
+
+    Parameters
+    ----------
+    m : PlanarParallel
+        A numeric design.
+    q : (3,) float or exact numbers
+
+    Returns
+    -------
+    verdict : bool or None
+        True: a continuum of positions at the orientation ``phi``; False: none at any
+        orientation (proven); None: undecided (a quadric coefficient is irrational, e.g. the
+        cosine of an actuated angle, or a sign could not be refined).
+    phi : float or None
+        The orientation of the continuum (radians), when ``verdict`` is True.
+
+    Examples
+    --------
+    A triangle platform congruent to the base, rotated by ``phi = 2 atan(1/3)``, all legs of
+    length 2: the platform can translate along a circle at that orientation.
+
+    >>> import imagespace as isp
+    >>> import sympy as sp
+    >>> from imagespace.solve.continuum import continuum_at
+    >>> R = sp.Rational
+    >>> m = isp.PlanarParallel([isp.RPR((0, 0), (0, 0)), isp.RPR((4, 0), (R(16, 5), R(-12, 5))),
+    ...                         isp.RPR((1, 3), (R(13, 5), R(9, 5)))])
+    >>> verdict, phi = continuum_at(m, [2, 2, 2])
+    >>> verdict, round(phi, 6)
+    (True, 0.643501)
+    >>> continuum_at(m, [2, 2, 2.5])
+    (False, None)
+    """
+    cf = _exact_coefficients(m, q)
+    if cf is None:
+        return None, None
+    rows, top = _rows(cf)
+    pp = "PP" in m.kinds
+    undecided = False
+    # x0 = 0: constant rows
+    if all(top[i][a] * top[j][b] == top[i][b] * top[j][a] for i in range(3) for j in range(i + 1, 3)
+           for a in range(4) for b in range(a + 1, 4)):
+        nz = [r for r in top if any(v != 0 for v in r)]
+        if not nz:
+            return True, float(np.pi)
+        verdict = _real_curve(nz[0], lambda e: e == 0, lambda e: (e > 0) - (e < 0))
+        if verdict and (not pp or _check_pose(m, q, nz[0], None)):
+            return True, float(np.pi)
+    found = _orientations(rows)
+    if found == "all":
+        # rank <= 1 at every orientation: the positions are a continuum wherever the curve of a
+        # non-zero row is real; such a design also has a vanishing kinematic polynomial
+        samples = [Fraction(k, 7) for k in range(-21, 22)]
+        for t in samples:
+            tq = _fmpq(sp.Rational(t.numerator, t.denominator))
+            vals = [tuple(e(tq) for e in r) for r in rows]
+            nz = [r for r in vals if any(v != 0 for v in r)]
+            if not nz:
+                return True, float(2 * np.arctan(float(t)))
+            v = _real_curve(nz[0], lambda e: e == 0, lambda e: (e > 0) - (e < 0))
+            if v and (not pp or _check_pose(m, q, nz[0], float(t))):
+                return True, float(2 * np.arctan(float(t)))
+        return None, None
+    for f, root in found:
+        if isinstance(root, Fraction):
+            tq = _fmpq(sp.Rational(root.numerator, root.denominator))
+            vals = [tuple(e(tq) for e in r) for r in rows]
+            nz = [r for r in vals if any(v != 0 for v in r)]
+            tf = float(root)
+            verdict = True if not nz else _real_curve(nz[0], lambda e: e == 0, lambda e: (e > 0) - (e < 0))
+            row_f = nz[0] if nz else (0, 0, 0, 0)
+        else:
+            nz = [r for r in rows if any((e % f).degree() >= 0 for e in r)]
+            tf = float((root[0] + root[1]) / 2)
+            if not nz:
+                verdict, row_f = True, (0, 0, 0, 0)
+            else:
+                r0 = nz[0]
+                verdict = _real_curve(r0, lambda e: (e % f).degree() < 0,
+                                      lambda e: 0 if (e % f).degree() < 0 else _sign_at_root(e % f, f, root))
+                row_f = tuple(float(e(_fmpq(sp.Rational(tf)))) for e in r0)
+        if verdict is None:
+            undecided = True
+            continue
+        if verdict and (not pp or _check_pose(m, q, row_f, tf)):
+            return True, float(2 * np.arctan(tf))
+    return (None, None) if undecided else (False, None)
