@@ -525,6 +525,28 @@ class TranscendentalDesign:
         DegenerateDesignError
             The kinematic polynomial vanishes identically at ``q`` (a continuum of modes).
         """
+        built = self.ring_quadrics(q)
+        if built is None:
+            return None
+        k, ring = built
+        return _finish_elimination(k, ring, self.plan)
+
+    def ring_quadrics(self, q):
+        """``(constants, quadrics)``: the three quadrics at ``q`` with coefficients in the ring of
+        :class:`ExactConstants` (each quadric times a positive factor), or None when every
+        number is rational.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> from imagespace.core.transcendental import TranscendentalDesign
+        >>> m = isp.PlanarParallel([isp.RRR(base=(0, 0), platform=(0, 0), lengths=(1, 2)),
+        ...                         isp.RPR(base=(4, 0), platform=(1, 0)),
+        ...                         isp.RPR(base=(0, 4), platform=(0, 1))])
+        >>> k, quads = TranscendentalDesign(m).ring_quadrics([0.5, 3.0, 3.0])
+        >>> [qd.kind for qd in quads], k.ngroups
+        (['RR', 'RR', 'RR'], 1)
+        """
         import flint
 
         r = [Fraction(v) if not isinstance(v, sp.Basic) else Fraction(int(v.p), int(v.q)) for v in q]
@@ -556,7 +578,7 @@ class TranscendentalDesign:
                     f = f * w**K
                 coeffs = [acc + f * v for acc, v in zip(coeffs, row)]
             ring.append(_RingQuadric(kind, tuple(coeffs)))
-        return _finish_elimination(k, ring, self.plan)
+        return k, ring
 
 
 def transcendental_elimination(quadrics, plan):

@@ -212,6 +212,59 @@ def _check_pose(m, q, row, t):
     return bool(m.joint_residual(pose, np.asarray(q, float)) <= m.tolerances.joint_residual)
 
 
+def _transcendental_verdict(m, q):
+    """Quadric coefficients holding ``cos``/``sin`` of a joint angle (exact in
+    ``Q[tan(r/2)]``, :mod:`imagespace.core.transcendental`): with one angle group and no other
+    irrational constant, "no orientation of rank <= 1" is decided exactly. The minors are
+    polynomials in ``(t, tau)``; when they share no factor involving ``t`` their common zeros are
+    finitely many points with algebraic coordinates, and ``tau = tan(r/2)`` is transcendental, so
+    no common zero has this ``tau``. The same at ``x0 = 0`` for the constant rows: a minor that
+    is a non-zero polynomial in ``tau`` is non-zero at ``tau``. Anything else is left undecided
+    (``(None, None)``)."""
+    import flint
+
+    from ..core.transcendental import TranscendentalDesign
+
+    try:
+        q_exact = [Fraction(float(v)) if isinstance(v, (float, np.floating, int, np.integer))
+                   else Fraction(int(sp.Rational(v).p), int(sp.Rational(v).q)) for v in q]
+    except (TypeError, ValueError):
+        return None, None
+    try:
+        design = m.cached("transcendental_design", lambda: TranscendentalDesign(m))
+    except ValueError:
+        return None, None
+    built = design.ring_quadrics(q_exact)
+    if built is None:
+        return None, None
+    k, quads = built
+    if not k.decidable:
+        return None, None
+    top = [(qd.coefficients()[0], qd.coefficients()[2], qd.coefficients()[4], qd.coefficients()[7])
+           for qd in quads]
+    if all(mn.is_zero() for mn in _minors(top)):
+        return None, None                     # rank <= 1 at the half-turn for every angle: undecided
+    names = ("t",) + tuple(k.ctx.names())
+    ctx = flint.fmpq_mpoly_ctx.get(names, "lex")
+
+    def lift(p, power=0):
+        return ctx.from_dict({(power, *mono): c for mono, c in p.terms()})
+
+    rows = []
+    for qd in quads:
+        c, a0, a1, b0, b1, k0, k1, k2 = qd.coefficients()
+        rows.append((lift(c), lift(a0) + lift(a1, 1), lift(b0) + lift(b1, 1),
+                     lift(k0) + lift(k1, 1) + lift(k2, 2)))
+    g = None
+    for mn in _minors(rows):
+        if mn.is_zero():
+            continue
+        g = mn if g is None else g.gcd(mn)
+        if g.degrees()[0] == 0:
+            return False, None
+    return None, None
+
+
 def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     """Decide exactly whether the design ``m`` has a continuum of assembly modes at one
     orientation for the joint values ``q`` (floats taken as the binary rationals they are).
@@ -226,8 +279,9 @@ def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     -------
     verdict : bool or None
         True: a continuum of positions at the orientation ``phi``; False: none at any
-        orientation (proven); None: undecided (a quadric coefficient is irrational, e.g. the
-        cosine of an actuated angle, or a sign could not be refined).
+        orientation (proven); None: undecided (irrational geometry, several actuated angles
+        in a relation, a structural rank drop at a transcendental angle, or a sign that could
+        not be refined).
     phi : float or None
         The orientation of the continuum (radians), when ``verdict`` is True.
 
@@ -250,7 +304,7 @@ def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     """
     cf = _exact_coefficients(m, q)
     if cf is None:
-        return None, None
+        return _transcendental_verdict(m, q)
     rows, top = _rows(cf)
     pp = "PP" in m.kinds
     undecided = False
