@@ -257,6 +257,17 @@ class ExactConstants:
             out.append(acc)
         return out
 
+    def t_ring(self):
+        """The ring ``Q[t, T0, ..., Z0, ...]``: this ring with a first variable ``t`` (the
+        orientation ``x1/x0``), for polynomials in the orientation over these constants."""
+        import flint
+
+        return flint.fmpq_mpoly_ctx.get(("t",) + tuple(self.ctx.names()), "lex")
+
+    def lift(self, p, power=0):
+        """``p * t**power`` in :meth:`t_ring` (``p`` an element of this ring)."""
+        return self.t_ring().from_dict({(power, *mono): c for mono, c in p.terms()})
+
     def variable_balls(self, prec):
         """arb balls of the ring's variables at working precision ``prec`` (cached)."""
         import flint

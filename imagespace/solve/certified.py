@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Optional
 
 import numpy as np
@@ -417,6 +418,128 @@ def _raise_if_continuum(m, q, cert, case_a):
             f"singularity or singular joint values)")
 
 
+def _root_factor_rational(P, lo, hi):
+    """The irreducible factor over Q of the rational form ``P`` (coefficients of ``t**k``) that
+    vanishes in the isolating interval ``[lo, hi]`` (Fractions)."""
+    import flint
+
+    Pp = flint.fmpq_poly([flint.fmpq(int(sp.Rational(c).p), int(sp.Rational(c).q)) for c in P])
+    num = flint.fmpz_poly([int(v) for v in (Pp * Pp.denom()).coeffs()])
+    _, factors = num.factor()
+    for fz, _ in factors:
+        f = flint.fmpq_poly(fz.coeffs())
+        a = f(flint.fmpq(lo.numerator, lo.denominator))
+        if lo == hi:
+            if a == 0:
+                return f
+            continue
+        b = f(flint.fmpq(hi.numerator, hi.denominator))
+        if a == 0 or b == 0 or (a > 0) != (b > 0):
+            return f
+    return None
+
+
+def _root_factor_transcendental(k, Pt, lo, hi):
+    """The irreducible factor over Q of ``Pt`` (in ``k.t_ring()``) whose root at the actual angles
+    lies in ``[lo, hi]`` (decided on arb enclosures), or None."""
+    import flint
+
+    _, factors = Pt.factor()
+    for f, _ in factors:
+        if f.degrees()[0] == 0:
+            continue
+        for prec in (256, 1024):
+            vb = k.variable_balls(prec)
+            with flint_precision(prec):
+                def at(x):
+                    vals = [flint.arb(flint.fmpq(x.numerator, x.denominator))] + list(vb)
+                    acc = flint.arb(0)
+                    for mono, c in f.terms():
+                        term = flint.arb(c)
+                        for v, e in zip(vals, mono):
+                            if e:
+                                term = term * v**int(e)
+                        acc = acc + term
+                    return acc
+                a, b = at(lo), at(hi)
+            if a.contains(0) or b.contains(0):
+                continue
+            if (a > 0) != (b > 0):
+                return f
+            break
+    return None
+
+
+def _orientation_positions(m, q_exact, P, tr, cert, plan):
+    """The modes' positions at an orientation root, counted exactly
+    (:func:`imagespace.solve.positions.positions_at_root`): a list of ``(x2, x3, multiplicity)``
+    in the chart of the root (``x0 = 1``, or ``x1 = 1`` at the half-turn), or None where the exact
+    count does not apply (irrational geometry) or could not be decided."""
+    import flint
+
+    from .positions import RationalRoot, TranscendentalRoot, positions_at_root
+
+    finite = plan.index < len(cert.exact_intervals)
+    lo, hi = cert.exact_intervals[plan.index] if finite else (Fraction(0), Fraction(0))
+    if tr is None:
+        if not cert.exact:
+            return None
+        cf = [sp.sympify(v) for qd in m.quadrics(list(q_exact)) for v in qd.coefficients()]
+        if not all(v.is_Rational for v in cf):
+            return None
+        Fp = flint.fmpq_poly
+
+        def fq(v):
+            return flint.fmpq(int(v.p), int(v.q))
+        rows = []
+        for i in range(3):
+            c, a0, a1, b0, b1, k0, k1, k2 = (fq(v) for v in cf[8 * i:8 * i + 8])
+            if finite:
+                rows.append((Fp([c]), Fp([a0, a1]), Fp([b0, b1]), Fp([k0, k1, k2])))
+            else:                                   # chart x1 = 1, s = x0 / x1 = 0
+                rows.append((Fp([c]), Fp([a1, a0]), Fp([b1, b0]), Fp([k2, k1, k0])))
+        if finite:
+            f = _root_factor_rational(P, lo, hi)
+            if f is None:
+                return None
+            root = RationalRoot(f, lo, hi)
+        else:
+            root = RationalRoot(Fp([0, 1]), Fraction(0), Fraction(0))
+        return positions_at_root(rows, root)
+    from ..core.transcendental import TranscendentalDesign
+
+    if not all(v.is_Rational for v in q_exact):
+        return None
+    try:
+        design = m.cached("transcendental_design", lambda: TranscendentalDesign(m))
+    except ValueError:
+        return None
+    built = design.ring_quadrics([Fraction(int(v.p), int(v.q)) for v in q_exact])
+    if built is None:
+        return None
+    k, quads = built
+    if k.signature != tr.constants.signature:
+        return None
+    lift = k.lift
+    rows = []
+    for qd in quads:
+        c, a0, a1, b0, b1, k0, k1, k2 = qd.coefficients()
+        if finite:
+            rows.append((lift(c), lift(a0) + lift(a1, 1), lift(b0) + lift(b1, 1),
+                         lift(k0) + lift(k1, 1) + lift(k2, 2)))
+        else:
+            rows.append((lift(c), lift(a1) + lift(a0, 1), lift(b1) + lift(b0, 1),
+                         lift(k2) + lift(k1, 1) + lift(k0, 2)))
+    if finite:
+        Pt = sum((lift(cj, j) for j, cj in enumerate(tr.P.coeffs)), k.t_ring().from_dict({}))
+        f = _root_factor_transcendental(k, Pt, lo, hi)
+        if f is None:
+            return None
+    else:
+        f = k.t_ring().gens()[0]
+    return positions_at_root(rows, TranscendentalRoot(f, k, lo, hi))
+
+
 def certified_modes(m, q, qf):
     """The certified per-call path: modes computed root by root from the exact certificate.
 
@@ -471,9 +594,37 @@ def certified_modes(m, q, qf):
             aspect = 0 if plan.multiplicity > 1 else int(np.sign(det[j]))
             per_root[plan.index] = [AssemblyMode(X[j], poses[j], float(resid[j]), aspect, True,
                                                  plan.multiplicity)]
+    undecided = []
     for plan in plans:
         if plan.kind == "cramer":
             continue
+        exact = _orientation_positions(m, q_exact, P, tr, cert, plan)
+        if exact is not None:
+            iv = cert.exact_intervals[plan.index] if plan.index < len(cert.exact_intervals) else None
+            t = None if iv is None else (iv[0] + iv[1]) / 2
+            if not exact:
+                continue
+            X = np.array([_normalised_point(t, x2, x3) for x2, x3, _ in exact])
+            poses = _pose_of(X)
+            resid = np.atleast_1d(m.joint_residual(poses, np.tile(qf, (len(exact), 1)), length=L[0]))
+            Xs = X.copy()
+            Xs[:, 2:] /= L[0]
+            _, J = _system(np.repeat(C, len(exact), axis=0), Xs[:, None, :])
+            det = np.linalg.det(J[:, 0])
+            # the root's multiplicity is accounted for by the positions (two simple ones, or a
+            # tangency) unless it exceeds them: then a mode there is singular and which one is
+            # not decided here, so all are reported singular
+            total = sum(mult for _, _, mult in exact)
+            found = []
+            for j, (_, _, mult) in enumerate(exact):
+                if not resid[j] <= tol.joint_residual:
+                    continue                    # the spurious root phi_c + pi of a PP dyad
+                mlt = plan.multiplicity if (plan.multiplicity > total and not case_a) else mult
+                aspect = 0 if mlt > 1 else int(np.sign(det[j]))
+                found.append(AssemblyMode(X[j], poses[j], float(resid[j]), aspect, True, mlt))
+            per_root[plan.index] = found
+            continue
+        undecided.append(plan.index)
         cand = solve_orientation(m, qf, quads, plan.x0, plan.x1, L[0])
         if not cand:
             continue
@@ -485,6 +636,12 @@ def certified_modes(m, q, qf):
             found = [AssemblyMode(mm.image_point, mm.pose, mm.residual, 0, True, plan.multiplicity)
                      for mm in found]
         per_root[plan.index] = found
+    if undecided:
+        warnings.warn(f"{m.name} at q = {qf.tolist()}: the positions at {len(undecided)} orientation "
+                      "root(s) (where the Cramer denominator vanishes) could not be counted exactly "
+                      "(irrational geometry, or several actuated angles in an exact relation); they "
+                      "are solved in floating point and their number is not proven",
+                      NearSingularWarning, stacklevel=3)
     tagged = [(mm, k) for k, lst in enumerate(per_root) for mm in lst]
     tagged.sort(key=lambda item: item[0].pose[2])
     return CertifiedModes([mm for mm, _ in tagged], cert, [len(lst) for lst in per_root],

@@ -221,8 +221,6 @@ def _transcendental_verdict(m, q):
     no common zero has this ``tau``. The same at ``x0 = 0`` for the constant rows: a minor that
     is a non-zero polynomial in ``tau`` is non-zero at ``tau``. Anything else is left undecided
     (``(None, None)``)."""
-    import flint
-
     from ..core.transcendental import TranscendentalDesign
 
     try:
@@ -244,12 +242,7 @@ def _transcendental_verdict(m, q):
            for qd in quads]
     if all(mn.is_zero() for mn in _minors(top)):
         return None, None                     # rank <= 1 at the half-turn for every angle: undecided
-    names = ("t",) + tuple(k.ctx.names())
-    ctx = flint.fmpq_mpoly_ctx.get(names, "lex")
-
-    def lift(p, power=0):
-        return ctx.from_dict({(power, *mono): c for mono, c in p.terms()})
-
+    lift = k.lift
     rows = []
     for qd in quads:
         c, a0, a1, b0, b1, k0, k1, k2 = qd.coefficients()
