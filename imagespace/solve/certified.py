@@ -349,6 +349,8 @@ def certified_modes(m, q, qf):
                       NearSingularWarning, stacklevel=3)
         return CertifiedModes(res.modes(0), cert, (), ())
     plans = plan_roots(P, D, X2, X3, cert, case_a)
+    if not plans:                       # no real root: nothing for the float stages to compute
+        return CertifiedModes([], cert, (), ())
     C, _, L = scaled_quadrics(m, qf[None, :])
     quads = row_quadrics(m, C[0])
     tol = m.tolerances
