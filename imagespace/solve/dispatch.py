@@ -104,7 +104,8 @@ def _certified_refusing_overflow(m, q, qf):
     """The certified per-call path, with the overflow of its float stages (joint values whose
     squares leave the float range) refused by an error that names ``q``."""
     try:
-        return certified_modes(m, q, qf)
+        with np.errstate(over="ignore", invalid="ignore"):     # overflow is reported below
+            return certified_modes(m, q, qf)
     except (InputError, OverflowError) as exc:
         if isinstance(exc, InputError) and "finite" not in str(exc):
             raise
