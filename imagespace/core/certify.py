@@ -251,8 +251,9 @@ def _refine(poly, lo, hi, bits):
 
 #: Root isolations of integer polynomials with a coefficient longer than this many bits run in a
 #: child process that Ctrl-C can stop (:func:`imagespace.core.interruptible.call_interruptibly`);
-#: shorter ones run inline (measured: well under a second for degree <= 12). A responsiveness
-#: knob: both give the same answer.
+#: shorter ones run inline (measured on (t - 1)((t^2 + 1)^k 2^1000 + 1), whose complex roots
+#: cluster: 0.35 s at degree 5, 0.8 s at degree 11; a row of a float input has 50-300 bits). A
+#: responsiveness knob: both give the same answer.
 INLINE_ROOT_BITS = 1024
 
 
