@@ -58,7 +58,7 @@ def test_joint_values_of_real_poses_are_never_refused():
     not refuse them."""
     rng = np.random.default_rng(20261203)
     checked = 0
-    for trial in range(240):
+    for trial in range(160):
         kinds = [KINDS[(trial + k) % 7] for k in (0, 2, 5)]
         legs = [random_leg(rng, kind, int(rng.integers(0, 3))) for kind in kinds]
         scale = [1.0, 10.0, 1e3, 1e-3][trial % 4]
@@ -73,7 +73,7 @@ def test_joint_values_of_real_poses_are_never_refused():
                 ob = planar_reach_obstruction(legs, q)
                 assert ob is None, (legs, pose.tolist(), q.tolist(), str(ob))
                 checked += 1
-    assert checked > 400
+    assert checked > 300
 
 
 def test_spatial_leg_lengths_of_real_poses_are_never_refused():
