@@ -236,6 +236,18 @@ class Tolerances:
         a degenerate design, when the second singular value of the centred anchors is at most this
         times ``max(1, max |coordinate|)``.
 
+    far_reach_ratio : float
+        A row whose prismatic joint values exceed this times the design's size (its largest
+        coordinate or link length) is beyond what the float paths resolve (the design shrinks
+        below their relative resolution next to the legs; measured on random 3-RPR designs: wrong
+        float counts from about 1e5): it is answered by a reach bound
+        (:mod:`imagespace.core.reach`) or by the certified per-row path instead. The spatial
+        platforms measure against their largest anchor coordinate and decide such rows with msolve.
+    exact_reach_ratio : float
+        Spatial platforms: legs longer than this times the design's size that no reach bound
+        decides are refused (masked in a batch): msolve on coefficients of hundreds of digits
+        takes minutes (a Gough-Stewart row: 10-20 s up to 1e40 times, beyond 600 s at 1e300).
+
     The compiled kernel also reads ``cramer_small`` (a root with ``|D| <= cramer_small max|D|``
     sends the row to the numpy path) and ``newton_stop`` (its 4x4 solve's pivot threshold); it
     receives its seven as one array (:func:`imagespace.solve.kernel.kernel_tolerances`).
@@ -304,6 +316,9 @@ class Tolerances:
     spatial_distinct: float = 1e-6
     spatial_aspect: float = 1e-12
     spatial_plane: float = 1e-9
+    # absurd input (solve/, spatial/)
+    far_reach_ratio: float = 1e3
+    exact_reach_ratio: float = 1e20
 
     def __post_init__(self):
         for name, value in self.__dict__.items():

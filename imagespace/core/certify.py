@@ -7,7 +7,10 @@ with exact or rigorous interval arithmetic, never with floating point:
   they are): the dehomogenised polynomial goes to python-flint as an ``fmpq_poly``;
   ``complex_roots()`` (FLINT's ``arb_fmpz_poly_complex_roots`` on the square-free factors) returns
   disjoint isolating balls with multiplicities, real roots with an imaginary part exactly zero.
-  Exact, multiple roots included.
+  Exact, multiple roots included. A factor that Sturm's theorem proves free of real roots skips
+  the isolation (on long coefficients a cluster of complex roots can make it slow), and an
+  isolation on integers longer than :data:`INLINE_ROOT_BITS` runs in a child process that Ctrl-C
+  stops (:mod:`imagespace.core.interruptible`).
 * **Other exact coefficients** (algebraic numbers such as the seed-002 offset in
   :math:`\mathbb{Q}(\sqrt{181})`, or ``cos(7*pi/18)``): every coefficient is enclosed in an
   ``arb`` ball (sympy evaluates it to the working precision plus guard digits; the ball radius covers
@@ -25,7 +28,7 @@ from __future__ import annotations
 
 import math
 import threading
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -246,6 +249,65 @@ def _refine(poly, lo, hi, bits):
     return lo, hi
 
 
+#: Root isolations of integer polynomials with a coefficient longer than this many bits run in a
+#: child process that Ctrl-C can stop (:func:`imagespace.core.interruptible.call_interruptibly`);
+#: shorter ones run inline (measured on (t - 1)((t^2 + 1)^k 2^1000 + 1), whose complex roots
+#: cluster: 0.35 s at degree 5, 0.8 s at degree 11; a row of a float input has 50-300 bits). A
+#: responsiveness knob: both give the same answer.
+INLINE_ROOT_BITS = 1024
+
+
+def _sturm_real_root_count(f):
+    """Number of distinct real roots of the integer polynomial ``f`` (a python-flint
+    ``fmpz_poly`` of degree >= 1): Sturm's theorem, sign changes of the exact remainder sequence
+    at ``-inf`` and ``+inf``."""
+    import flint
+
+    seq = [flint.fmpq_poly(f.coeffs())]
+    seq.append(seq[0].derivative())
+    while seq[-1].degree() > 0:
+        r = seq[-2] % seq[-1]
+        if r.degree() < 0:
+            break
+        seq.append(-r)
+
+    def changes(values):
+        v = [x for x in values if x != 0]
+        return sum(1 for a, b in zip(v, v[1:]) if (a > 0) != (b > 0))
+
+    lead = [p.coeffs()[-1] for p in seq]
+    at_minus = [c if p.degree() % 2 == 0 else -c for c, p in zip(lead, seq)]
+    return changes(at_minus) - changes(lead)
+
+
+def _real_root_balls(ints, prec, in_child=False):
+    """The isolation step of :func:`_exact_path`, in plain data (it may run in a child process):
+    for the integer polynomial with coefficients ``ints`` (ascending), each real root of each
+    square-free factor as ``(factor coefficients, lo, hi, multiplicity)``, ``[lo, hi]`` exact
+    rational bounds of FLINT's isolating ball. Factors Sturm's theorem proves free of real roots
+    skip the complex isolation (on long coefficients, clusters of complex roots can make it slow).
+    Sets python-flint's precision to ``prec`` under the lock inline, directly in a (single
+    threaded) child: there the lock may be a copy held by another thread of the parent."""
+    import flint
+
+    num = flint.fmpz_poly(ints)
+    _, factors = num.factor_squarefree()
+    found = []
+    if in_child:
+        flint.ctx.prec = int(prec)
+    with nullcontext() if in_child else flint_precision(prec):
+        for fac, mult in factors:
+            if fac.degree() < 1 or _sturm_real_root_count(fac) == 0:
+                continue
+            coeffs = [int(v) for v in fac.coeffs()]
+            for root, _m in fac.complex_roots():
+                if not root.imag.is_zero():
+                    continue
+                lo, hi = arb_bounds(root.real)
+                found.append((coeffs, lo, hi, int(mult)))
+    return found
+
+
 def _exact_path(coeffs, bits=None):
     """Real roots of a rational polynomial ``sum coeffs[k] t**k``: exact isolating intervals
     (Fractions), refined; multiplicities from the square-free factorisation.
@@ -258,21 +320,18 @@ def _exact_path(coeffs, bits=None):
     """
     import flint
 
+    from .interruptible import call_interruptibly
+
     bits = REFINE_BITS if bits is None else bits
     poly = flint.fmpq_poly([_fmpq(c) for c in coeffs])
-    num = flint.fmpz_poly([int(v) for v in (poly * poly.denom()).coeffs()])
-    _, factors = num.factor_squarefree()
-    found = []
-    with flint_precision(bits + 32):
-        for fac, mult in factors:
-            g = flint.fmpq_poly(fac.coeffs())
-            for root, _m in fac.complex_roots():
-                if not root.imag.is_zero():
-                    continue
-                lo, hi = arb_bounds(root.real)
-                found.append((g, lo, hi, int(mult)))
+    ints = [int(v) for v in (poly * poly.denom()).coeffs()]
+    # a root isolation on long integers can take minutes inside FLINT, where Ctrl-C does not
+    # reach Python: such calls run in a child process that Ctrl-C stops
+    heavy = max(abs(v).bit_length() for v in ints) > INLINE_ROOT_BITS
+    found = call_interruptibly(_real_root_balls, (ints, bits + 32, heavy), in_child=heavy)
     out = []
     for g, lo, hi, mult in found:
+        g = flint.fmpq_poly([int(v) for v in g])
         lo, hi = _refine(g, lo, hi, bits)
         out.append((lo, hi, mult))
     out.sort(key=lambda r: r[0])
@@ -489,7 +548,8 @@ def certify_real_roots(form):
                                    tuple(outward_float_interval(lo, hi) for lo, hi in exact_iv),
                                    tuple(m for _, _, m in roots), at_inf,
                                    "exact: python-flint complex_roots on the square-free factors "
-                                   "(arb_fmpz_poly_complex_roots), intervals refined by exact bisection",
+                                   "(arb_fmpz_poly_complex_roots; factors without a real root by "
+                                   "Sturm's theorem), intervals refined by exact bisection",
                                    exact_iv, True)
     intervals, mults, prec = _arb_path(coeffs)
     if intervals is None:

@@ -12,8 +12,10 @@ binary rational they store (``x - 0.1`` has the root ``Fraction(0.1)``, which is
 ``3602879701896397 / 2**55``, not ``1/10``). Irrational numbers (``sqrt(2)``, ``pi``) are refused:
 the answer would then be for some rounding the caller did not choose.
 
-msolve runs as a child process (no shell) on files in a fresh temporary directory that is removed
-afterwards; a timeout kills it and raises :class:`MsolveTimeoutError`.
+msolve runs as a child process (no shell) in its own process group, fed through an anonymous
+in-memory file and read from its standard output (nothing on disk); a timeout, a Ctrl-C of the
+caller and (on Linux) the death of the caller kill it, the first raising
+:class:`MsolveTimeoutError`.
 
 The examples below run msolve; when the binary is missing they are skipped (first lines).
 """
@@ -26,7 +28,9 @@ import math
 import os
 import re
 import shutil
+import signal
 import subprocess
+import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -427,6 +431,92 @@ def _solutions(res, names):
     return dict(dimension=0, boxes=boxes, complex_count=degree, distinct_count=distinct)
 
 
+_PR_SET_PDEATHSIG = 1          # linux/prctl.h
+
+
+def _death_signal_hook():
+    """A ``preexec_fn`` for Linux: the child is killed (SIGKILL) when the thread that started it
+    dies, so an msolve run never outlives a killed caller; None where prctl is not available."""
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        import ctypes
+
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return None
+    parent = os.getpid()
+
+    def hook():
+        prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+        if os.getppid() != parent:          # the parent died before prctl took effect
+            os._exit(1)
+    return hook
+
+
+def _kill_group(proc):
+    """SIGKILL msolve's process group (it runs in its own session), then reap it."""
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        try:
+            proc.kill()
+        except ProcessLookupError:
+            pass
+    try:
+        proc.wait(timeout=5)
+    except subprocess.TimeoutExpired:       # pragma: no cover - SIGKILL is not refused
+        pass
+
+
+def _run_msolve(binary, source, threads, precision, timeout, what):
+    """Run msolve on the system text ``source``; its output as text.
+
+    msolve runs in its own session (its own process group, out of reach of the terminal's
+    Ctrl-C, which the caller receives instead), is killed with its group on a ``KeyboardInterrupt``
+    or at the deadline, and on Linux also when the calling thread dies (``PR_SET_PDEATHSIG``).
+    The input reaches it through an anonymous in-memory file (``memfd``, opened by msolve as
+    ``/dev/fd/N``) and the answer comes back on its standard output, so nothing is written to
+    disk and nothing is left behind even when the caller is killed with ``kill -9``; where memfd
+    is missing, a temporary directory (removed afterwards) holds the input.
+    """
+    cmd_tail = ["-t", str(threads), "-s", str(HASH_TABLE_LOG2), "-p", str(precision), "-P", "1"]
+    memfd = getattr(os, "memfd_create", None)
+    fd, tmp = None, None
+    try:
+        if memfd is not None and sys.platform.startswith("linux"):
+            fd = memfd("imagespace_msolve_input")
+            os.write(fd, source.encode())
+            fin, keep = f"/dev/fd/{fd}", (fd,)
+        else:                                   # pragma: no cover - non-Linux systems
+            tmp = tempfile.mkdtemp(prefix="imagespace_msolve_")
+            fin, keep = os.path.join(tmp, "system.ms"), ()
+            with open(fin, "w") as fh:
+                fh.write(source)
+        with subprocess.Popen([binary, "-f", fin] + cmd_tail, stdin=subprocess.DEVNULL,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              pass_fds=keep, start_new_session=True,
+                              preexec_fn=_death_signal_hook(), cwd=tmp) as proc:
+            try:
+                out, err = proc.communicate(timeout=timeout)
+            except subprocess.TimeoutExpired as exc:
+                _kill_group(proc)
+                raise MsolveTimeoutError(f"msolve did not finish within timeout={timeout} s on "
+                                         f"{what}; it was stopped") from exc
+            except BaseException:               # Ctrl-C, or anything else: msolve goes too
+                _kill_group(proc)
+                raise
+    finally:
+        if fd is not None:
+            os.close(fd)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+    if proc.returncode != 0 or not out.strip():
+        raise MsolveError(f"msolve exited with status {proc.returncode}: "
+                          f"{(err or out).strip()[:500]}")
+    return out
+
+
 def solve_real(polys, variables, *, timeout=DEFAULT_TIMEOUT, threads=1,
                precision=BOX_PRECISION_BITS) -> MsolveResult:
     """All real solutions of a polynomial system with rational coefficients, isolated exactly.
@@ -521,24 +611,8 @@ def solve_real(polys, variables, *, timeout=DEFAULT_TIMEOUT, threads=1,
     source = ",".join(internal) + "\n0\n" + ",\n".join(_as_text(t, internal) for t in texts) + "\n"
     binary = msolve_binary()
     start = time.perf_counter()
-    with tempfile.TemporaryDirectory(prefix="imagespace_msolve_") as tmp:
-        fin, fout = os.path.join(tmp, "system.ms"), os.path.join(tmp, "solutions.ms")
-        with open(fin, "w") as fh:
-            fh.write(source)
-        cmd = [binary, "-f", fin, "-o", fout, "-t", str(threads), "-s", str(HASH_TABLE_LOG2),
-               "-p", str(precision), "-P", "1"]
-        try:
-            proc = subprocess.run(cmd, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True,
-                                  text=True, timeout=timeout)
-        except subprocess.TimeoutExpired as exc:
-            raise MsolveTimeoutError(
-                f"msolve did not finish within timeout={timeout} s on {len(texts)} polynomials "
-                f"in {names}; it was stopped") from exc
-        if proc.returncode != 0 or not os.path.exists(fout):
-            raise MsolveError(f"msolve exited with status {proc.returncode}: "
-                              f"{(proc.stderr or proc.stdout).strip()[:500]}")
-        with open(fout) as fh:
-            output = fh.read()
+    output = _run_msolve(binary, source, threads, precision, timeout,
+                         f"{len(texts)} polynomials in {names}")
     seconds = time.perf_counter() - start
     found = _solutions(_read_output(output), internal)
     return MsolveResult(tuple(names), seconds=seconds, **found)

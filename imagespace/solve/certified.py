@@ -575,6 +575,8 @@ def certified_modes(m, q, qf):
         return CertifiedModes(res.modes(0), cert, (), ())
     _raise_if_continuum(m, q_exact, cert, case_a)
     plans = plan_roots(P, D, X2, X3, cert, case_a, cramer_balls=balls)
+    if not plans:                       # no real root: nothing for the float stages to compute
+        return CertifiedModes([], cert, (), ())
     C, _, L = scaled_quadrics(m, qf[None, :])
     quads = row_quadrics(m, C[0])
     tol = m.tolerances

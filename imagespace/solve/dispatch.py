@@ -5,19 +5,21 @@ numpy path, optionally certified) and chunks of a large batch."""
 from __future__ import annotations
 
 import warnings
-from typing import Any, Iterator
+from typing import Any, Iterator, Optional
 
 import numpy as np
 import numpy.typing as npt
 
 from .._memory import check_memory
 from .._validate import as_count, as_flag, as_float_array
-from ..exceptions import InputError, NearSingularWarning
+from ..core.certify import RealRootCertificate
+from ..core.reach import ReachObstruction, planar_design_scale, planar_reach_obstruction, prismatic_magnitude
+from ..exceptions import DegenerateDesignError, InputError, NearSingularWarning
 from .certified import certified_modes, certify_batch, exact_certificate, exact_root_count
 from .numpy_path import complex_modes, check_rows, solve_batch
 from .continuum import continuum_at
 from .proof import batch_kernel, have_numba as _have_numba
-from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
+from .results import AssemblyMode, CertifiedModes, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 
 _KERNEL_MIN_ROWS = 2000
@@ -32,6 +34,83 @@ _KERNEL_MIN_ROWS = 2000
 BATCH_PEAK_BYTES_PER_ROW = {"numpy": 5000, "kernel": 500, "certify": 4000}
 
 
+
+
+def reach_obstruction(m: Any, q: Any) -> Optional[ReachObstruction]:
+    """The reach bound's proof that the design ``m`` has no real mode at ``q``, or None.
+
+    :func:`imagespace.core.reach.planar_reach_obstruction` on the design's legs, with ``q`` as
+    given (floats are exact binary rationals, sympy numbers exact); None for a design with free
+    symbols. Costs a fraction of a millisecond; decides nothing when it returns None.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.solve.dispatch import reach_obstruction
+    >>> m = isp.examples.general_3rpr()
+    >>> reach_obstruction(m, [1e300, 5, 10]).legs, reach_obstruction(m, m.q_example) is None
+    ((0, 1), True)
+    """
+    if not m.is_numeric:
+        return None
+    return planar_reach_obstruction(m.legs, q)
+
+
+def far_rows(m: Any, Q: npt.ArrayLike) -> np.ndarray:
+    """Rows of ``Q`` (n, 3) whose prismatic joint values exceed ``tolerances.far_reach_ratio``
+    times the design's size: the float paths do not resolve the design there (its geometry
+    falls below their relative resolution next to the legs), so these rows are answered by the
+    reach bound or the certified per-row path. Non-finite rows are not far (they are invalid).
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> from imagespace.solve.dispatch import far_rows
+    >>> m = isp.examples.general_3rpr()
+    >>> far_rows(m, np.array([m.q_example_float, [1e300, 5, 10], [np.nan, 1, 1]])).tolist()
+    [False, True, False]
+    """
+    Q = np.atleast_2d(np.asarray(Q, dtype=float))
+    if not m.is_numeric or Q.shape[0] == 0:
+        return np.zeros(Q.shape[0], dtype=bool)
+    scale = m.cached("design_scale", lambda: planar_design_scale(m.legs))
+    mag = prismatic_magnitude(m.legs, Q)
+    return np.all(np.isfinite(Q), axis=1) & (mag > m.tolerances.far_reach_ratio * scale)
+
+
+def reach_certificate(obstruction: ReachObstruction) -> RealRootCertificate:
+    """The certificate of a row a reach bound proves empty: count 0, certified, exact.
+
+    Its count is the number of real assembly modes (0); the kinematic polynomial itself is not
+    examined (a root of it without a real pose, e.g. one whose positions are complex, is not
+    counted).
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.solve.dispatch import reach_certificate, reach_obstruction
+    >>> m = isp.examples.general_3rpr()
+    >>> c = reach_certificate(reach_obstruction(m, [1e300, 5, 10]))
+    >>> c.certified, c.count, c.method.split(":")[0]
+    (True, 0, 'reach bound')
+    """
+    return RealRootCertificate(True, 0, (), (), 0, f"reach bound: {obstruction}", (), True)
+
+
+def _certified_refusing_overflow(m, q, qf):
+    """The certified per-call path, with the overflow of its float stages (joint values whose
+    squares leave the float range) refused by an error that names ``q``."""
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):     # overflow is reported below
+            return certified_modes(m, q, qf)
+    except (InputError, OverflowError) as exc:
+        if isinstance(exc, InputError) and "finite" not in str(exc):
+            raise
+        raise InputError(
+            f"q = {qf.tolist()} of {m.name} is beyond the float range of the direct kinematics "
+            f"(the poses of its modes cannot be computed in double precision) and no reach bound "
+            f"proves it has no real mode; expected joint values within about "
+            f"{m.tolerances.far_reach_ratio:g} times the design's size") from None
 
 
 def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bool = False) -> list[AssemblyMode]:
@@ -60,6 +139,9 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
     ------
     DegenerateDesignError
         When the design at these joint values has infinitely many modes (a continuum).
+    InputError
+        Joint values beyond the float range (their squares overflow) that no reach bound
+        proves empty.
 
     Warns
     -----
@@ -69,6 +151,14 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
         (:func:`imagespace.solve.proof.proven_roots`): the warning comes whenever the proof
         cannot decide them (a double or nearly double root) or the modes do not sit one per
         proven root, so a count returned without it is proven.
+
+    Notes
+    -----
+    Every call first tries a reach bound (:mod:`imagespace.core.reach`): when two legs provably
+    cannot meet (a leg ``1e300`` long next to one of length 5) the answer is no mode, exactly,
+    at once (with ``certify`` a :class:`CertifiedModes` whose certificate names the bound).
+    Joint values beyond ``tolerances.far_reach_ratio`` times the design's size are answered by
+    the certified path also without ``certify``: the float path does not resolve them.
 
     Examples
     --------
@@ -85,8 +175,11 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
     qf = m.check_q(q)          # exact sympy numbers pass, free symbols are refused by name
     if qf.ndim != 1:
         raise InputError(f"q must have shape (3,), got {qf.shape}; use direct_kinematics_batch")
-    if certify:
-        modes = certified_modes(m, q, qf)
+    obstruction = reach_obstruction(m, q if certify else qf)
+    if obstruction is not None:
+        modes = CertifiedModes([], reach_certificate(obstruction), ()) if certify else []
+    elif certify or far_rows(m, qf)[0]:
+        modes = _certified_refusing_overflow(m, q, qf)
     else:
         res = solve_batch(m, qf[None, :], raise_degenerate=True)
         modes = res.modes(0)
@@ -98,6 +191,10 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
                 "Use direct_kinematics(q, certify=True) for the proven answer.",
                 NearSingularWarning, stacklevel=2)
     if include_complex:
+        if far_rows(m, qf)[0]:
+            raise InputError(f"include_complex=True needs joint values within "
+                             f"{m.tolerances.far_reach_ratio:g} times the size of {m.name} (the "
+                             f"complex modes are computed in floating point), got q = {qf.tolist()}")
         modes += complex_modes(m, qf)
     return modes
 
@@ -169,10 +266,56 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
     check_memory(Q.shape[0] * per_row, f"direct_kinematics_batch of {Q.shape[0]:,} rows",
                  f"use direct_kinematics_chunks(Q, chunk_size=...) to solve it chunk by chunk "
                  f"(a chunk of 65,536 rows needs about {65536 * per_row / 1e9:.2g} GB)")
-    res = _solve_kernel(m, Q, kernel) if kernel is not None else solve_batch(m, Q, raise_degenerate=False)
+    far = far_rows(m, Q)
+    Qf = Q
+    if far.any():                          # the float solvers skip them (masked as non-finite)
+        Qf = Q.copy()
+        Qf[far] = np.nan
+    res = _solve_kernel(m, Qf, kernel) if kernel is not None else solve_batch(m, Qf, raise_degenerate=False)
     if certify:
-        certify_batch(m, Q, res, kernel if kernel is not None else batch_kernel(m))
+        certify_batch(m, Qf, res, kernel if kernel is not None else batch_kernel(m))
+    if far.any():
+        _solve_far_rows(m, Q, res, np.flatnonzero(far), certify)
     return res
+
+
+def _solve_far_rows(m, Q, res, rows, certify):
+    """Rows beyond the float paths' reach (:func:`far_rows`), answered one by one: no mode where
+    a reach bound proves it, else the certified per-row path; a row beyond the float range that
+    no bound decides is masked (``row_ok`` False, its message in ``errors``)."""
+    got, modes = [], []
+    counts = res.certified_roots.copy() if certify else None
+    paths = res.certificate_path.astype(object) if certify else None
+    for i in rows:
+        i = int(i)
+        try:
+            ms = m.direct_kinematics(Q[i], certify=True)
+        except (InputError, DegenerateDesignError) as exc:
+            res.row_ok[i] = False
+            res.errors[i] = str(exc)
+            if certify:
+                counts[i] = -1
+                paths[i] = "continuum" if isinstance(exc, DegenerateDesignError) else "invalid"
+            continue
+        res.row_ok[i] = True
+        res.errors.pop(i, None)
+        res.near_singular[i] = not ms.certificate.certified
+        got.append(i)
+        modes.append(list(ms))
+        if certify:
+            cert = ms.certificate
+            counts[i] = cert.count if cert.certified else -1
+            paths[i] = ("reach" if cert.method.startswith("reach") else
+                        "flint" if cert.certified and cert.exact else
+                        "arb" if cert.certified else "uncertified")
+            res.consistent[i] = bool(cert.certified)
+    store_rows = [int(i) for i in rows]
+    res.set_modes(store_rows, [modes[got.index(i)] if i in got else [] for i in store_rows])
+    if res.solver is not None:
+        res.set_solver(got, "certified")
+        res.set_solver([i for i in store_rows if i not in got], "invalid")
+    if certify:
+        res.certified_roots, res.certificate_path = counts, np.asarray(paths).astype(str)
 
 
 def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -208,6 +351,8 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
         positions at one orientation) and the rare rows nothing could certify (see ``path``).
     path : (n,) str
         ``"kernel"`` (proven in the kernel), ``"discs"``, ``"flint"``, ``"arb"``,
+        ``"reach"`` (no real mode, proven by a reach bound: a row beyond
+        ``tolerances.far_reach_ratio`` times the design's size whose legs cannot meet),
         ``"uncertified"``, ``"continuum"`` or ``"invalid"``.
 
     Raises
@@ -233,7 +378,6 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     ['continuum']
     """
     from ..core.certify import certify_real_roots_batch
-    from ..exceptions import DegenerateDesignError
 
     Q = as_float_array(Q, "Q", last=3, finite=False)
     if Q.ndim == 1:
@@ -242,6 +386,16 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     row_ok, _ = check_rows(m, Q)
     counts = np.full(n, -1, dtype=np.int8)
     path = np.full(n, "invalid", dtype=object)
+    far = np.flatnonzero(row_ok & far_rows(m, Q))
+    for i in far:                           # beyond the float paths: a reach bound, else exact
+        if reach_obstruction(m, Q[i]) is not None:
+            counts[i], path[i] = 0, "reach"
+            continue
+        try:
+            counts[i], path[i] = exact_root_count(m, Q[i])
+        except DegenerateDesignError:
+            counts[i], path[i] = -1, "continuum"
+    row_ok[far] = False
     ok = np.flatnonzero(row_ok)
     kernel = batch_kernel(m) if ok.size else None
     if kernel is not None:

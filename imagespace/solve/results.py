@@ -143,8 +143,10 @@ SOLVER_NAMES = ("kernel", "numpy", "certified", "invalid")
 #: :attr:`DKBatchResult.certificate_path_code`: the values
 #: :func:`~imagespace.core.certify.certify_real_roots_batch` reports (``"discs"``, ``"flint"``,
 #: ``"zero"``, ``"uncertified"``, ``"invalid"``), those the certified batch adds (``"arb"``,
-#: ``"continuum"``) and ``"kernel"`` (a count certified inside the compiled kernel).
-CERTIFICATE_PATHS = ("discs", "flint", "arb", "uncertified", "invalid", "zero", "continuum", "kernel")
+#: ``"continuum"``), ``"kernel"`` (a count certified inside the compiled kernel) and ``"reach"`` (no
+#: real mode, proven by a reach bound, :mod:`imagespace.core.reach`).
+CERTIFICATE_PATHS = ("discs", "flint", "arb", "uncertified", "invalid", "zero", "continuum", "kernel",
+                     "reach")
 
 #: Padded arrays built on access (:attr:`DKBatchResult.poses`, ...) are kept, read-only, while
 #: the result is unchanged and all kept arrays together take at most this many bytes (so a loop

@@ -14,8 +14,9 @@ from functools import cached_property
 import numpy as np
 
 from .._validate import as_flag, as_float_array
+from ..core.reach import point_pairs_obstruction
 from ..exceptions import InputError, NearSingularWarning
-from .results import SpatialDKBatch
+from .results import SpatialDKBatch, SpatialDKResult
 from .solver import certify_row, exact_result, exact_study_solver, solve_rows, start_system
 from .study import rotation_matrix, translation
 
@@ -142,6 +143,63 @@ class QuadricPlatform:
         return float(2.0 ** np.round(np.log2(size))) if size > 0 else 1.0
 
     @cached_property
+    def _size(self):
+        # the design's size: its largest anchor coordinate (the reach limits are relative to it)
+        size = float(np.abs(np.concatenate([self.base_points, self.platform_points])).max())
+        return size if size > 0 else 1.0
+
+    def reach_check(self, lengths):
+        """What the reach bounds say about rows of leg lengths, before any solving.
+
+        Parameters
+        ----------
+        lengths : (legs,) or (n, legs) float
+            Positive finite leg lengths (checked by the caller).
+
+        Returns
+        -------
+        obstruction : list of ReachObstruction or None
+            Per row, the proof that no real pose exists (two legs cannot meet:
+            :func:`imagespace.core.reach.point_pairs_obstruction`), or None.
+        far : (n,) bool
+            Rows whose longest leg exceeds ``tolerances.far_reach_ratio`` times the design's
+            size (its largest anchor coordinate): the fast path does not resolve them.
+        beyond_exact : (n,) bool
+            Rows beyond ``tolerances.exact_reach_ratio`` times the size: exact arithmetic on them
+            would take minutes (msolve on coefficients of hundreds of digits).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.spatial.ThreeRPS(np.eye(3), 0.5 * np.eye(3))
+        >>> ob, far, beyond = m.reach_check([[1.0, 1.0, 1.0], [1e-300] * 3, [1e300] * 3])
+        >>> [o is None for o in ob], far.tolist(), beyond.tolist()
+        ([True, False, True], [False, False, True], [False, False, True])
+        """
+        L = np.atleast_2d(np.asarray(lengths, dtype=float))
+        obstruction = [point_pairs_obstruction(self.base_points, self.platform_points, row)
+                       for row in L]
+        top = L.max(axis=1) if L.size else np.zeros(L.shape[0])
+        tol = self.tolerances
+        far = np.array([o is None for o in obstruction], dtype=bool) & (top > tol.far_reach_ratio * self._size)
+        beyond = far & (top > tol.exact_reach_ratio * self._size)
+        return obstruction, far, beyond
+
+    def _beyond_message(self, L, exact):
+        tol = self.tolerances
+        limit = tol.exact_reach_ratio if exact else tol.far_reach_ratio
+        what = ("exact arithmetic on it would take minutes" if exact else
+                "the fast path does not resolve it; certify=True or method='exact' decide it (msolve)")
+        return (f"lengths = {np.asarray(L).tolist()} reach beyond {limit:g} times the size of the "
+                f"design (its largest anchor coordinate is {self._size:g}) and no reach bound proves "
+                f"that no pose exists: {what}; expected lengths within that range")
+
+    @staticmethod
+    def _reach_result(obstruction):
+        return SpatialDKResult(np.zeros((0, 8)), np.zeros(0), np.zeros(0, np.int8), -1, True, True,
+                               "reach")
+
+    @cached_property
     def start_system(self):
         """The family's solutions at generic complex lengths, computed once per design.
 
@@ -190,7 +248,10 @@ class QuadricPlatform:
         Raises
         ------
         InputError
-            If ``lengths`` is not ``legs`` positive finite numbers, or ``method`` is unknown.
+            If ``lengths`` is not ``legs`` positive finite numbers, or ``method`` is unknown; if
+            the lengths exceed ``tolerances.far_reach_ratio`` times the design's size without
+            ``certify`` or ``method="exact"`` (the fast path does not resolve them), or
+            ``tolerances.exact_reach_ratio`` times it at all, and no reach bound decides them.
         DegenerateDesignError
             If the design check refuses the design (an architecture singularity), or with
             ``method="exact"`` (or a certification that falls back to it) if the solution set is
@@ -202,6 +263,13 @@ class QuadricPlatform:
             When the fast path's float checks fail (two paths at one endpoint, a mode neither
             clearly real nor clearly complex, a path that did not arrive), or a requested
             certificate is not available.
+
+        Notes
+        -----
+        Every call first tries a reach bound (:mod:`imagespace.core.reach`): when two legs cannot
+        meet (a leg ``1e300`` long next to one of length 2 on anchors a unit apart), the answer is
+        no mode, proven at once (``method="reach"``, ``certified``, ``complex_count`` -1: not
+        computed). Far lengths are decided by msolve directly (no tracking).
 
         Examples
         --------
@@ -221,6 +289,15 @@ class QuadricPlatform:
         if method not in DK_METHODS:
             raise InputError(f"method must be one of {DK_METHODS}, got {method!r}")
         self.check_design()
+        (obstruction,), (far,), (beyond,) = self.reach_check(L)
+        if obstruction is not None:
+            return self._reach_result(obstruction)
+        if beyond:
+            raise InputError(self._beyond_message(L, exact=True))
+        if far:
+            if not certify and method != "exact":
+                raise InputError(self._beyond_message(L, exact=False))
+            return exact_result(self.family(), L)
         if method == "exact":
             return exact_result(self.family(), L)
         if certify:
@@ -240,7 +317,11 @@ class QuadricPlatform:
         ----------
         lengths : (n, legs) float
             One row per problem. Rows with a non-positive or non-finite length are marked invalid
-            (``valid[i] = False``, no modes) instead of raising.
+            (``valid[i] = False``, no modes) instead of raising; so are rows beyond
+            ``tolerances.far_reach_ratio`` times the design's size (without ``certify``) or
+            ``tolerances.exact_reach_ratio`` times it (with ``certify``) that no reach bound
+            decides. Rows a reach bound proves empty are valid, certified, with no mode and
+            ``complex_count`` -1.
         certify : bool
             Prove every valid row (see :meth:`direct_kinematics`; ~0.07 s a Gough-Stewart row).
 
@@ -273,12 +354,39 @@ class QuadricPlatform:
         certify = as_flag(certify, "certify")
         self.check_design()
         valid = np.all(np.isfinite(L) & (L > 0), axis=1)
+        n = L.shape[0]
+        reach = [None] * n
+        far = np.zeros(n, dtype=bool)
+        if valid.any():
+            ob, f, beyond = self.reach_check(L[valid])
+            rows_ok = np.flatnonzero(valid)
+            for k, i in enumerate(rows_ok):
+                reach[i] = ob[k]
+            far[rows_ok] = f
+            # masked: beyond what the fast path (or, certifying, exact arithmetic) resolves
+            valid[rows_ok[beyond if certify else f]] = False
+        empty = np.array([r is not None for r in reach], dtype=bool)
         if not certify:
-            P = np.where(valid[:, None], L, 1.0) ** 2
-            return solve_rows(self.family(), self.start_system, P, self.tolerances, valid=valid)
+            todo = valid & ~empty
+            P = np.where(todo[:, None], L, 1.0) ** 2
+            out = solve_rows(self.family(), self.start_system, P, self.tolerances, valid=todo)
+            if empty.any():                 # proven empty: certified, no complex count
+                out.certified[empty] = True
+                out.reliable[empty] = True
+                out.complex_count[empty] = -1
+                out.valid[empty] = True
+            return out
         solver = self._exact_solver_or_none()
-        rows = [certify_row(self.family(), self.start_system, L[i], self.tolerances, exact_solver=solver)
-                if valid[i] else None for i in range(L.shape[0])]
+
+        def one(i):
+            if reach[i] is not None:
+                return self._reach_result(reach[i])
+            if far[i]:
+                return exact_result(self.family(), L[i])
+            return certify_row(self.family(), self.start_system, L[i], self.tolerances,
+                               exact_solver=solver)
+
+        rows = [one(i) if valid[i] else None for i in range(n)]
         done = [r for r in rows if r is not None]
         counts = np.array([r.count if r is not None else 0 for r in rows], dtype=np.int64)
         return SpatialDKBatch(

@@ -10,8 +10,8 @@ from .study import rotation_matrix, translation
 
 __all__ = ["SpatialDKResult", "SpatialDKBatch", "METHODS"]
 
-#: how a result was obtained
-METHODS = ("homotopy", "homotopy+krawczyk", "msolve")
+#: how a result was obtained ("reach": no mode, proven by a reach bound, :mod:`imagespace.core.reach`)
+METHODS = ("homotopy", "homotopy+krawczyk", "msolve", "reach")
 
 
 @dataclass(frozen=True)
@@ -28,7 +28,8 @@ class SpatialDKResult:
         Sign of the Jacobian determinant (``0``: not decided in floats, a mode on or very near a
         singularity).
     complex_count : int
-        Distinct complex solutions found (40 for a general Gough-Stewart platform).
+        Distinct complex solutions found (40 for a general Gough-Stewart platform); -1 when not
+        computed (method ``"reach"``: a reach bound proved that no real mode exists).
     certified : bool
         The count and every mode are proven (Krawczyk boxes in arb, or msolve's exact isolation).
     reliable : bool
@@ -77,8 +78,8 @@ class SpatialDKResult:
 
     def __repr__(self):
         state = "certified" if self.certified else ("reliable" if self.reliable else "NOT reliable")
-        return (f"SpatialDKResult({self.count} real modes of {self.complex_count} complex, {state}, "
-                f"method={self.method!r})")
+        of = f"of {self.complex_count} complex" if self.complex_count >= 0 else "(complex not computed)"
+        return f"SpatialDKResult({self.count} real modes {of}, {state}, method={self.method!r})"
 
 
 @dataclass(frozen=True)
@@ -126,7 +127,8 @@ class SpatialDKBatch:
     def __getitem__(self, i):
         i = int(i)
         sl = slice(int(self.offsets[i]), int(self.offsets[i + 1]))
-        method = "homotopy+krawczyk" if self.certified[i] else "homotopy"
+        method = ("reach" if self.complex_count[i] < 0 else
+                  "homotopy+krawczyk" if self.certified[i] else "homotopy")
         return SpatialDKResult(self.study_points[sl], self.residuals[sl], self.aspects[sl],
                                int(self.complex_count[i]), bool(self.certified[i]),
                                bool(self.reliable[i]), method)

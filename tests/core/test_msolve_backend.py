@@ -4,6 +4,7 @@ roots, Bezout counts, exact binary values of floats) and its error paths."""
 import math
 import os
 import stat
+import sys
 from fractions import Fraction
 
 import numpy as np
@@ -200,3 +201,104 @@ def test_exception_family():
     assert issubclass(MsolveUnavailableError, RuntimeError)
     assert issubclass(MsolveTimeoutError, MsolveError)
     assert issubclass(MsolveError, EliminationError) and issubclass(MsolveError, RuntimeError)
+
+
+# --------------------------------------------------------------------------- no orphans, no files
+
+_LONG_RUN = """
+import sys
+sys.path.insert(0, {root!r})
+import sympy as sp
+from imagespace.core.msolve import solve_real
+v = sp.symbols("v0:6")
+# six dense quadrics in six unknowns with 300-digit coefficients: msolve needs minutes
+big = 10**300
+polys = [sum(((i * 7 + j * 3 + k) % 11 - 5) * big * v[j] * v[k] for j in range(6)
+             for k in range(j, 6)) + (i + 1) for i in range(6)]
+print("start", flush=True)
+try:
+    solve_real(polys, v, timeout=300)
+    print("finished", flush=True)
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+"""
+
+
+def _children(pid):
+    out = []
+    for p in os.listdir("/proc"):
+        if p.isdigit():
+            try:
+                with open(f"/proc/{p}/stat") as fh:
+                    fields = fh.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if fields[1] == str(pid):
+                out.append(int(p))
+    return out
+
+
+def _cmdline(pid):
+    try:
+        with open(f"/proc/{pid}/cmdline") as fh:
+            return fh.read()
+    except OSError:
+        return ""
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def _start_long_run(tmp_path, request):
+    import subprocess
+    import sys
+    import time
+
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    env = dict(os.environ, TMPDIR=str(tmp_path))
+    proc = subprocess.Popen([sys.executable, "-c", _LONG_RUN.format(root=root)],
+                            stdout=subprocess.PIPE, text=True, env=env)
+    request.addfinalizer(lambda: (proc.poll() is None and proc.kill(), proc.wait(),
+                                  proc.stdout.close()))
+    assert proc.stdout.readline().strip() == "start"
+    deadline = time.monotonic() + 60
+    kids = []
+    while time.monotonic() < deadline and not kids:
+        kids = [k for k in _children(proc.pid) if "msolve" in _cmdline(k)]
+        time.sleep(0.05)
+    assert kids, "msolve did not start"
+    time.sleep(0.5)
+    return proc, kids[0]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc and prctl: Linux only")
+def test_msolve_dies_with_its_killed_caller_and_leaves_no_files(tmp_path, request):
+    import signal
+    import time
+
+    proc, child = _start_long_run(tmp_path, request)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    deadline = time.monotonic() + 5
+    while _alive(child) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not _alive(child), "msolve outlived its killed caller"
+    assert os.listdir(tmp_path) == []                   # no temporary folder, no input file
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc: Linux only")
+def test_ctrl_c_stops_msolve(tmp_path, request):
+    import signal
+    import time
+
+    proc, child = _start_long_run(tmp_path, request)
+    sent = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    out, _ = proc.communicate(timeout=10)
+    assert out.strip() == "interrupted" and time.monotonic() - sent < 10
+    assert not _alive(child) and os.listdir(tmp_path) == []
