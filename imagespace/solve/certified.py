@@ -613,15 +613,20 @@ def certified_modes(m, q, qf):
             Xs[:, 2:] /= L[0]
             _, J = _system(np.repeat(C, len(exact), axis=0), Xs[:, None, :])
             det = np.linalg.det(J[:, 0])
-            # the root's multiplicity is accounted for by the positions (two simple ones, or a
-            # tangency) unless it exceeds them: then a mode there is singular and which one is
-            # not decided here, so all are reported singular
+            # case (b): the root's multiplicity is accounted for by the positions (two simple
+            # ones, or a tangency) unless it exceeds them: then a mode there is singular and which
+            # one is not decided here, so all are reported singular. Case (a): the root is one of
+            # the orientation form's, a multiple one fixes a fold of the orientation: its modes
+            # are singular
             total = sum(mult for _, _, mult in exact)
             found = []
             for j, (_, _, mult) in enumerate(exact):
                 if not resid[j] <= tol.joint_residual:
                     continue                    # the spurious root phi_c + pi of a PP dyad
-                mlt = plan.multiplicity if (plan.multiplicity > total and not case_a) else mult
+                if case_a:
+                    mlt = plan.multiplicity if plan.multiplicity > 1 else mult
+                else:
+                    mlt = plan.multiplicity if plan.multiplicity > total else mult
                 aspect = 0 if mlt > 1 else int(np.sign(det[j]))
                 found.append(AssemblyMode(X[j], poses[j], float(resid[j]), aspect, True, mlt))
             per_root[plan.index] = found
