@@ -199,9 +199,10 @@ class QuadricPlatform:
         Warns
         -----
         NearSingularWarning
-            When the fast path's float checks fail (two paths at one endpoint, a mode neither
-            clearly real nor clearly complex, a path that did not arrive), or a requested
-            certificate is not available.
+            When the fast path's answer is not ``reliable`` (its compiled certificate did not
+            prove the row: a double mode near, a path that did not arrive, two paths at one
+            endpoint), so its count may be wrong, or when a requested certificate is not
+            available.
 
         Examples
         --------
@@ -226,10 +227,12 @@ class QuadricPlatform:
         if certify:
             return certify_row(self.family(), self.start_system, L, self.tolerances,
                                exact_solver=self._exact_solver_or_none())
-        res = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances)[0]
+        res = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances,
+                         lengths=L[None])[0]
         if not res.reliable:
-            warnings.warn(f"the fast path is not sure of this row ({res.complex_count} distinct complex "
-                          "endpoints, or a mode close to the real/complex boundary): use certify=True",
+            warnings.warn(f"the fast path could not prove this row: its {res.count} real modes may be "
+                          "wrong (the compiled Krawczyk test did not prove every solution distinct "
+                          "and decided: a double mode near, or a lost path); use certify=True",
                           NearSingularWarning, stacklevel=2)
         return res
 
@@ -274,8 +277,9 @@ class QuadricPlatform:
         self.check_design()
         valid = np.all(np.isfinite(L) & (L > 0), axis=1)
         if not certify:
-            P = np.where(valid[:, None], L, 1.0) ** 2
-            return solve_rows(self.family(), self.start_system, P, self.tolerances, valid=valid)
+            Lv = np.where(valid[:, None], L, 1.0)
+            return solve_rows(self.family(), self.start_system, Lv ** 2, self.tolerances, valid=valid,
+                              lengths=Lv)
         solver = self._exact_solver_or_none()
         rows = [certify_row(self.family(), self.start_system, L[i], self.tolerances, exact_solver=solver)
                 if valid[i] else None for i in range(L.shape[0])]

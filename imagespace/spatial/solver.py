@@ -6,8 +6,11 @@ parameters ``p`` are its squared leg lengths. This module
 
 * solves the family once at generic complex parameters (:func:`~imagespace.spatial.homotopy.solve_start_system`),
 * tracks those solutions to every target row in the compiled tracker (the fast path),
-* sorts the endpoints into real and non-real modes with float checks that say when they are not
-  sure (``reliable``),
+* proves each row's endpoints with a compiled Krawczyk test on rigorous error bounds
+  (:mod:`imagespace.spatial.fastcert`): ``reliable`` means it proved as many distinct solutions
+  as :func:`completeness_target` asks (the family's theorem bound), each real or not real, so
+  the count is right; where it fails (near a double mode, a lost path), float checks sort the
+  endpoints and the row is flagged (``reliable`` False, a warning per call),
 * proves a row on request (``certify=True``): Krawczyk boxes in arb on the exact quadrics; when all
   ``bound`` solutions are certified the real count is proven (:mod:`imagespace.spatial.certify`),
   otherwise msolve decides exactly (:mod:`imagespace.spatial.exact`).
@@ -27,7 +30,7 @@ from .homotopy import PATH_OK, classify_batch, recentre, solve_start_system, tra
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
-__all__ = ["QuadricFamily", "solve_rows", "certify_row", "exact_study_solver",
+__all__ = ["QuadricFamily", "solve_rows", "certify_row", "completeness_target", "exact_study_solver",
            "exact_result", "quadric_polynomials", "study_jacobian_signs"]
 
 
@@ -37,7 +40,7 @@ __all__ = ["QuadricFamily", "solve_rows", "certify_row", "exact_study_solver",
 RECENTRE_MIN_ROWS = 32
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class QuadricFamily:
     """A system of quadrics in ``P^7`` whose parameters enter linearly.
 
@@ -120,16 +123,74 @@ def _residuals(family, P_row, pts):
     return _mode_residuals(family, np.broadcast_to(P_row, (pts.shape[0], len(P_row))), pts)
 
 
-def _batch(family, start, P, rows, n, Z, status, tolerances, valid):
-    """Classify tracked rows into a :class:`SpatialDKBatch` (``P`` already divided by scale^2)."""
+def completeness_target(family, start):
+    """How many distinct proven solutions make a row complete, and whether a theorem says so.
+
+    The family's bound (a theorem on the isolated solutions with ``x . x != 0`` of every member,
+    e.g. 40 for Gough-Stewart) when the design's start system attains it; otherwise (no bound
+    known, or a special design with fewer generic solutions) the start system's count, which a
+    total-degree homotopy found once per design: completeness then rests on that count.
+
+    Parameters
+    ----------
+    family : QuadricFamily
+    start : StartSystem
+
+    Returns
+    -------
+    target : int
+    theorem : bool
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> gs = isp.examples.dietmaier_1998()[0]
+    >>> completeness_target(gs.family(), gs.start_system)
+    (40, True)
+    """
+    found = int(start.solutions.shape[0])
+    if family.bound is not None and found >= family.bound:
+        return int(family.bound), True
+    return found, False
+
+
+def _parameters_enclosure(family, P, lengths):
+    """Enclosures ``pm +- pr`` of the exact parameters of the rows (family scaling)."""
+    from .fastcert import parameter_enclosure
+
+    if lengths is not None:
+        return parameter_enclosure(lengths, family.scale)
+    # the floats P are the exact parameters: P / scale^2 is exact unless it underflows
+    P = np.atleast_2d(np.asarray(P, dtype=float))
+    with np.errstate(all="ignore"):
+        pm = P / family.scale ** 2
+        pr = np.where((pm * family.scale ** 2 == P) & np.isfinite(pm), 0.0, np.inf)
+    return np.ascontiguousarray(pm), np.ascontiguousarray(pr)
+
+
+def _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr):
+    """Classify tracked rows into a :class:`SpatialDKBatch` (``P`` already divided by scale^2).
+
+    ``reliable`` is the compiled certificate (:mod:`imagespace.spatial.fastcert`) on the exact
+    parameters ``pm +- pr``: where it is complete, the real modes are its proven real boxes'
+    centres; elsewhere the float classification gives the (unproven) count.
+    """
+    from .fastcert import certify_endpoints, family_enclosure
+
     W, real, distinct, ok = classify_batch(Z, status, tolerances)
+    target, _ = completeness_target(family, start)
+    cert = certify_endpoints(family_enclosure(family), Z, status, pm[rows], pr[rows], target)
+    done = cert.complete
+    if np.any(done):
+        real[done] = cert.certified[done] & (cert.real[done] == 1)
+        W[done] = cert.points[done].real
+        distinct[done] = target
     counts = np.zeros(n, np.int64)
     counts[rows] = real.sum(axis=1)
     cplx = np.zeros(n, np.int64)
     cplx[rows] = distinct
     reliable = np.zeros(n, bool)
-    expected = start.solutions.shape[0]
-    reliable[rows] = ok & (distinct == expected)
+    reliable[rows] = done
     pts = W[real]
     pts = normalize_study(pts) if pts.shape[0] else np.zeros((0, 8))
     mode_rows = np.repeat(np.arange(len(rows)), real.sum(axis=1))
@@ -141,8 +202,8 @@ def _batch(family, start, P, rows, n, Z, status, tolerances, valid):
                           np.zeros(n, bool), valid)
 
 
-def solve_rows(family, start, P, tolerances, valid=None):
-    """The fast path on many rows: track, classify, residuals and aspects.
+def solve_rows(family, start, P, tolerances, valid=None, lengths=None):
+    """The fast path on many rows: track, certify (compiled), classify, residuals and aspects.
 
     Parameters
     ----------
@@ -153,13 +214,20 @@ def solve_rows(family, start, P, tolerances, valid=None):
     tolerances : Tolerances
     valid : (n,) bool, optional
         Rows to solve (others get no modes).
+    lengths : (n, p) float, optional
+        The leg lengths whose exact squares are the parameters (``P = lengths ** 2`` rounded):
+        the certificate then proves the user's problem. Without it the floats ``P`` are taken as
+        the exact parameters.
 
     Returns
     -------
     SpatialDKBatch
-        ``certified`` all False; ``reliable[i]`` when every path of row ``i`` arrived, its
-        endpoints are pairwise distinct and as many as the start system's solutions, and each is
-        clearly real or clearly not.
+        ``certified`` all False. ``reliable[i]``: the compiled Krawczyk test
+        (:mod:`imagespace.spatial.fastcert`, rigorous error bounds, on the exact quadrics) proved
+        as many distinct solutions as :func:`completeness_target` asks, in pairwise disjoint
+        boxes, each proven real or not real and (non-real ones) not a null rotation. The count
+        is then the number of proven real boxes. Rows where it fails (near a double mode, a path
+        lost, a cluster) keep the float classification's count with ``reliable`` False.
 
     Examples
     --------
@@ -171,6 +239,7 @@ def solve_rows(family, start, P, tolerances, valid=None):
     >>> len(b)
     2
     """
+    pm, pr = _parameters_enclosure(family, P, lengths)
     P = np.atleast_2d(np.asarray(P, dtype=float)) / family.scale ** 2
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
@@ -178,7 +247,7 @@ def solve_rows(family, start, P, tolerances, valid=None):
     if rows.size >= RECENTRE_MIN_ROWS:
         start = recentre(start, np.median(P[rows], axis=0))
     Z, status, _ = track_parameters(start, P[rows])
-    return _batch(family, start, P, rows, n, Z, status, tolerances, valid)
+    return _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr)
 
 
 def _exact_params(lengths, scale=1.0):
@@ -246,8 +315,9 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     warnings.warn("the row could not be certified: Krawczyk did not prove every solution and no exact "
                   "solver is available (pip install imagespace[exact]); the modes are the fast path's",
                   NearSingularWarning, stacklevel=3)
+    pm, pr = _parameters_enclosure(family, None, lengths[None])
     return _batch(family, start, P[None], np.array([0]), 1, Z[None], status[None], tolerances,
-                  np.ones(1, bool))[0]
+                  np.ones(1, bool), pm, pr)[0]
 
 
 def quadric_polynomials(Q_exact):
