@@ -106,11 +106,14 @@ _G8 = _gamma(8)
 _G16 = _gamma(16)
 
 # numerical choices that propose (a failed proposal decides nothing; it leaves the row to arb)
-_POLISH = 3                 # complex Newton steps in the chart
-_REAL_POLISH = 2            # real Newton steps after a real proposal
+_POLISH = 1                 # Newton steps in the chart (the tracker polished the endpoint) ...
+_POLISH_RETRY = 3           # ... and more where the first test fails (near a double mode)
 _REAL_PROPOSAL = 1e-7       # |Im m| / (1 + |m|) below this proposes a real solution
 _CHART_MIN = 0.05           # chart r: |r . x| >= this |r| |x| on every endpoint
 _BLOCKS = 256               # parallel blocks of rows
+# the float Newton steps and the approximate inverse only propose (the bounds decide): they may
+# reassociate and contract; no-NaN/no-inf assumptions are left out so finiteness checks hold
+_PROPOSAL_MATH = {"reassoc", "contract", "arcp", "nsz"}
 
 #: the chart vectors tried, in order (the first far from every endpoint's ``x`` is used)
 CHARTS = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
@@ -191,6 +194,9 @@ def family_enclosure(family):
                 want = (Ed[i] if (i == j and pidx[k] >= 0) else 0.0)
                 if Fraction(zero[k, i, j]) - Fraction(one[k, i, j]) != Fraction(want):
                     ok = False
+    # the kernel reads Q[j, i] for Q[i, j]: the exact quadrics must be symmetric
+    ok = ok and all(Fraction(zero[k, i, j]) == Fraction(zero[k, j, i])
+                    for k in range(m) for i in range(_N) for j in range(i))
     enc = FamilyEnclosure(Amid, Arad, Ed, pidx, bool(ok and np.all(np.isfinite(Amid))))
     _ENCLOSURES[family] = enc
     return enc
@@ -230,7 +236,7 @@ def parameter_enclosure(lengths, scale):
 
 # ----------------------------------------------------------------------------- compiled kernel
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_PROPOSAL_MATH)
 def _lu(M, piv):
     """In-place LU with partial pivoting (8 x 8 complex); False on a zero pivot (proposals only)."""
     n = M.shape[0]
@@ -259,7 +265,7 @@ def _lu(M, piv):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_PROPOSAL_MATH)
 def _lu_solve(M, piv, b, out):
     n = M.shape[0]
     for i in range(n):
@@ -280,7 +286,36 @@ def _lu_solve(M, piv, b, out):
         out[i] = acc / M[i, i]
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=_PROPOSAL_MATH)
+def _lu_inverse(M, piv, Y):
+    """``Y = A^-1`` from the factors of :func:`_lu` (all columns at once; proposals only)."""
+    n = M.shape[0]
+    for i in range(n):
+        for c in range(n):
+            Y[i, c] = 1.0 if i == c else 0.0
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            for c in range(n):
+                tmp = Y[k, c]
+                Y[k, c] = Y[p, c]
+                Y[p, c] = tmp
+    for k in range(n):
+        for i in range(k + 1, n):
+            f = M[i, k]
+            for c in range(n):
+                Y[i, c] -= f * Y[k, c]
+    for i in range(n - 1, -1, -1):
+        for j in range(i + 1, n):
+            f = M[i, j]
+            for c in range(n):
+                Y[i, c] -= f * Y[j, c]
+        inv = 1.0 / M[i, i]
+        for c in range(n):
+            Y[i, c] = Y[i, c] * inv
+
+
+@njit(cache=True, fastmath=_PROPOSAL_MATH)
 def _float_system(z, Qm, r, G, J):
     """Float ``G(z)`` and ``J(z)`` (proposals only)."""
     for k in range(7):
@@ -330,7 +365,8 @@ def _row_quadrics(Amid, Arad, Ed, pidx, pm, pr, Qm, Qr, T):
                 e = Arad[k, i, j]
                 if i == j and q >= 0 and Ed[i] != 0.0:
                     v = Amid[k, i, i] - pm[q]
-                    e = (e + pr[q]) + _U * abs(v)
+                    # rounded up: (1 + 2^-50) (1 - u)^3 > 1, so the entry is itself rigorous
+                    e = ((e + pr[q]) + _U * abs(v)) * (1.0 + 2.0 ** -50)
                 Qm[k, i, j] = v
                 Qr[k, i, j] = e
                 t += abs(v) + e
@@ -338,69 +374,115 @@ def _row_quadrics(Amid, Arad, Ed, pidx, pm, pr, Qm, Qr, T):
 
 
 @njit(cache=True)
-def _krawczyk_bounds(m, Qm, Qr, T, r, Y, w, ew, g, eg):
+def _krawczyk_bounds(m, Qm, Qr, T, r, Y, w, ew, g, eg, F, M):
     """Rigorous ``(beta, kappa, mu)`` for the box norm at ``m`` with the matrix ``Y``.
 
-    ``w`` (7, 8) complex, ``ew`` (7, 8, 2) float, ``g`` (8,) complex and ``eg`` (8, 2) float are
-    work arrays. Every ``e..`` bounds the error of a real (index 0) or
-    imaginary (index 1) part. Returns ``beta = -1`` when a magnitude guard fails.
+    Work arrays: ``w`` (7, 8) complex receives ``Q_k m``, ``ew`` (7, 8, 2) its error bounds,
+    ``g`` (8,) complex ``G(m)``, ``eg`` (8, 2) its error bounds (index 0: real part, 1: imaginary
+    part), ``F`` (16, 8) and ``M`` (4, 8, 8) float scratch. The quadrics are symmetric (checked by
+    :func:`family_enclosure`), so ``Q_k[j, i]`` is read for ``Q_k[i, j]``. Inner loops run over
+    independent accumulators (one per output entry, each summed in a fixed order), so they
+    vectorise without reassociation. A real ``m`` with a real ``Y`` skips the imaginary parts,
+    which are then exactly zero. Returns ``beta = -1`` when a magnitude guard fails.
     """
+    real = True
     for i in range(_N):
         if not (abs(m[i].real) <= _BIG and abs(m[i].imag) <= _BIG):
             return -1.0, 0.0, 0.0
+        if m[i].imag != 0.0:
+            real = False
         for j in range(_N):
             if not (abs(Y[i, j].real) <= _BIG and abs(Y[i, j].imag) <= _BIG):
                 return -1.0, 0.0, 0.0
+            if Y[i, j].imag != 0.0:
+                real = False
     for k in range(7):
         if not T[k] <= _BIG:
             return -1.0, 0.0, 0.0
-    # w_k = Q_k m (the exact Q_k m minus fl: <= gamma_8 sum |Qm||m| + sum Qr |m| + 8 eta)
+    mr = F[0]
+    mi = F[1]
+    amr = F[2]
+    ami = F[3]
+    for j in range(_N):
+        mr[j] = m[j].real
+        mi[j] = m[j].imag
+        amr[j] = abs(mr[j])
+        ami[j] = abs(mi[j])
+    wr = F[4]
+    wi = F[5]
+    br = F[6]
+    bi = F[7]
+    cr = F[8]
+    ci = F[9]
+    Jr = M[0]
+    Ji = M[1]
+    AJr = M[2]      # gamma_16 |Re J| + err(Re J): what one product term contributes to an error
+    AJi = M[3]
+    # w_k = Q_k m: |exact - fl| <= gamma_8 sum |Qm||m| + sum Qr |m| + 8 eta (each part)
     for k in range(7):
+        for i in range(_N):
+            wr[i] = 0.0
+            wi[i] = 0.0
+            br[i] = 0.0
+            bi[i] = 0.0
+            cr[i] = 0.0
+            ci[i] = 0.0
+        for j in range(_N):
+            a = mr[j]
+            b = mi[j]
+            aa = amr[j]
+            ab = ami[j]
+            for i in range(_N):
+                q = Qm[k, j, i]
+                aq = abs(q)
+                rq = Qr[k, j, i]
+                wr[i] += q * a
+                br[i] += aq * aa
+                cr[i] += rq * aa
+                if not real:
+                    wi[i] += q * b
+                    bi[i] += aq * ab
+                    ci[i] += rq * ab
         gr = 0.0
         gi = 0.0
         sr = 0.0
         si = 0.0
         for i in range(_N):
-            ar = 0.0
-            ai = 0.0
-            br = 0.0
-            bi = 0.0
-            cr = 0.0
-            ci = 0.0
-            for j in range(_N):
-                q = Qm[k, i, j]
-                ar += q * m[j].real
-                ai += q * m[j].imag
-                br += abs(q) * abs(m[j].real)
-                bi += abs(q) * abs(m[j].imag)
-                cr += Qr[k, i, j] * abs(m[j].real)
-                ci += Qr[k, i, j] * abs(m[j].imag)
-            w[k, i] = complex(ar, ai)
-            ew[k, i, 0] = _G8 * br + cr + 8 * _ETA
-            ew[k, i, 1] = _G8 * bi + ci + 8 * _ETA
-            # G_k = sum_i m_i w_i: real part sum (mr wr - mi wi), imaginary sum (mr wi + mi wr)
-            gr += m[i].real * ar - m[i].imag * ai
-            gi += m[i].real * ai + m[i].imag * ar
-            sr += abs(m[i].real) * (abs(ar) * _G16 + ew[k, i, 0]) + \
-                abs(m[i].imag) * (abs(ai) * _G16 + ew[k, i, 1])
-            si += abs(m[i].real) * (abs(ai) * _G16 + ew[k, i, 1]) + \
-                abs(m[i].imag) * (abs(ar) * _G16 + ew[k, i, 0])
+            e0 = _G8 * br[i] + cr[i] + 8 * _ETA
+            e1 = (_G8 * bi[i] + ci[i] + 8 * _ETA) if not real else 0.0
+            w[k, i] = complex(wr[i], wi[i])
+            ew[k, i, 0] = e0
+            ew[k, i, 1] = e1
+            Jr[k, i] = 2.0 * wr[i]
+            Ji[k, i] = 2.0 * wi[i]
+            AJr[k, i] = _G16 * abs(Jr[k, i]) + 2.0 * e0
+            AJi[k, i] = _G16 * abs(Ji[k, i]) + 2.0 * e1
+            # G_k = sum_i m_i w_i (16 real products a part) and the propagated errors of w
+            gr += mr[i] * wr[i] - mi[i] * wi[i]
+            gi += mr[i] * wi[i] + mi[i] * wr[i]
+            sr += amr[i] * (abs(wr[i]) * _G16 + e0) + ami[i] * (abs(wi[i]) * _G16 + e1)
+            si += amr[i] * (abs(wi[i]) * _G16 + e1) + ami[i] * (abs(wr[i]) * _G16 + e0)
         g[k] = complex(gr, gi)
         eg[k, 0] = sr + 16 * _ETA
-        eg[k, 1] = si + 16 * _ETA
-    # the chart row r . x - 1 (r small integers)
+        eg[k, 1] = (si + 16 * _ETA) if not real else 0.0
+    # the chart row r . x - 1 (r small integers; J's row (r, 0) exact)
     gr = -1.0
     gi = 0.0
     sr = 1.0
     si = 0.0
     for j in range(4):
-        gr += r[j] * m[j].real
-        gi += r[j] * m[j].imag
-        sr += abs(r[j]) * abs(m[j].real)
-        si += abs(r[j]) * abs(m[j].imag)
+        gr += r[j] * mr[j]
+        gi += r[j] * mi[j]
+        sr += abs(r[j]) * amr[j]
+        si += abs(r[j]) * ami[j]
     g[7] = complex(gr, gi)
     eg[7, 0] = _G5 * sr + 5 * _ETA
-    eg[7, 1] = _G4 * si + 4 * _ETA
+    eg[7, 1] = (_G4 * si + 4 * _ETA) if not real else 0.0
+    for j in range(_N):
+        Jr[7, j] = float(r[j]) if j < 4 else 0.0
+        Ji[7, j] = 0.0
+        AJr[7, j] = _G16 * abs(Jr[7, j])
+        AJi[7, j] = 0.0
     # beta >= ||Y G(m)||: v = Y g (16 real products a part)
     beta = 0.0
     for i in range(_N):
@@ -420,40 +502,44 @@ def _krawczyk_bounds(m, Qm, Qr, T, r, Y, w, ew, g, eg):
         a = abs(vr) + (er + 16 * _ETA)
         b = abs(vi) + (ei + 16 * _ETA)
         beta = max(beta, max(a, b))
-    # kappa >= ||I - Y J(m)||; J(m) rows 2 w_k (error 2 ew), row 7 (r, 0) exact
+    # kappa >= ||I - Y J(m)||: P = Y J row by row, one accumulator per column
+    pr = F[10]
+    pi = F[11]
+    er = F[12]
+    ei = F[13]
     kappa = 0.0
     for i in range(_N):
+        for j in range(_N):
+            pr[j] = 0.0
+            pi[j] = 0.0
+            er[j] = 0.0
+            ei[j] = 0.0
+        for k in range(_N):
+            yr = Y[i, k].real
+            ayr = abs(yr)
+            if real:
+                for j in range(_N):
+                    pr[j] += yr * Jr[k, j]
+                    er[j] += ayr * AJr[k, j]
+            else:
+                yi = Y[i, k].imag
+                ayi = abs(yi)
+                for j in range(_N):
+                    pr[j] += yr * Jr[k, j] - yi * Ji[k, j]
+                    pi[j] += yr * Ji[k, j] + yi * Jr[k, j]
+                    er[j] += ayr * AJr[k, j] + ayi * AJi[k, j]
+                    ei[j] += ayr * AJi[k, j] + ayi * AJr[k, j]
         row = 0.0
         for j in range(_N):
-            pr = 0.0
-            pi = 0.0
-            er = 0.0
-            ei = 0.0
-            for k in range(_N):
-                yr = Y[i, k].real
-                yi = Y[i, k].imag
-                if k < 7:
-                    jr = 2.0 * w[k, j].real
-                    ji = 2.0 * w[k, j].imag
-                    ejr = 2.0 * ew[k, j, 0]
-                    eji = 2.0 * ew[k, j, 1]
-                else:
-                    jr = float(r[j]) if j < 4 else 0.0
-                    ji = 0.0
-                    ejr = 0.0
-                    eji = 0.0
-                pr += yr * jr - yi * ji
-                pi += yr * ji + yi * jr
-                er += _G16 * (abs(yr) * abs(jr) + abs(yi) * abs(ji)) + abs(yr) * ejr + abs(yi) * eji
-                ei += _G16 * (abs(yr) * abs(ji) + abs(yi) * abs(jr)) + abs(yr) * eji + abs(yi) * ejr
-            er += 16 * _ETA
-            ei += 16 * _ETA
+            e_r = er[j] + 16 * _ETA
             if i == j:
-                cr = 1.0 - pr
-                er += _U * abs(cr)
+                c = 1.0 - pr[j]
+                e_r += _U * abs(c)
             else:
-                cr = -pr
-            row += (abs(cr) + er) + (abs(pi) + ei)
+                c = -pr[j]
+            row += abs(c) + e_r
+            if not real:
+                row += abs(pi[j]) + (ei[j] + 16 * _ETA)
         kappa = max(kappa, row)
     # mu >= max_i sum_k |Y_ik|_1 T_k
     mu = 0.0
@@ -487,18 +573,18 @@ def _null_excluded(m, rho):
 
 
 @njit(cache=True)
-def _certify_point(m, real, Qm, Qr, T, r, J, Y, piv, col, e, w, ew, g, eg):
-    """Krawczyk at the polished point ``m``: (proved, real flag 1/0/-1, rho, displacement)."""
-    _float_system(m, Qm, r, g, J)
-    if not _lu(J, piv):
-        return False, -1, 0.0, False
-    for c in range(_N):
+def _certify_point(m, real, Qm, Qr, T, r, J, Y, piv, w, ew, g, eg, F, M):
+    """Krawczyk at the polished point ``m``: (proved, real flag 1/0/-1, rho, displacement).
+
+    ``J`` and ``piv`` hold the LU factors of the last Newton step (:func:`_polish`)."""
+    # Y: the inverse of the last Newton step's Jacobian (J holds its LU factors): any matrix
+    # will do for the proof, and this one is within a Newton step of J(m)^-1
+    _lu_inverse(J, piv, Y)
+    if real:
         for i in range(_N):
-            e[i] = 1.0 if i == c else 0.0
-        _lu_solve(J, piv, e, col)
-        for i in range(_N):
-            Y[i, c] = complex(col[i].real, 0.0) if real else col[i]
-    beta, kappa, mu = _krawczyk_bounds(m, Qm, Qr, T, r, Y, w, ew, g, eg)
+            for c in range(_N):
+                Y[i, c] = complex(Y[i, c].real, 0.0)
+    beta, kappa, mu = _krawczyk_bounds(m, Qm, Qr, T, r, Y, w, ew, g, eg, F, M)
     if not (beta > 0.0 and kappa < 1.0):
         return False, -1, 0.0, False
     rho = 2.0 * beta / (1.0 - kappa)
@@ -579,12 +665,12 @@ def _certify_rows(Z, status, rows_ok, pm, pr, Amid, Arad, Ed, pidx, charts, targ
         Y = np.zeros((_N, _N), dtype=np.complex128)
         piv = np.zeros(_N, dtype=np.int64)
         dz = np.zeros(_N, dtype=np.complex128)
-        col = np.zeros(_N, dtype=np.complex128)
-        e = np.zeros(_N, dtype=np.complex128)
         z = np.zeros(_N, dtype=np.complex128)
         w = np.zeros((7, _N), dtype=np.complex128)
         ew = np.zeros((7, _N, 2))
         eg = np.zeros((_N, 2))
+        F = np.zeros((16, _N))
+        M = np.zeros((4, _N, _N))
         r = np.zeros(4, dtype=np.int64)
         okp = np.zeros(k, dtype=np.bool_)
         for row in range(blk * n // blocks, (blk + 1) * n // blocks):
@@ -615,27 +701,33 @@ def _certify_rows(Z, status, rows_ok, pm, pr, Amid, Arad, Ed, pidx, charts, targ
                     dot += r[i] * Z[row, j, i]
                 for i in range(_N):
                     z[i] = Z[row, j, i] / dot
-                if not _polish(z, Qm, r, False, _POLISH, G, J, piv, dz):
-                    continue
-                size = 0.0
-                im = 0.0
-                for i in range(_N):
-                    size = max(size, abs(z[i]))
-                    im = max(im, abs(z[i].imag))
-                is_real = im <= _REAL_PROPOSAL * (1.0 + size)
-                if is_real:
+                # one Newton step, the test; where it fails (slow Newton near a double mode)
+                # more steps and the test again
+                for attempt in range(2):
+                    steps = _POLISH if attempt == 0 else _POLISH_RETRY
+                    if not _polish(z, Qm, r, False, steps, G, J, piv, dz):
+                        break
+                    size = 0.0
+                    im = 0.0
                     for i in range(_N):
-                        z[i] = complex(z[i].real, 0.0)
-                    if not _polish(z, Qm, r, True, _REAL_POLISH, G, J, piv, dz):
-                        continue
-                for i in range(_N):
-                    pts[row, j, i] = z[i]
-                ok, flag, rr, disp = _certify_point(z, is_real, Qm, Qr, T, r, J, Y, piv, col, e,
-                                                    w, ew, G, eg)
-                cert[row, j] = ok
-                real[row, j] = flag
-                rho[row, j] = rr
-                null_ok[row, j] = disp
+                        size = max(size, abs(z[i]))
+                        im = max(im, abs(z[i].imag))
+                    is_real = im <= _REAL_PROPOSAL * (1.0 + size)
+                    if is_real:
+                        for i in range(_N):
+                            z[i] = complex(z[i].real, 0.0)
+                        if not _polish(z, Qm, r, True, steps, G, J, piv, dz):
+                            break
+                    for i in range(_N):
+                        pts[row, j, i] = z[i]
+                    ok, flag, rr, disp = _certify_point(z, is_real, Qm, Qr, T, r, J, Y, piv,
+                                                        w, ew, G, eg, F, M)
+                    cert[row, j] = ok
+                    real[row, j] = flag
+                    rho[row, j] = rr
+                    null_ok[row, j] = disp
+                    if ok and flag >= 0 and disp:
+                        break
             count = 0
             decided = True
             nr = 0

@@ -15,8 +15,8 @@ import numpy as np
 
 from .._validate import as_flag, as_float_array
 from ..exceptions import InputError, NearSingularWarning
-from .results import SpatialDKBatch
-from .solver import certify_row, exact_result, exact_study_solver, solve_rows, start_system
+from .solver import (certify_row, certify_rows, exact_result, exact_study_solver, solve_rows,
+                     start_system)
 from .study import rotation_matrix, translation
 
 __all__ = ["QuadricPlatform", "anchor_points", "check_lengths", "DK_METHODS"]
@@ -280,16 +280,5 @@ class QuadricPlatform:
             Lv = np.where(valid[:, None], L, 1.0)
             return solve_rows(self.family(), self.start_system, Lv ** 2, self.tolerances, valid=valid,
                               lengths=Lv)
-        solver = self._exact_solver_or_none()
-        rows = [certify_row(self.family(), self.start_system, L[i], self.tolerances, exact_solver=solver)
-                if valid[i] else None for i in range(L.shape[0])]
-        done = [r for r in rows if r is not None]
-        counts = np.array([r.count if r is not None else 0 for r in rows], dtype=np.int64)
-        return SpatialDKBatch(
-            counts, np.concatenate([[0], np.cumsum(counts)]),
-            np.vstack([r.study_points for r in done]) if done else np.zeros((0, 8)),
-            np.concatenate([r.residuals for r in done]) if done else np.zeros(0),
-            np.concatenate([r.aspects for r in done]).astype(np.int8) if done else np.zeros(0, np.int8),
-            np.array([r.complex_count if r is not None else 0 for r in rows]),
-            np.array([r.reliable if r is not None else False for r in rows]),
-            np.array([r.certified if r is not None else False for r in rows]), valid)
+        return certify_rows(self.family(), self.start_system, L, self.tolerances, valid=valid,
+                            exact_solver=self._exact_solver_or_none())
