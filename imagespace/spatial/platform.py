@@ -173,10 +173,11 @@ class QuadricPlatform:
         lengths : (legs,) float
             Leg lengths, positive. Floats are taken as the exact binary rationals they are.
         certify : bool
-            Prove the count and every mode. Where the family has a theorem's bound on its number
-            of solutions (40 for Gough-Stewart), Krawczyk boxes in arb on the exact quadrics
-            around all endpoints (0.05-0.2 s); otherwise, or where that does not settle it,
-            msolve on the exact system (1-6 s; needs ``imagespace[exact]``).
+            Prove the count and every mode, whatever it takes. The fast path already proves most
+            rows (``certified`` True: its compiled Krawczyk test on the exact quadrics reached
+            the family's bound, 40 for Gough-Stewart, 16 for 6-3, 3-3 and 3-RPS); a row it does
+            not prove (near a double mode) goes to Krawczyk boxes in arb (0.05-0.2 s), then to
+            msolve on the exact system (1-20 s; needs ``imagespace[exact]``).
         method : {"fast", "exact"}
             ``"fast"``: the parameter homotopy (one start system per design, then one compiled
             path per start solution). ``"exact"``: msolve on the exact system; always certified.
@@ -245,7 +246,8 @@ class QuadricPlatform:
             One row per problem. Rows with a non-positive or non-finite length are marked invalid
             (``valid[i] = False``, no modes) instead of raising.
         certify : bool
-            Prove every valid row (see :meth:`direct_kinematics`; ~0.07 s a Gough-Stewart row).
+            Prove every valid row (see :meth:`direct_kinematics`): one compiled pass for all
+            rows, arb and msolve only for the rows it does not prove.
 
         Returns
         -------

@@ -124,10 +124,10 @@ def test_issue_row_near_a_double_mode():
 
 @needs_msolve
 @pytest.mark.slow
-def test_issue_row_certified_count():
+def test_issue_row_msolve_count():
     gs = isp.GoughStewart(ISSUE_A, ISSUE_B)
-    res = gs.direct_kinematics(ISSUE_L, certify=True)
-    assert res.certified and res.count == 2                       # the issue's msolve count
+    exact = gs.direct_kinematics(ISSUE_L, method="exact")
+    assert exact.count == 2 == gs.direct_kinematics(ISSUE_L).count
 
 
 def test_reliable_is_right_near_double_modes_small():
@@ -162,7 +162,7 @@ def test_reliable_and_arb_agree_with_msolve_subsample():
     for name, m, rows in sample:
         b = m.direct_kinematics_batch(rows)
         fam = m.family()
-        for i in rng.choice(len(rows), 3, replace=False):
+        for i in rng.choice(len(rows), 2, replace=False):
             exact = m.direct_kinematics(rows[i], method="exact")
             if b.reliable[i]:
                 assert b.counts[i] == exact.count
@@ -171,7 +171,7 @@ def test_reliable_and_arb_agree_with_msolve_subsample():
             if count is not None:
                 assert count == exact.count
             checked += 1
-    assert checked == 9
+    assert checked == 6
 
 
 @needs_msolve
@@ -180,7 +180,7 @@ def test_reliable_and_arb_agree_with_msolve_subsample():
 def test_paired_designs_have_sixteen_solutions(name):
     # the bound the certificates use (PAIRED_BOUND): msolve counts the displacements (x . x != 0)
     # of random designs at random lengths: 16, the generic count of the literature
-    for seed in (0, 1):
+    for seed in ((0, 1) if name == "6-3" else (0,)):
         m = FAMILIES[name](seed)
         assert m.solution_bound == isp.spatial.PAIRED_BOUND == 16
         L = np.random.default_rng(seed).uniform(1.0, 3.0, 6)
@@ -359,17 +359,17 @@ def test_compiled_certificate_equals_arb_small():
 
 @pytest.mark.slow
 def test_compiled_certificate_equals_arb_sample():
-    # 480 rows: general 6-6 designs, Dietmaier's design near its 40-real lengths, 6-3, 3-3, 3-RPS
+    # 288 rows: general 6-6 designs, Dietmaier's design near its 40-real lengths, 6-3, 3-3, 3-RPS
     # (the 10,000-row comparison is in benchmarks/spatial_dk.py)
     rng = np.random.default_rng(12)
     gs, L = isp.examples.dietmaier_1998()
-    cases = [(gs, np.asarray(L) * (1 + 10.0 ** rng.uniform(-6, -2, (96, 1)) * rng.normal(size=(96, 6))))]
+    cases = [(gs, np.asarray(L) * (1 + 10.0 ** rng.uniform(-6, -2, (48, 1)) * rng.normal(size=(48, 6))))]
     for name, seed in (("6-6", 21), ("6-6", 22), ("6-3", 23), ("3-3", 24), ("3-RPS", 5)):
         m = FAMILIES[name](seed)
-        cases.append((m, _rows_from_poses(m, rng, 96)))
+        cases.append((m, _rows_from_poses(m, rng, 48)))
     total = certified = agreed = 0
     for m, rows in cases:
         n, c, both = _compare_with_arb(m, rows)
         total, certified, agreed = total + n, certified + c, agreed + both
-    assert total == 576 and agreed >= 0.9 * total
+    assert total == 288 and agreed >= 0.9 * total
     print(f"{total} rows: compiled certified {certified}, arb complete {agreed} (all agree)")
