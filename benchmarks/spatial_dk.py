@@ -1,18 +1,26 @@
-"""Spatial direct kinematics (issue [13]): the fast path against the exact path, in one run.
+"""Spatial direct kinematics (issues [13], [18]): fast, compiled-certified, arb-certified and exact
+paths, in one run.
 
-Not a test. One seeded general 6-6 Gough-Stewart design (anchors of unit size, small dyadic
-rationals so msolve is at its fastest), leg lengths from random poses. Printed:
+Not a test. Designs: one seeded general 6-6 Gough-Stewart design (anchors on a 1/8 grid, lengths
+from random poses) and Dietmaier's 40-real-mode design (its lengths moved by 1e-6 .. 1e-2 relative
+in random directions); then a 6-3, a 3-3 and a 3-RPS design (issue [18] target 3: certified
+without msolve). Printed per design, rows per second (wall clock, numba threads on every core):
 
-* the design's start system (once per design: 128 total-degree paths, 40 solutions kept);
-* ``direct_kinematics_batch`` on ``N_FAST`` rows (the fast path: 40 compiled paths a row, numba's
-  threads on every core), rows per second;
-* ``direct_kinematics(L, certify=True)`` on ``N_CERT`` rows (Krawczyk boxes in arb on all 40
-  solutions), rows per second;
-* ``direct_kinematics(L, method="exact")`` on ``N_EXACT`` rows (msolve on the exact system, the
-  four strata of x), rows per second -- the baseline;
-* the ratios, and whether the three paths give the same real counts on the shared rows.
+* ``tracking``: the previous fast path (40 compiled paths a row and the float classification, no
+  certificate) -- the baseline of the certificate's cost;
+* ``fast``: ``direct_kinematics_batch`` (tracking plus the compiled certificate: ``reliable`` and
+  ``certified`` rows);
+* ``certificate``: the compiled Krawczyk test alone on the tracked endpoints;
+* ``compiled-certified``: ``direct_kinematics_batch(certify=True)`` (the compiled certificate,
+  arb and msolve only for rows it does not prove);
+* ``arb-certified``: the previous certified implementation (:func:`arb_certified_row`: tracking
+  and Krawczyk in arb on every endpoint, msolve where that fails) -- the baseline;
+* ``msolve``: ``method="exact"``;
+* whether the certified paths agree (counts and modes) on the shared rows.
 
-``python benchmarks/spatial_dk.py [N_FAST N_CERT N_EXACT]``
+``python benchmarks/spatial_dk.py [N_FAST N_ARB N_EXACT N_COMPARE]``: ``N_COMPARE`` more rows per
+6-6 design compared between the compiled and the arb certified paths (the issue's 10,000-row check:
+``N_COMPARE = 5000`` for the two 6-6 designs).
 """
 
 import sys
@@ -21,57 +29,162 @@ import time
 import numpy as np
 
 import imagespace as isp
-from imagespace.spatial.study import study_point
+from imagespace.spatial.certify import krawczyk_certify
+from imagespace.spatial.fastcert import certify_endpoints, family_enclosure, parameter_enclosure
+from imagespace.spatial.homotopy import PATH_OK, classify_batch, recentre, track_parameters
+from imagespace.spatial.solver import RECENTRE_MIN_ROWS, exact_study_solver
+from imagespace.spatial.study import normalize_study, study_point
 
 
-def main(n_fast=4000, n_cert=40, n_exact=8):
+def arb_certified_row(platform, L):
+    """The previous certified implementation (before the compiled certificate), kept as the
+    baseline: track the row, Krawczyk in arb on every arrived endpoint, msolve when arb does not
+    prove all ``bound`` solutions. Returns (real count, study points, how)."""
+    from fractions import Fraction
+
+    fam = platform.family()
+    P = (np.asarray(L, float) / fam.scale) ** 2
+    Z, st, _ = track_parameters(platform.start_system, P[None])
+    Qx = fam.exact([(Fraction(float(v)) / Fraction(fam.scale)) ** 2 for v in L])
+    arrived = Z[0][st[0] == PATH_OK]
+    if fam.bound is not None and arrived.shape[0] >= fam.bound:
+        c = krawczyk_certify(Qx, arrived)
+        if c.complete(fam.bound):
+            pts = c.points[c.certified & (c.real == 1)].real
+            pts = fam.unscale(normalize_study(pts)) if pts.shape[0] else np.zeros((0, 8))
+            return c.real_count, pts, "arb"
+    pts, _ = exact_study_solver(Qx)
+    return pts.shape[0], fam.unscale(pts), "msolve"
+
+
+def _tracking_only(platform, L):
+    """The previous fast path: tracking and the float classification (no certificate)."""
+    fam = platform.family()
+    P = (L / fam.scale) ** 2
+    start = platform.start_system
+    if P.shape[0] >= RECENTRE_MIN_ROWS:
+        start = recentre(start, np.median(P, axis=0))
+    Z, st, _ = track_parameters(start, P)
+    W, real, distinct, ok = classify_batch(Z, st, platform.tolerances)
+    return Z, st, real.sum(axis=1), ok
+
+
+def _same_modes(a, b):
+    if a.shape[0] != b.shape[0]:
+        return False
+    if not a.shape[0]:
+        return True
+    key = lambda p: p[np.lexsort(p.T[::-1])]                      # noqa: E731
+    return bool(np.allclose(key(a), key(b), atol=1e-8))
+
+
+def _rate(n, t):
+    return n / t if t > 0 else float("inf")
+
+
+def run_design(name, m, L, n_arb, n_exact, n_compare, rng):
+    fam = m.family()
+    t = time.perf_counter()
+    st = m.start_system
+    t_start = time.perf_counter() - t
+    n = L.shape[0]
+    m.direct_kinematics_batch(L[:8])                         # caches loaded, threads started
+    m.direct_kinematics_batch(L[:8], certify=True)
+
+    t = time.perf_counter()
+    Z, status, counts_track, ok_track = _tracking_only(m, L)
+    t_track = time.perf_counter() - t
+
+    t = time.perf_counter()
+    fast = m.direct_kinematics_batch(L)
+    t_fast = time.perf_counter() - t
+
+    pm, pr = parameter_enclosure(L, fam.scale)
+    enc = family_enclosure(fam)
+    target = fam.bound
+    t = time.perf_counter()
+    cert = certify_endpoints(enc, Z, status, pm, pr, target)
+    t_cert = time.perf_counter() - t
+
+    t = time.perf_counter()
+    certified = m.direct_kinematics_batch(L, certify=True)
+    t_certified = time.perf_counter() - t
+    by_compiled = int(fast.certified.sum())
+
+    idx = rng.choice(n, min(n_arb + n_compare, n), replace=False)
+    t = time.perf_counter()
+    arb = [arb_certified_row(m, L[i]) for i in idx[:n_arb]]
+    t_arb = time.perf_counter() - t
+    arb += [arb_certified_row(m, L[i]) for i in idx[n_arb:]]
+    how = {}
+    agree = 0
+    for (count, pts, h), i in zip(arb, idx):
+        how[h] = how.get(h, 0) + 1
+        agree += certified.certified[i] and certified.counts[i] == count and \
+            _same_modes(certified[i].study_points, pts)
+
+    t = time.perf_counter()
+    exact = [m.direct_kinematics(L[i], method="exact") for i in idx[:n_exact]]
+    t_exact = time.perf_counter() - t
+    agree_exact = sum(int(certified.counts[i] == e.count and _same_modes(certified[i].study_points,
+                                                                         e.study_points))
+                      for e, i in zip(exact, idx[:n_exact]))
+    wrong_track = int(np.sum(ok_track & (counts_track != certified.counts)))
+
+    print(f"\n== {name}: {len(st.solutions)} complex solutions at generic lengths (bound {fam.bound}), "
+          f"start system {t_start:.2f} s")
+    rows = [("tracking (previous fast path, no certificate)", n, t_track,
+             f"float checks pass on {int(ok_track.sum())}, of which {wrong_track} with a wrong count"),
+            ("fast: direct_kinematics_batch", n, t_fast,
+             f"certified {int(fast.certified.sum())}, reliable {int(fast.reliable.sum())}"),
+            ("certificate alone (compiled, on the endpoints)", n, t_cert,
+             f"complete {int(cert.complete.sum())}"),
+            ("compiled-certified: batch(certify=True)", n, t_certified,
+             f"certified {int(certified.certified.sum())}: {by_compiled} compiled, "
+             f"{n - by_compiled} by arb/msolve"),
+            ("arb-certified (previous implementation)", n_arb, t_arb,
+             f"all {len(idx)} rows compared: {how}"),
+            ("msolve: method='exact'", len(exact), t_exact, "")]
+    for label, k, tt, note in rows:
+        print(f"  {label:50s} {k:6d} rows {tt:8.2f} s {_rate(k, tt):9.1f} rows/s  {note}")
+    print(f"  compiled-certified / arb-certified: {_rate(n, t_certified) / _rate(n_arb, t_arb):6.1f}x;"
+          f"  / msolve: {_rate(n, t_certified) / _rate(len(exact), t_exact):7.0f}x;"
+          f"  certificate cost / tracking cost: {t_cert / t_track:.2f}")
+    print(f"  same answers: compiled-certified = arb-certified on {agree}/{len(idx)} rows; "
+          f"= msolve on {agree_exact}/{len(exact)} rows")
+
+
+def main(n_fast=4000, n_arb=40, n_exact=8, n_compare=0):
     rng = np.random.default_rng(2026)
     base = rng.integers(-8, 9, (6, 3)) / 8.0
     platform = rng.integers(-8, 9, (6, 3)) / 16.0
     gs = isp.GoughStewart(base, platform)
     poses = study_point(rng.normal(size=(n_fast, 4)), rng.uniform(-0.5, 0.5, (n_fast, 3)) + [0, 0, 1.5])
-    L = gs.inverse_kinematics(poses)
+    run_design("general 6-6", gs, gs.inverse_kinematics(poses), n_arb, n_exact, n_compare, rng)
 
-    t = time.perf_counter()
-    st = gs.start_system
-    t_start = time.perf_counter() - t
-    gs.direct_kinematics_batch(L[:8])                      # numba's cache loaded, threads started
+    dg, Ld = isp.examples.dietmaier_1998()
+    u = rng.normal(size=(n_fast, 6))
+    Ld = np.asarray(Ld) * (1 + 10.0 ** rng.uniform(-6, -2, (n_fast, 1)) * u / np.linalg.norm(u, axis=1)[:, None])
+    run_design("Dietmaier 1998 (lengths moved 1e-6 .. 1e-2)", dg, Ld, n_arb, n_exact, n_compare, rng)
 
-    t = time.perf_counter()
-    batch = gs.direct_kinematics_batch(L)
-    t_fast = time.perf_counter() - t
-    fast_rate = n_fast / t_fast
-
-    t = time.perf_counter()
-    cert = [gs.direct_kinematics(L[i], certify=True) for i in range(n_cert)]
-    t_cert = time.perf_counter() - t
-    cert_rate = n_cert / t_cert
-    methods = {}
-    for c in cert:
-        methods[c.method] = methods.get(c.method, 0) + 1
-
-    t = time.perf_counter()
-    exact = [gs.direct_kinematics(L[i], method="exact") for i in range(n_exact)]
-    t_exact = time.perf_counter() - t
-    exact_rate = n_exact / t_exact
-
-    same_cert = all(batch.counts[i] == cert[i].count for i in range(n_cert))
-    same_exact = all(batch.counts[i] == exact[i].count for i in range(n_exact))
-    print(f"design: 6-6, {len(st.solutions)} complex solutions at generic lengths, start system "
-          f"{t_start:.2f} s ({st.paths} paths)")
-    print(f"fast    direct_kinematics_batch   {n_fast:6d} rows  {t_fast:8.2f} s  {fast_rate:10.1f} rows/s  "
-          f"(reliable {int(batch.reliable.sum())}/{n_fast}, real modes per row "
-          f"{np.bincount(batch.counts).tolist()})")
-    print(f"certify direct_kinematics(certify) {n_cert:6d} rows  {t_cert:8.2f} s  {cert_rate:10.1f} rows/s  "
-          f"{methods}")
-    print(f"exact   direct_kinematics(exact)   {n_exact:6d} rows  {t_exact:8.2f} s  {exact_rate:10.2f} rows/s  "
-          "(msolve, baseline)")
-    print(f"ratio fast / exact   {fast_rate / exact_rate:10.0f}x")
-    print(f"ratio certify / exact {cert_rate / exact_rate:9.1f}x")
-    print(f"same real counts: fast = certified on {n_cert} rows: {same_cert}; fast = exact on "
-          f"{n_exact} rows: {same_exact}")
+    tri = rng.integers(-16, 17, (3, 3)) / 16.0
+    g63 = isp.GoughStewart(rng.integers(-16, 17, (6, 3)) / 8.0, tri[[0, 1, 1, 2, 2, 0]])
+    btri = rng.integers(-16, 17, (3, 3)) / 8.0
+    g33 = isp.GoughStewart(btri[[0, 0, 1, 1, 2, 2]], tri[[0, 1, 1, 2, 2, 0]])
+    n_small = max(n_fast // 4, 16)
+    for name, m in (("6-3", g63), ("3-3", g33)):
+        poses = study_point(rng.normal(size=(n_small, 4)), rng.uniform(-0.3, 0.3, (n_small, 3)) + [0, 0, 1.5])
+        run_design(name, m, m.inverse_kinematics(poses), n_arb // 2, n_exact // 2, 0, rng)
+    while True:                                              # a seeded non-degenerate design
+        try:
+            rps = isp.ThreeRPS(rng.integers(-4, 5, (3, 3)) / 2.0, rng.integers(-4, 5, (3, 3)) / 4.0,
+                               base_axes=rng.integers(-3, 4, (3, 3)))
+            break
+        except isp.exceptions.DegenerateDesignError:
+            continue
+    run_design("3-RPS", rps, rng.uniform(0.8, 3.0, (n_small, 3)), n_arb // 2, n_exact // 2, 0, rng)
 
 
 if __name__ == "__main__":
-    args = [int(a) for a in sys.argv[1:4]]
+    args = [int(a) for a in sys.argv[1:5]]
     main(*args)

@@ -218,13 +218,15 @@ class Tolerances:
         :func:`imagespace.spatial.study.study_to_planar`: a Study point is planar when
         ``x1, x2, y0, y3`` are at most this times ``max |s|``.
     spatial_real_imag : float
-        Spatial fast path: an endpoint (scaled so its largest ``|x_i|`` is 1) is a real mode when
-        its imaginary parts are at most this times its largest entry.
+        Spatial fast path, rows its compiled certificate did not prove (never ``reliable``; the
+        proven rows' real modes are decided by the certificate): an endpoint (scaled so its
+        largest ``|x_i|`` is 1) is counted as a real mode when its imaginary parts are at most
+        this times its largest entry.
     spatial_nonreal_imag : float
-        ... and clearly not real above this; in between the row is marked not reliable.
+        ... and clearly not real above this (an unproven row's float diagnosis).
     spatial_distinct : float
         Two endpoints closer than this (unit-normalised, Euclidean) are one solution reached twice
-        (path jumping): the row is marked not reliable.
+        (path jumping): ``complex_count`` of an unproven row counts them once.
     spatial_plane : float
         ``ThreeRPS.inverse_kinematics``: a leg is in its revolute joint's plane when
         ``|u . leg|`` is at most this times ``|u| |leg|``.

@@ -18,10 +18,13 @@ that ``X`` holds exactly one solution, and that it is non-singular (Krawczyk 196
   and its conjugate (also a solution, ``G`` has real coefficients, also in ``X``) coincide: ``z`` is
   real.
 * **Not real.** If some coordinate's imaginary part in ``X`` excludes zero, ``z`` is not real.
+* **A displacement.** ``x . x != 0``: automatic for a real solution (``r . x = 1``); for a
+  non-real one, ``x . x`` is enclosed on the box and must exclude 0.
 * **Complete.** Pairwise disjoint boxes hold distinct solutions. A Gough-Stewart platform has at most
-  40 isolated solutions (Raghavan 1993; Ronga & Vust, Lazard, Mourrain 1992-93; Morgan & Sommese's
-  coefficient-parameter theorem carries the generic count to every member of the family): 40
-  certified disjoint boxes are all of them, so the number of real ones is the number of real modes.
+  40 isolated solutions with ``x . x != 0`` (Raghavan 1993; Ronga & Vust, Lazard, Mourrain 1992-93;
+  Morgan & Sommese's coefficient-parameter theorem carries the generic count to every member of the
+  family), a 6-3, 3-3 or 3-RPS at most 16: that many certified disjoint boxes of displacements are
+  all of them, so the number of real ones is the number of real modes.
 
 Everything decided here is decided in ball arithmetic on the exact input; floats only propose.
 
@@ -70,6 +73,8 @@ class KrawczykResult:
         All certified boxes are pairwise disjoint (distinct solutions).
     chart : (4,) int
         The chart vector ``r``.
+    displacement : (k,) bool
+        ``x . x != 0`` is proven on the box (not a null rotation); None: not computed.
     """
 
     points: np.ndarray
@@ -78,6 +83,7 @@ class KrawczykResult:
     real: np.ndarray
     disjoint: bool
     chart: np.ndarray
+    displacement: np.ndarray = None
 
     @property
     def distinct_certified(self):
@@ -90,8 +96,11 @@ class KrawczykResult:
         return int(np.sum(self.certified & (self.real == 1)))
 
     def complete(self, bound):
-        """True when ``bound`` distinct solutions are certified and each is decided real or not."""
-        return self.distinct_certified == bound and bool(np.all(self.real[self.certified] >= 0))
+        """True when ``bound`` distinct solutions are certified, each decided real or not and each
+        a displacement (``x . x != 0``)."""
+        disp = True if self.displacement is None else bool(np.all(self.displacement[self.certified]))
+        return (self.distinct_certified == bound and bool(np.all(self.real[self.certified] >= 0))
+                and disp)
 
 
 def exact_matrix(Q):
@@ -162,7 +171,7 @@ def _float_system(Qf, r, z):
     return G, J
 
 
-def krawczyk_certify(Q_exact, Z, chart=None, seed=0):
+def krawczyk_certify(Q_exact, Z, chart=None, seed=0, radii=None):
     """Prove solutions of ``z^T Q_k z = 0`` near float approximations ``Z`` (Krawczyk in arb).
 
     Parameters
@@ -174,6 +183,10 @@ def krawczyk_certify(Q_exact, Z, chart=None, seed=0):
     chart : (4,) int, optional
         The real chart ``r . x = 1``; by default :func:`choose_chart` picks one.
     seed : int
+    radii : (k,) float, optional
+        Box half-widths to try first for each point (in the chart's scaling; e.g. those of the
+        compiled certificate, :mod:`imagespace.spatial.fastcert`), before the default relative
+        ones. Only proposals: arb proves whatever box it is given or reports failure.
 
     Returns
     -------
@@ -202,11 +215,12 @@ def krawczyk_certify(Q_exact, Z, chart=None, seed=0):
     Z = np.atleast_2d(np.asarray(Z, dtype=complex))
     k = Z.shape[0]
     m_eq = Q_exact.shape[0]
+    proposals = None if radii is None else np.asarray(radii, dtype=float)
     if chart is None:
         chart = choose_chart(Z, seed) if k else np.array([1, 0, 0, 0])
         if chart is None:
             return KrawczykResult(Z, np.zeros(k), np.zeros(k, bool), -np.ones(k, np.int8), False,
-                                  np.array([1, 0, 0, 0]))
+                                  np.array([1, 0, 0, 0]), np.zeros(k, bool))
     r = np.asarray(chart, dtype=np.int64)
     Qf = np.array([[float(v) for v in row] for row in Q_exact.reshape(-1, 8)]).reshape(m_eq, 8, 8)
     old = flint.ctx.prec
@@ -219,6 +233,7 @@ def krawczyk_certify(Q_exact, Z, chart=None, seed=0):
         radii = np.zeros(k)
         certified = np.zeros(k, bool)
         real = -np.ones(k, np.int8)
+        displacement = np.zeros(k, bool)
         for i in range(k):
             z = Z[i] / (r @ Z[i, :4])
             for _ in range(_POLISH):
@@ -243,22 +258,26 @@ def krawczyk_certify(Q_exact, Z, chart=None, seed=0):
                 Y = np.linalg.inv(Jm)
             except np.linalg.LinAlgError:
                 continue
-            for rel in _RADII:
-                rho = rel * (1.0 + np.abs(z).max())
-                ok, is_real = _krawczyk_once(flint, Qs, rrow, m_eq, z, rho, Y)
+            tries = [rel * (1.0 + np.abs(z).max()) for rel in _RADII]
+            if proposals is not None and proposals[i] > 0:
+                tries = [float(proposals[i]), 4.0 * float(proposals[i])] + tries
+            for rho in tries:
+                ok, is_real, disp = _krawczyk_once(flint, Qs, rrow, m_eq, z, rho, Y)
                 if ok:
                     certified[i] = True
                     radii[i] = rho
                     real[i] = is_real
+                    displacement[i] = disp
                     break
     finally:
         flint.ctx.prec = old
     disjoint = _pairwise_disjoint(points[certified], radii[certified])
-    return KrawczykResult(points, radii, certified, real, disjoint, r)
+    return KrawczykResult(points, radii, certified, real, disjoint, r, displacement)
 
 
 def _krawczyk_once(flint, Qs, rrow, m_eq, z, rho, Y):
-    """One Krawczyk test on the box ``z +- rho`` (real and imaginary parts); (proved, real flag)."""
+    """One Krawczyk test on the box ``z +- rho`` (real and imaginary parts); (proved, real flag,
+    x . x excludes 0 on the box)."""
     real_centre = bool(np.all(z.imag == 0.0))
     rad = flint.arb(0, rho)
     mid = [flint.acb(float(v.real), float(v.imag)) for v in z]
@@ -278,14 +297,16 @@ def _krawczyk_once(flint, Qs, rrow, m_eq, z, rho, Y):
     K = M - Ya * Gm + (ident - Ya * JX) * D
     for j in range(8):
         if not box[j].contains_interior(K[j, 0]):
-            return False, -1
+            return False, -1, False
     if real_centre:
-        return True, 1
+        return True, 1, True                        # r . x = 1: x real and non-zero
+    xx = sum((box[j] * box[j] for j in range(4)), flint.acb(0))
+    disp = not (xx.real.contains(0) and xx.imag.contains(0))
     for j in range(8):
         im = box[j].imag
         if not im.contains(0):                      # the whole box is off the real space
-            return True, 0
-    return True, -1
+            return True, 0, disp
+    return True, -1, disp
 
 
 def _pairwise_disjoint(points, radii):

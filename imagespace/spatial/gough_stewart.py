@@ -7,7 +7,8 @@ six of them with Study's quadric in ``P^7``: 40 complex solutions for a general 
 Raghavan 1993), and designs with 40 real assembly modes exist (Dietmaier 1998).
 
 Special cases are the same class: a 6-3 platform has its platform points coincident in pairs, a 3-3
-(octahedral) platform both. Degenerate designs are refused at construction
+(octahedral) platform both. They have at most 16 assembly modes (:data:`PAIRED_BOUND`), which the
+certificate uses to prove a row complete. Degenerate designs are refused at construction
 (:class:`~imagespace.exceptions.DegenerateDesignError`): two identical legs, all base or all platform
 points on one line (the platform turns freely about it).
 
@@ -19,6 +20,14 @@ M. Raghavan, The Stewart platform of general geometry has 40 configurations, ASM
 115(2), 1993, doi:10.1115/1.2919188.
 P. Dietmaier, The Stewart-Gough platform of general geometry can have 40 real postures, Advances
 in Robot Kinematics 1998, doi:10.1007/978-94-015-9064-8_1.
+M. Griffis, J. Duffy, A forward displacement analysis of a class of Stewart platforms, J. Robotic
+Systems 6(6), 703-720, 1989 (the 3-3 octahedral platform: 16 solutions).
+P. Nanua, K. J. Waldron, V. Murthy, Direct kinematic solution of a Stewart platform, IEEE Trans.
+Robotics and Automation 6(4), 438-444, 1990 (the 6-3 platform: a polynomial of degree 16).
+J.-C. Faugere, D. Lazard, Combinatorial classes of parallel manipulators, Mechanism and Machine
+Theory 30(6), 765-776, 1995 (the complex counts of the classes with coincident joints: 16 for 6-3).
+A. J. Sommese, C. W. Wampler, The Numerical Solution of Systems of Polynomials Arising in
+Engineering and Science, World Scientific, 2005, Theorem 7.1.1 (coefficient-parameter theorem).
 """
 
 from __future__ import annotations
@@ -34,11 +43,32 @@ from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
 from .solver import QuadricFamily
 
-__all__ = ["GoughStewart", "GOUGH_STEWART_BOUND"]
+__all__ = ["GoughStewart", "GOUGH_STEWART_BOUND", "PAIRED_BOUND"]
 
 #: Every Gough-Stewart platform has at most 40 isolated assembly modes over C (Raghavan 1993;
-#: Ronga & Vust 1992, Lazard 1993, Mourrain 1993).
+#: Ronga & Vust 1992, Lazard 1993, Mourrain 1993): the generic design has 40 complex solutions with
+#: ``x . x != 0`` (msolve confirms it on random designs, ``tests/spatial/test_exact.py``), and the
+#: coefficient-parameter theorem (Morgan & Sommese 1989; Sommese & Wampler 2005, Thm 7.1.1) bounds
+#: the isolated solutions in the open set ``x . x != 0`` of every member of the family (designs
+#: and lengths) by the generic count.
 GOUGH_STEWART_BOUND = 40
+
+#: A 6-3 platform (the six platform points are three distinct points, each shared by two legs), a
+#: 3-6 platform (the same for the base) and a 3-3 platform (both; a special 6-3) have at most 16
+#: isolated assembly modes over C with ``x . x != 0``: 16 is the generic count of the 6-3 family
+#: (Nanua, Waldron & Murthy 1990; Faugere & Lazard 1995; the 3-3: Griffis & Duffy 1989; msolve
+#: confirms 16 on random 6-3, 3-6 and 3-3 designs, ``tests/spatial/test_fast_certificate.py``), and
+#: the coefficient-parameter theorem carries it to every member of the family. A 3-6 platform is a
+#: 6-3 platform for the inverse motion (``(x, y) -> (x~, y~)``, a linear map of ``P^7`` keeping
+#: ``x . x``), so the bound is the same.
+PAIRED_BOUND = 16
+
+
+def _paired(P):
+    """True when the six points are three distinct points, each taken exactly twice."""
+    rows = [tuple(float(v) for v in p) for p in P]
+    distinct = set(rows)
+    return len(distinct) == 3 and all(rows.count(p) == 2 for p in distinct)
 
 
 def _collinear(P, tol):
@@ -316,8 +346,31 @@ class GoughStewart(QuadricPlatform):
         A = np.concatenate([sphere_quadric(self.base_points / sc, self.platform_points / sc, 0.0),
                             study_quadric_matrix()[None]], axis=0)
         E = np.diag([1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
-        return QuadricFamily(A, E, np.array([0, 1, 2, 3, 4, 5, -1]), 6, GOUGH_STEWART_BOUND,
+        return QuadricFamily(A, E, np.array([0, 1, 2, 3, 4, 5, -1]), 6, self.solution_bound,
                              self._exact_quadrics, self._aspects_or_empty, sc)
+
+    @property
+    def solution_bound(self):
+        """A theorem's bound on the isolated complex assembly modes of every length vector.
+
+        :data:`PAIRED_BOUND` (16) for a 6-3, 3-6 or 3-3 platform (anchors coincident in three
+        pairs on one side), :data:`GOUGH_STEWART_BOUND` (40) otherwise. The certificates prove a
+        row complete when they prove this many distinct solutions.
+
+        Returns
+        -------
+        int
+
+        Examples
+        --------
+        >>> b = [[1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0], [1, 1, 0], [-1, 1, 0]]
+        >>> p = [[0.5, 0, 0]] * 2 + [[0, 0.5, 0]] * 2 + [[-0.5, -0.5, 0]] * 2
+        >>> GoughStewart(b, p).solution_bound, GoughStewart(b, b[::-1]).solution_bound
+        (16, 40)
+        """
+        if _paired(self.platform_points) or _paired(self.base_points):
+            return PAIRED_BOUND
+        return GOUGH_STEWART_BOUND
 
     def _aspects_or_empty(self, pts):
         return np.atleast_1d(self.aspects(pts)).astype(np.int8) if pts.shape[0] else np.zeros(0, np.int8)

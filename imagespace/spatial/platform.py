@@ -17,7 +17,8 @@ from .._validate import as_flag, as_float_array
 from ..core.reach import point_pairs_obstruction
 from ..exceptions import InputError, NearSingularWarning
 from .results import SpatialDKBatch, SpatialDKResult
-from .solver import certify_row, exact_result, exact_study_solver, solve_rows, start_system
+from .solver import (certify_row, certify_rows, exact_result, exact_study_solver, solve_rows,
+                     start_system)
 from .study import rotation_matrix, translation
 
 __all__ = ["QuadricPlatform", "anchor_points", "check_lengths", "DK_METHODS"]
@@ -231,10 +232,11 @@ class QuadricPlatform:
         lengths : (legs,) float
             Leg lengths, positive. Floats are taken as the exact binary rationals they are.
         certify : bool
-            Prove the count and every mode. Where the family has a theorem's bound on its number
-            of solutions (40 for Gough-Stewart), Krawczyk boxes in arb on the exact quadrics
-            around all endpoints (0.05-0.2 s); otherwise, or where that does not settle it,
-            msolve on the exact system (1-6 s; needs ``imagespace[exact]``).
+            Prove the count and every mode, whatever it takes. The fast path already proves most
+            rows (``certified`` True: its compiled Krawczyk test on the exact quadrics reached
+            the family's bound, 40 for Gough-Stewart, 16 for 6-3, 3-3 and 3-RPS); a row it does
+            not prove (near a double mode) goes to Krawczyk boxes in arb (0.05-0.2 s), then to
+            msolve on the exact system (1-20 s; needs ``imagespace[exact]``).
         method : {"fast", "exact"}
             ``"fast"``: the parameter homotopy (one start system per design, then one compiled
             path per start solution). ``"exact"``: msolve on the exact system; always certified.
@@ -260,9 +262,10 @@ class QuadricPlatform:
         Warns
         -----
         NearSingularWarning
-            When the fast path's float checks fail (two paths at one endpoint, a mode neither
-            clearly real nor clearly complex, a path that did not arrive), or a requested
-            certificate is not available.
+            When the fast path's answer is not ``reliable`` (its compiled certificate did not
+            prove the row: a double mode near, a path that did not arrive, two paths at one
+            endpoint), so its count may be wrong, or when a requested certificate is not
+            available.
 
         Notes
         -----
@@ -303,10 +306,12 @@ class QuadricPlatform:
         if certify:
             return certify_row(self.family(), self.start_system, L, self.tolerances,
                                exact_solver=self._exact_solver_or_none())
-        res = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances)[0]
+        res = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances,
+                         lengths=L[None])[0]
         if not res.reliable:
-            warnings.warn(f"the fast path is not sure of this row ({res.complex_count} distinct complex "
-                          "endpoints, or a mode close to the real/complex boundary): use certify=True",
+            warnings.warn(f"the fast path could not prove this row: its {res.count} real modes may be "
+                          "wrong (the compiled Krawczyk test did not prove every solution distinct "
+                          "and decided: a double mode near, or a lost path); use certify=True",
                           NearSingularWarning, stacklevel=2)
         return res
 
@@ -323,7 +328,8 @@ class QuadricPlatform:
             decides. Rows a reach bound proves empty are valid, certified, with no mode and
             ``complex_count`` -1.
         certify : bool
-            Prove every valid row (see :meth:`direct_kinematics`; ~0.07 s a Gough-Stewart row).
+            Prove every valid row (see :meth:`direct_kinematics`): one compiled pass for all
+            rows, arb and msolve only for the rows it does not prove.
 
         Returns
         -------
@@ -368,23 +374,27 @@ class QuadricPlatform:
         empty = np.array([r is not None for r in reach], dtype=bool)
         if not certify:
             todo = valid & ~empty
-            P = np.where(todo[:, None], L, 1.0) ** 2
-            out = solve_rows(self.family(), self.start_system, P, self.tolerances, valid=todo)
+            Lv = np.where(todo[:, None], L, 1.0)
+            out = solve_rows(self.family(), self.start_system, Lv ** 2, self.tolerances, valid=todo,
+                             lengths=Lv)
             if empty.any():                 # proven empty: certified, no complex count
                 out.certified[empty] = True
                 out.reliable[empty] = True
                 out.complex_count[empty] = -1
                 out.valid[empty] = True
             return out
-        solver = self._exact_solver_or_none()
+        todo = valid & ~empty & ~far
+        proven = certify_rows(self.family(), self.start_system, L, self.tolerances, valid=todo,
+                              exact_solver=self._exact_solver_or_none())
+        if not (empty.any() or (far & valid).any()):
+            return proven
 
         def one(i):
             if reach[i] is not None:
                 return self._reach_result(reach[i])
             if far[i]:
                 return exact_result(self.family(), L[i])
-            return certify_row(self.family(), self.start_system, L[i], self.tolerances,
-                               exact_solver=solver)
+            return proven[i]
 
         rows = [one(i) if valid[i] else None for i in range(n)]
         done = [r for r in rows if r is not None]

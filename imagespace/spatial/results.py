@@ -33,8 +33,13 @@ class SpatialDKResult:
     certified : bool
         The count and every mode are proven (Krawczyk boxes in arb, or msolve's exact isolation).
     reliable : bool
-        Every float check of the fast path passed (all paths reached the target, endpoints
-        distinct, real and non-real endpoints clearly apart). ``certified`` implies ``reliable``.
+        The count is proven by the fast path's compiled Krawczyk test
+        (:mod:`imagespace.spatial.fastcert`: rigorous error bounds on the exact quadrics): as many
+        distinct solutions as the design's bound (40 Gough-Stewart, 16 for 6-3, 3-3 and 3-RPS) in
+        pairwise disjoint boxes, each proven real or not real; for a special design whose start
+        system has fewer solutions than the bound, as many as the start system has (then
+        complete only as far as that count is). When False the count may be wrong (a warning
+        per call). ``certified`` implies ``reliable``.
     method : str
         One of :data:`METHODS`.
 
@@ -96,7 +101,8 @@ class SpatialDKBatch:
     aspects : (total,) int8
     complex_count : (n,) int
     reliable : (n,) bool
-        The row's float checks passed (see :class:`SpatialDKResult`).
+        The row's count is proven by the compiled certificate (see :class:`SpatialDKResult`);
+        False marks a row whose count may be wrong.
     certified : (n,) bool
         The row is proven.
     valid : (n,) bool

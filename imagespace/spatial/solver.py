@@ -6,11 +6,15 @@ parameters ``p`` are its squared leg lengths. This module
 
 * solves the family once at generic complex parameters (:func:`~imagespace.spatial.homotopy.solve_start_system`),
 * tracks those solutions to every target row in the compiled tracker (the fast path),
-* sorts the endpoints into real and non-real modes with float checks that say when they are not
-  sure (``reliable``),
-* proves a row on request (``certify=True``): Krawczyk boxes in arb on the exact quadrics; when all
-  ``bound`` solutions are certified the real count is proven (:mod:`imagespace.spatial.certify`),
-  otherwise msolve decides exactly (:mod:`imagespace.spatial.exact`).
+* proves each row's endpoints with a compiled Krawczyk test on rigorous error bounds
+  (:mod:`imagespace.spatial.fastcert`): ``reliable`` means it proved as many distinct solutions
+  as :func:`completeness_target` asks (the family's theorem bound), each real or not real, so
+  the count is right; where it fails (near a double mode, a lost path), float checks sort the
+  endpoints and the row is flagged (``reliable`` False, a warning per call),
+* marks the rows whose certificate reached the family's theorem bound ``certified`` (a certified
+  answer at the fast path's cost); ``certify=True`` proves the other rows one by one: Krawczyk
+  boxes in arb on the exact quadrics (:mod:`imagespace.spatial.certify`), otherwise msolve
+  decides exactly (:mod:`imagespace.spatial.exact`).
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ from .homotopy import PATH_OK, classify_batch, recentre, solve_start_system, tra
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
-__all__ = ["QuadricFamily", "solve_rows", "certify_row", "exact_study_solver",
+__all__ = ["QuadricFamily", "solve_rows", "certify_row", "certify_rows", "completeness_target", "exact_study_solver",
            "exact_result", "quadric_polynomials", "study_jacobian_signs"]
 
 
@@ -37,7 +41,7 @@ __all__ = ["QuadricFamily", "solve_rows", "certify_row", "exact_study_solver",
 RECENTRE_MIN_ROWS = 32
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class QuadricFamily:
     """A system of quadrics in ``P^7`` whose parameters enter linearly.
 
@@ -120,16 +124,80 @@ def _residuals(family, P_row, pts):
     return _mode_residuals(family, np.broadcast_to(P_row, (pts.shape[0], len(P_row))), pts)
 
 
-def _batch(family, start, P, rows, n, Z, status, tolerances, valid):
-    """Classify tracked rows into a :class:`SpatialDKBatch` (``P`` already divided by scale^2)."""
-    W, real, distinct, ok = classify_batch(Z, status, tolerances)
+def completeness_target(family, start):
+    """How many distinct proven solutions make a row complete, and whether a theorem says so.
+
+    The family's bound (a theorem on the isolated solutions with ``x . x != 0`` of every member,
+    e.g. 40 for Gough-Stewart) when the design's start system attains it; otherwise (no bound
+    known, or a special design with fewer generic solutions) the start system's count, which a
+    total-degree homotopy found once per design: completeness then rests on that count.
+
+    Parameters
+    ----------
+    family : QuadricFamily
+    start : StartSystem
+
+    Returns
+    -------
+    target : int
+    theorem : bool
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> gs = isp.examples.dietmaier_1998()[0]
+    >>> completeness_target(gs.family(), gs.start_system)
+    (40, True)
+    """
+    found = int(start.solutions.shape[0])
+    if family.bound is not None and found >= family.bound:
+        return int(family.bound), True
+    return found, False
+
+
+def _parameters_enclosure(family, P, lengths):
+    """Enclosures ``pm +- pr`` of the exact parameters of the rows (family scaling)."""
+    from .fastcert import parameter_enclosure
+
+    if lengths is not None:
+        return parameter_enclosure(lengths, family.scale)
+    # the floats P are the exact parameters: P / scale^2 is exact unless it underflows
+    P = np.atleast_2d(np.asarray(P, dtype=float))
+    with np.errstate(all="ignore"):
+        pm = P / family.scale ** 2
+        pr = np.where((pm * family.scale ** 2 == P) & np.isfinite(pm), 0.0, np.inf)
+    return np.ascontiguousarray(pm), np.ascontiguousarray(pr)
+
+
+def _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr, with_certificate=False):
+    """Classify tracked rows into a :class:`SpatialDKBatch` (``P`` already divided by scale^2).
+
+    ``reliable`` is the compiled certificate (:mod:`imagespace.spatial.fastcert`) on the exact
+    parameters ``pm +- pr``: where it is complete, the real modes are its proven real boxes'
+    centres, and the row is ``certified`` too when the completeness target is a theorem's bound;
+    elsewhere the float classification gives the (unproven) count. With ``with_certificate`` the
+    :class:`~imagespace.spatial.fastcert.FastCertificate` of the rows is returned as well.
+    """
+    from .fastcert import certify_endpoints, family_enclosure
+
+    target, theorem = completeness_target(family, start)
+    cert = certify_endpoints(family_enclosure(family), Z, status, pm[rows], pr[rows], target)
+    done = cert.complete
+    W = cert.points.real.copy()
+    real = cert.certified & (cert.real == 1)
+    distinct = np.full(len(rows), target, dtype=np.int64)
+    if not np.all(done):
+        # the float classification of the rows the certificate did not prove (unproven counts)
+        Wf, realf, distinctf, _ = classify_batch(Z[~done], status[~done], tolerances)
+        W[~done], real[~done], distinct[~done] = Wf, realf, distinctf
     counts = np.zeros(n, np.int64)
     counts[rows] = real.sum(axis=1)
     cplx = np.zeros(n, np.int64)
     cplx[rows] = distinct
     reliable = np.zeros(n, bool)
-    expected = start.solutions.shape[0]
-    reliable[rows] = ok & (distinct == expected)
+    reliable[rows] = done
+    certified = np.zeros(n, bool)
+    certified[rows] = done & theorem
     pts = W[real]
     pts = normalize_study(pts) if pts.shape[0] else np.zeros((0, 8))
     mode_rows = np.repeat(np.arange(len(rows)), real.sum(axis=1))
@@ -137,12 +205,13 @@ def _batch(family, start, P, rows, n, Z, status, tolerances, valid):
     pts = family.unscale(pts)
     asp = family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8)
     offsets = np.concatenate([[0], np.cumsum(counts)])
-    return SpatialDKBatch(counts, offsets, pts, res, np.asarray(asp, np.int8), cplx, reliable,
-                          np.zeros(n, bool), valid)
+    batch = SpatialDKBatch(counts, offsets, pts, res, np.asarray(asp, np.int8), cplx, reliable,
+                           certified, valid)
+    return (batch, cert) if with_certificate else batch
 
 
-def solve_rows(family, start, P, tolerances, valid=None):
-    """The fast path on many rows: track, classify, residuals and aspects.
+def solve_rows(family, start, P, tolerances, valid=None, lengths=None):
+    """The fast path on many rows: track, certify (compiled), classify, residuals and aspects.
 
     Parameters
     ----------
@@ -153,13 +222,22 @@ def solve_rows(family, start, P, tolerances, valid=None):
     tolerances : Tolerances
     valid : (n,) bool, optional
         Rows to solve (others get no modes).
+    lengths : (n, p) float, optional
+        The leg lengths whose exact squares are the parameters (``P = lengths ** 2`` rounded):
+        the certificate then proves the user's problem. Without it the floats ``P`` are taken as
+        the exact parameters.
 
     Returns
     -------
     SpatialDKBatch
-        ``certified`` all False; ``reliable[i]`` when every path of row ``i`` arrived, its
-        endpoints are pairwise distinct and as many as the start system's solutions, and each is
-        clearly real or clearly not.
+        ``reliable[i]``: the compiled Krawczyk test
+        (:mod:`imagespace.spatial.fastcert`, rigorous error bounds, on the exact quadrics) proved
+        as many distinct solutions as :func:`completeness_target` asks, in pairwise disjoint
+        boxes, each proven real or not real and (non-real ones) not a null rotation. The count
+        is then the number of proven real boxes. Rows where it fails (near a double mode, a path
+        lost, a cluster) keep the float classification's count with ``reliable`` False.
+        ``certified[i]``: ``reliable[i]`` with the family's theorem bound as the target (a
+        certified answer at the fast path's cost).
 
     Examples
     --------
@@ -171,6 +249,7 @@ def solve_rows(family, start, P, tolerances, valid=None):
     >>> len(b)
     2
     """
+    pm, pr = _parameters_enclosure(family, P, lengths)
     P = np.atleast_2d(np.asarray(P, dtype=float)) / family.scale ** 2
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
@@ -178,15 +257,16 @@ def solve_rows(family, start, P, tolerances, valid=None):
     if rows.size >= RECENTRE_MIN_ROWS:
         start = recentre(start, np.median(P[rows], axis=0))
     Z, status, _ = track_parameters(start, P[rows])
-    return _batch(family, start, P, rows, n, Z, status, tolerances, valid)
+    return _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr)
 
 
 def _exact_params(lengths, scale=1.0):
     return [(Fraction(float(v)) / Fraction(scale)) ** 2 for v in lengths]
 
 
-def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_solver=None):
-    """Prove one row: Krawczyk on every endpoint, or msolve when that does not settle it.
+def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_solver=None,
+                fast=None):
+    """Prove one row: the compiled Krawczyk test, then Krawczyk in arb, then msolve.
 
     Parameters
     ----------
@@ -201,6 +281,9 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
         ``exact_solver(Q_exact) -> (study_points (k, 8) float, complex_count)``, raising on
         positive-dimensional systems (:func:`exact_study_solver`); used when Krawczyk does not
         prove the row.
+    fast : tuple, optional
+        ``(SpatialDKResult, FastCertificate)`` of the row from the compiled path, when the
+        caller has them (:func:`certify_rows`); computed here otherwise.
 
     Returns
     -------
@@ -218,16 +301,31 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     True
     """
     from .certify import krawczyk_certify
+    from .fastcert import CHARTS
 
     lengths = np.asarray(lengths, dtype=float)
     P = (lengths / family.scale) ** 2
     if Z is None:
         Zs, sts, _ = track_parameters(start, P[None])
         Z, status = Zs[0], sts[0]
+    if fast is None:
+        pm, pr = _parameters_enclosure(family, None, lengths[None])
+        b, fc = _batch(family, start, P[None], np.array([0]), 1, Z[None], status[None], tolerances,
+                       np.ones(1, bool), pm, pr, with_certificate=True)
+        fast = (b[0], fc)
+    res, fc = fast
+    if res.certified:
+        return res
     Qx = family.exact(_exact_params(lengths, family.scale))
-    arrived = Z[status == PATH_OK]
+    ok = status == PATH_OK
+    arrived = Z[ok]
     if family.bound is not None and arrived.shape[0] >= family.bound:
         cert = krawczyk_certify(Qx, arrived)
+        if not cert.complete(family.bound) and fc.chart[0] >= 0:
+            # near a double mode arb's own box sizes may fail where the compiled test's succeed:
+            # prove its boxes (polished centres, chart, radii: proposals only) in arb
+            cert = krawczyk_certify(Qx, fc.points[0][ok], chart=CHARTS[fc.chart[0]],
+                                    radii=fc.radii[0][ok])
         if cert.complete(family.bound):
             real = cert.points[cert.certified & (cert.real == 1)].real
             pts = normalize_study(real) if real.shape[0] else np.zeros((0, 8))
@@ -246,8 +344,72 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     warnings.warn("the row could not be certified: Krawczyk did not prove every solution and no exact "
                   "solver is available (pip install imagespace[exact]); the modes are the fast path's",
                   NearSingularWarning, stacklevel=3)
-    return _batch(family, start, P[None], np.array([0]), 1, Z[None], status[None], tolerances,
-                  np.ones(1, bool))[0]
+    return res
+
+
+def certify_rows(family, start, lengths, tolerances, valid=None, exact_solver=None):
+    """Prove many rows: one compiled pass (tracking and certificate), arb and msolve per row only
+    where it does not settle the row.
+
+    Parameters
+    ----------
+    family : QuadricFamily
+    start : StartSystem
+    lengths : (n, p) float
+    tolerances : Tolerances
+    valid : (n,) bool, optional
+        Rows to solve (others get no modes).
+    exact_solver : callable, optional
+        See :func:`certify_row`.
+
+    Returns
+    -------
+    SpatialDKBatch
+        ``certified[i]`` for every valid row proven (all, unless a row needs msolve and none is
+        available: then a :class:`~imagespace.exceptions.NearSingularWarning` per such row).
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> gs, L = isp.examples.dietmaier_1998()
+    >>> b = certify_rows(gs.family(), gs.start_system, np.array([L, L]), gs.tolerances)
+    >>> b.certified.tolist(), b.counts.tolist()
+    ([True, True], [40, 40])
+    """
+    L = np.atleast_2d(np.asarray(lengths, dtype=float))
+    n = L.shape[0]
+    valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
+    Lv = np.where(valid[:, None], L, 1.0)
+    pm, pr = _parameters_enclosure(family, None, Lv)
+    P = (Lv / family.scale) ** 2
+    rows = np.flatnonzero(valid)
+    start_rows = start
+    if rows.size >= RECENTRE_MIN_ROWS:
+        start_rows = recentre(start, np.median(P[rows], axis=0))
+    Z, status, _ = track_parameters(start_rows, P[rows])
+    batch, fc = _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr,
+                       with_certificate=True)
+    if np.all(batch.certified[rows]):
+        return batch
+    from .fastcert import FastCertificate
+
+    results = [batch[i] if valid[i] else None for i in range(n)]
+    for j, i in enumerate(rows):
+        if batch.certified[i]:
+            continue
+        one = FastCertificate(*(getattr(fc, f)[j:j + 1] for f in FastCertificate.__dataclass_fields__))
+        results[i] = certify_row(family, start, L[i], tolerances, Z=Z[j], status=status[j],
+                                 exact_solver=exact_solver, fast=(results[i], one))
+    done = [r for r in results if r is not None]
+    counts = np.array([r.count if r is not None else 0 for r in results], dtype=np.int64)
+    return SpatialDKBatch(
+        counts, np.concatenate([[0], np.cumsum(counts)]),
+        np.vstack([r.study_points for r in done]) if done else np.zeros((0, 8)),
+        np.concatenate([r.residuals for r in done]) if done else np.zeros(0),
+        np.concatenate([r.aspects for r in done]).astype(np.int8) if done else np.zeros(0, np.int8),
+        np.array([r.complex_count if r is not None else 0 for r in results]),
+        np.array([r.reliable if r is not None else False for r in results]),
+        np.array([r.certified if r is not None else False for r in results]), valid)
 
 
 def quadric_polynomials(Q_exact):

@@ -13,14 +13,19 @@ on random designs, see the tests). The plane quadrics must be exact: rounded to 
 structure that sends 24 of the 40 solutions of seven general quadrics to the exceptional
 generator ``x = 0`` is lost, and msolve then counts 40.
 
-No theorem-backed bound on the number of solutions of every 3-RPS is coded, so ``certify=True``
-proves a row with msolve (not with Krawczyk's completeness argument, which the Gough-Stewart
-platform can use thanks to the 40-solution theorem).
+At most 16 isolated complex solutions with ``x . x != 0`` for every design and lengths
+(:data:`THREE_RPS_BOUND`): 16 is the generic count (Schadlbauer, Walter & Husty 2014; msolve
+confirms it on random designs, ``tests/spatial/test_three_rps.py``), and the coefficient-parameter
+theorem (Sommese & Wampler 2005, Thm 7.1.1) bounds every member of the family by it. So
+``certify=True`` proves a row with Krawczyk boxes (compiled, then arb) when 16 distinct solutions
+are proven, and needs msolve only where they are not (at or very near a double mode).
 
 References
 ----------
 J. Schadlbauer, D. R. Walter, M. L. Husty, The 3-RPS parallel manipulator from an algebraic
 viewpoint, Mechanism and Machine Theory 75, 2014, doi:10.1016/j.mechmachtheory.2014.01.006.
+A. J. Sommese, C. W. Wampler, The Numerical Solution of Systems of Polynomials Arising in
+Engineering and Science, World Scientific, 2005, Theorem 7.1.1 (coefficient-parameter theorem).
 """
 
 from __future__ import annotations
@@ -37,7 +42,12 @@ from .quadrics import (point_on_plane_quadric, sphere_quadric, sphere_quadric_ex
                        study_quadric_matrix)
 from .solver import QuadricFamily, study_jacobian_signs
 
-__all__ = ["ThreeRPS"]
+__all__ = ["ThreeRPS", "THREE_RPS_BOUND"]
+
+#: Every 3-RPS has at most 16 isolated complex assembly modes with ``x . x != 0`` (the generic
+#: count, Schadlbauer, Walter & Husty 2014, carried to every member by the coefficient-parameter
+#: theorem).
+THREE_RPS_BOUND = 16
 
 
 def _tangent_axes(a):
@@ -190,7 +200,7 @@ class ThreeRPS(QuadricPlatform):
                 out[3 + k] = fixed[k]
             return out
 
-        fam = QuadricFamily(A, E, np.array([0, 1, 2, -1, -1, -1, -1]), 3, None, exact,
+        fam = QuadricFamily(A, E, np.array([0, 1, 2, -1, -1, -1, -1]), 3, THREE_RPS_BOUND, exact,
                             lambda pts: study_jacobian_signs(fam, pts), sc)
         return fam
 
