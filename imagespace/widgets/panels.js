@@ -67,7 +67,7 @@ function render({ model, el }) {
   const divs = {};
   let state = {};            // panel -> {data, layout, config}
   let frames = null;         // {n, interval, panels: {panel: {trace: {prop: rows}}}}
-  let playing = false, frameNo = 0, lastTick = 0, raf = null;
+  let playing = false, frameNo = 0, raf = null;
   const pending = {};        // panel -> true: a deferred redraw is queued
   let flushQueued = false;
   const controls = document.createElement("div");
@@ -118,14 +118,37 @@ function render({ model, el }) {
     el.dataset.version = String(spec.version);
   }
 
-  function scheduleOthers() {
+  // a heavy panel (the 3D scene redraws its whole mesh) is redrawn at most a quarter of the time, so
+  // that it never holds up the pose panel; while a path plays it follows only if it is fast (a GPU)
+  const cost = {}, lastDone = {};
+  let flushTimer = null;
+  function flushPending() {
+    flushQueued = false;
+    flushTimer = null;
+    const now = performance.now();
+    let wait = 0;
+    for (const p of Object.keys(pending)) {
+      const c = cost[p] || 0;
+      // while a path plays, a panel slower than a frame waits for the end (or a pause)
+      if (playing && c > 40) { wait = Math.max(wait, 250); continue; }
+      const gap = 3 * c - (now - (lastDone[p] || -1e9));
+      if (gap > 0) { wait = Math.max(wait, gap); continue; }
+      delete pending[p];
+      const t = performance.now();
+      draw(p).then(() => { lastDone[p] = performance.now(); cost[p] = lastDone[p] - t; });
+    }
+    if (Object.keys(pending).length) {
+      flushQueued = true;
+      flushTimer = setTimeout(() => requestAnimationFrame(() => setTimeout(flushPending, 0)), wait);
+    }
+  }
+
+  function scheduleOthers(now) {
+    if (now && flushTimer !== null) { clearTimeout(flushTimer); flushTimer = null; flushQueued = false; }
     if (flushQueued) return;
     flushQueued = true;
     // after the next paint: the pose panel shows first, the heavier panels follow
-    requestAnimationFrame(() => setTimeout(() => {
-      flushQueued = false;
-      for (const p of Object.keys(pending)) { delete pending[p]; draw(p); }
-    }, 0));
+    requestAnimationFrame(() => setTimeout(flushPending, 0));
   }
 
   function applyUpdate(panels, urgent) {
@@ -145,29 +168,45 @@ function render({ model, el }) {
     }
   }
 
-  function showFrame(k) {
+  // during playback a 2D panel moves its traces with plotly's animate (no replot of axes, legend
+  // and the other traces); the 3D panel is redrawn when its turn comes (flushPending)
+  function showFrame(k, fast) {
     if (!frames) return;
     frameNo = Math.max(0, Math.min(frames.n - 1, k));
     const changed = {};
     for (const [panel, traces] of Object.entries(frames.panels)) {
-      changed[panel] = { traces: {} };
-      for (const [idx, props] of Object.entries(traces)) {
-        const upd = {};
-        for (const [prop, rows] of Object.entries(props)) upd[prop] = rows[frameNo];
-        changed[panel].traces[idx] = upd;
+      const s = state[panel];
+      const idxs = Object.keys(traces).map(Number);
+      const upd = idxs.map((idx) => {
+        const u = {};
+        for (const [prop, rows] of Object.entries(traces[idx])) u[prop] = rows[frameNo];
+        return u;
+      });
+      const flat = idxs.every((idx) => (s.data[idx].type || "scatter") === "scatter");
+      if (fast && flat) {
+        idxs.forEach((idx, j) => { s.data[idx] = Object.assign({}, s.data[idx], upd[j]); });
+        Plotly.animate(divs[panel], { data: upd, traces: idxs },
+                       { mode: "immediate", transition: { duration: 0 }, frame: { duration: 0, redraw: false } });
+      } else {
+        changed[panel] = { traces: {} };
+        idxs.forEach((idx, j) => { changed[panel].traces[idx] = upd[j]; });
       }
     }
-    applyUpdate(changed, frames.urgent || []);
+    applyUpdate(changed, fast ? [] : (frames.urgent || []));
     slider.value = frameNo;
     readout.textContent = " frame " + frameNo + " / " + (frames.n - 1);
   }
 
+  let startTime = 0, startFrame = 0;
   function tick(now) {
     if (!playing || !frames) { raf = null; return; }
-    if (now - lastTick >= frames.interval) {
-      lastTick = now;
-      if (frameNo >= frames.n - 1) { playing = false; playButton.textContent = "\u25B6 play"; raf = null; return; }
-      showFrame(frameNo + 1);
+    // the sample shown follows the clock: a slow repaint skips samples, never slows the motion
+    const k = Math.min(frames.n - 1, startFrame + Math.floor((now - startTime) / frames.interval));
+    if (k !== frameNo) showFrame(k, true);
+    if (k >= frames.n - 1) {
+      playing = false; playButton.textContent = "\u25B6 play"; raf = null;
+      scheduleOthers(true);                // the last sample in every panel, now
+      return;
     }
     raf = requestAnimationFrame(tick);
   }
@@ -176,13 +215,16 @@ function render({ model, el }) {
     if (!frames) return;
     playing = !playing;
     playButton.textContent = playing ? "\u23F8 pause" : "\u25B6 play";
+    if (!playing) stopped();
     if (playing) {
       if (frameNo >= frames.n - 1) showFrame(0);
-      lastTick = 0;
+      startTime = performance.now();
+      startFrame = frameNo;
       if (raf === null) raf = requestAnimationFrame(tick);
     }
   });
   slider.addEventListener("input", () => { playing = false; playButton.textContent = "\u25B6 play"; showFrame(Number(slider.value)); });
+  function stopped() { scheduleOthers(true); }
 
   function setFrames(f) {
     frames = f;

@@ -139,17 +139,22 @@ def _panels():
               "i": np.zeros(0, np.int32), "j": np.zeros(0, np.int32), "k": np.zeros(0, np.int32),
               "color": "#bbbbbb", "opacity": 0.5, "flatshading": True, "showlegend": True, "hoverinfo": "skip"}]
     for a in (1, -1):
+        # labels above the red points and below the blue ones: near modes of opposite aspect do not
+        # write over each other (near modes of one aspect share a label, merged_labels)
         space.append(_scatter3d(f"points{a:+d}", mode="markers+text", legendgroup=f"aspect{a:+d}", showlegend=False,
-                                textposition="top center", text=[], textfont={"size": 13},
+                                textposition="top center" if a > 0 else "bottom center", text=[],
+                                textfont={"size": 13, "color": ASPECT_COLOURS[a]},
                                 marker={"color": ASPECT_COLOURS[a], "size": 6}))
-    space += [_scatter3d("path", mode="lines", line={"color": "#006d2c", "width": 9}, showlegend=True),
+    # the path as a line and dots (a WebGL line alone can be thin or hidden by the surface)
+    space += [_scatter3d("path", mode="lines+markers", line={"color": "#006d2c", "width": 8}, showlegend=True,
+                         marker={"color": "#00a33a", "size": 3}),
               _scatter3d("position", mode="markers", showlegend=False,
                          marker={"color": "#006d2c", "size": 9, "symbol": "diamond", "line": {"color": "black", "width": 1}})]
     space_layout = {"width": 610, "height": 560, "margin": {"l": 0, "r": 0, "t": 50, "b": 0},
                     "title": {"text": "image space", "font": {"size": 13}}, "uirevision": "keep",
                     "legend": {"font": {"size": 10}, "orientation": "h", "y": 0.02, "x": 0.02},
                     "scene": {"domain": {"x": [0.02, 0.98], "y": [0.06, 1.0]},
-                              "camera": {"eye": {"x": 1.7, "y": 1.7, "z": 1.0}}}}
+                              "camera": {"eye": {"x": 1.9, "y": -1.3, "z": 0.8}}}}
     section = [{"type": "contour", "name": "regions", "x": np.zeros(0), "y": np.zeros(0), "z": np.zeros((0, 0)),
                 "showscale": False, "hoverinfo": "skip", "contours": {"start": 0, "end": 0, "size": 1, "coloring": "fill"},
                 "showlegend": True, "opacity": 0.45, "line": {"color": "black", "width": 2},
@@ -172,7 +177,8 @@ def _panels():
                    "legend": {"font": {"size": 10}, "orientation": "h", "y": -0.2}}
     names = {"legs+1": "legs, aspect +1", "legs-1": "legs, aspect -1", "platform+1": "platform, aspect +1 (det J > 0)",
              "platform-1": "platform, aspect -1 (det J < 0)", "base": "base joints", "guides": "prismatic guides",
-             "surface": "singularity surface", "path": "certified path", "regions": "singular conic (det J = 0)"}
+             "surface": "singularity surface", "path": "certified path", "regions": "singular conic (det J = 0)",
+             "loop1": "q1 - q1 at the start", "loop2": "q2 - q2 at the start", "loop3": "q3 - q3 at the start"}
     for traces in (pose, space, section, loop):
         for tr in traces:
             tr["legend_name"] = names.get(tr["name"], tr["name"])
@@ -250,7 +256,8 @@ class Explorer(W.VBox):
         ranges = joint_ranges(manipulator, self.q)
         self.sliders = []
         self.exact_boxes = []
-        self._snapped = [None, None, None]   # where the browser will show a value set from Python
+        # a value set from Python comes back once from the browser, snapped to the slider's grid
+        self._echo = [True, True, True]
         rows = []
         for i, leg in enumerate(manipulator.legs):
             lo, hi = ranges[i]
@@ -584,13 +591,12 @@ class Explorer(W.VBox):
         if self._muted:
             return
         i = next((k for k, s in enumerate(self.sliders) if s is change["owner"]), None)
-        snapped = self._snapped[i] if i is not None else None
-        if snapped is not None and abs(change["new"] - snapped) <= 1e-9 * self.sliders[i].step:
-            # the browser shows the value set from here at its nearest grid step and reports that
-            # back: not a move by the user (the exact value typed stays the state)
-            self._snapped[i] = None
-            return
-        self._snapped = [None, None, None]
+        if i is not None and self._echo[i]:
+            self._echo[i] = False
+            if abs(change["new"] - self.q[i]) <= 0.5 * self.sliders[i].step * (1 + 1e-9):
+                # the browser shows a value set from here at its nearest grid step and reports that
+                # back once: not a move by the user (an exact value typed stays the state)
+                return
         self._muted = True
         try:                                  # the typed exact values no longer describe the state
             for box in self.exact_boxes:
@@ -661,8 +667,7 @@ class Explorer(W.VBox):
                         s.min, s.max = min(s.min, v), max(s.max, v)
                     if s.value != float(v):
                         s.value = float(v)
-                        grid = s.min + round((v - s.min) / s.step) * s.step
-                        self._snapped[i] = grid if grid != float(v) else None
+                        self._echo[i] = True
             finally:
                 self._muted = False
             self._solve(qv, exact=exact)

@@ -199,7 +199,8 @@ def test_change_mode_played_in_the_browser(page, artifacts, timings):
     fps = frames / ((t1 - t0) / 1000)
     timings.record("planar.animation", {"samples": n, "pose_repaints": frames, "seconds": round((t1 - t0) / 1000, 2),
                                         "frames_per_s": round(fps, 1)})
-    assert frames >= 0.8 * n                   # (nearly) every sample was drawn
+    # played to the end in the browser (the clock picks the sample; a slow repaint skips samples)
+    assert page.locator(".isp-frame").input_value() == str(n - 1) and frames >= 10
     moved = _shot(page, "pose", artifacts / "09_pose_frame_last.png")
     assert np.abs(first - moved).sum() > 1000
     pos = [t for t in labels if t.endswith("(+1)")]

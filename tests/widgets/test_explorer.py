@@ -285,3 +285,111 @@ def test_close_stops_the_explorer():
     ex = explore(isp.examples.collinear_3rpr())
     ex.close()
     assert ex.wait(5) and ex.comm is None and ex.view.comm is None
+
+
+# -- issue [16]: what a user tripped over ----------------------------------------------------------
+def _grid(slider, v):
+    """Where the browser shows ``v``: noUiSlider snaps to min + k * step (the nearest k)."""
+    return slider.min + round((v - slider.min) / slider.step) * slider.step
+
+
+def test_slider_snap_of_a_typed_value_is_not_a_user_move(seed002_explorer):
+    ex = seed002_explorer
+    ex.set_q(isp.examples.stigger_husty().q_example_float)
+    ex.exact_boxes[2].value = "27/2"                  # 13.5 is off q3's slider grid
+    assert ex.status["exact"] and ex.q[2] == 13.5
+    s = ex.sliders[2]
+    snapped = _grid(s, 13.5)
+    assert snapped != 13.5
+    s.value = snapped                                 # what the browser sends back after showing 13.5
+    assert ex.status["exact"] and ex.q[2] == 13.5 and ex.exact_boxes[2].value == "27/2"
+    s.value = snapped + s.step                        # the user moves the slider one step
+    assert not ex.status["exact"] and ex.exact_boxes[2].value == "" and ex.q[2] == pytest.approx(snapped + s.step)
+
+
+@pytest.mark.skipif(not msolve_available(), reason="msolve binary not installed")
+def test_modes_keep_their_numbers_across_a_count_change(seed002_explorer):
+    ex = seed002_explorer
+    m = ex.manipulator
+    q = np.array([10.0, 15.23154621, 13.25])
+    ex.set_q(q)
+    prev = {n: mm.pose.copy() for n, mm in zip(ex.mode_numbers, ex.modes)}
+    prev_aspect = {n: mm.aspect for n, mm in zip(ex.mode_numbers, ex.modes)}
+    crossed = False
+    for q3 in np.linspace(13.25, 13.8, 12)[1:]:
+        q = np.array([10.0, 15.23154621, q3])
+        ex.set_q(q)
+        ref = planar_dk_reference(m, q).poses            # msolve: the real modes here
+        assert len(ex.modes) == len(ref)
+        now = {n: mm.pose for n, mm in zip(ex.mode_numbers, ex.modes)}
+        for n, pose in now.items():
+            assert np.min(np.abs(ref - pose).sum(axis=1)) < 1e-6
+            if n in prev:       # the surviving mode numbered n is the one nearest to mode n before
+                same = [k for k in now if prev_aspect.get(k) == prev_aspect[n]]
+                d = {k: np.hypot(*(now[k][:2] - prev[n][:2])) for k in same}
+                assert min(d, key=d.get) == n
+        gone = set(prev) - set(now)
+        if gone:
+            crossed = True
+            assert set(now) < set(prev)              # no survivor renumbered
+            for g in gone:
+                assert f"{g}" in ex.status["events"]
+            assert "merged" in ex.status["events"] and "merged" in ex.status_line.value
+        prev = {n: p.copy() for n, p in now.items()}
+        prev_aspect = {n: mm.aspect for n, mm in zip(ex.mode_numbers, ex.modes)}
+    assert crossed
+
+
+@pytest.mark.skipif(not msolve_available(), reason="msolve binary not installed")
+def test_no_real_mode_is_explained_and_the_last_drawing_greyed(seed002_explorer):
+    ex = seed002_explorer
+    m = ex.manipulator
+    ex.set_q(m.q_example_float)
+    drawn = np.asarray(ex.trace("legs+1").x, dtype=float)
+    q = np.array([10.0, 15.23154621, 40.0])
+    assert len(planar_dk_reference(m, q).poses) == 0
+    ex.set_q(q)
+    assert ex.status["count"] == 0 and ex.status["certified"]
+    assert "no real assembly mode for these joint values" in ex.status_line.value
+    assert len(ex.trace("legs+1").x) == 0 and len(ex.trace("numbers").text) == 0
+    grey = np.asarray(ex.trace("last drawing").x, dtype=float)
+    # the greyed drawing holds the earlier legs (as drawn at q_example)
+    assert np.isin(drawn[np.isfinite(drawn)], grey[np.isfinite(grey)]).all()
+    assert "no real assembly mode" in ex.view.layout("pose")["annotations"][0]["text"]
+    ex.set_q(m.q_example_float)
+    assert len(ex.trace("last drawing").x) == 0 and ex.view.layout("pose")["annotations"] == []
+
+
+def test_section_shading_fills_its_axes(seed002_explorer):
+    ex = seed002_explorer
+    ex.set_q(isp.examples.stigger_husty().q_example_float)
+    for k in range(len(ex.modes)):
+        ex.section_mode.value = k
+        lay = ex.view.layout("section")
+        xs, ys = np.asarray(ex.trace("regions").x), np.asarray(ex.trace("regions").y)
+        # the axes show exactly the shaded grid, square; plotly shrinks the domain, not the range
+        assert lay["xaxis"]["range"] == [xs[0], xs[-1]] and lay["yaxis"]["range"] == [ys[0], ys[-1]]
+        assert lay["xaxis"]["constrain"] == lay["yaxis"]["constrain"] == "domain"
+        assert np.isclose(xs[-1] - xs[0], ys[-1] - ys[0])
+
+
+def test_an_update_sends_only_the_changed_traces(seed002_explorer):
+    ex = seed002_explorer
+    sent = []
+    ex.view.send = lambda content, buffers=None: sent.append((content, buffers or []))
+    try:
+        ex.set_q([10.0, 15.23154621, 13.3])
+    finally:
+        del ex.view.send
+    updates = [c for c, _ in sent if c["type"] == "update"]
+    assert updates
+    traces = {(p, int(k)) for c in updates for p, ch in c["panels"].items() for k in ch["traces"]}
+    surface = ex.view.names["surface"]
+    assert surface not in traces or all("x" not in c["panels"]["space"]["traces"].get(str(surface[1]), {})
+                                        for c in updates if "space" in c["panels"])
+    nbytes = sum(b.nbytes for _, bufs in sent for b in bufs)
+    full = sum(np.asarray(v).nbytes for tr in ex.view.panels["space"]["data"] for v in tr.values()
+               if isinstance(v, np.ndarray))
+    assert nbytes < 0.5 * full                       # far less than the image-space panel alone
+    # the pose panel comes first in each message (the browser redraws it before painting)
+    assert all(list(c["panels"])[0] == "pose" for c in updates if "pose" in c["panels"])
