@@ -28,13 +28,13 @@ _MODULE_ALIASES = {
 }
 _ATTRIBUTES = {
     "core.quadrics": ["Quadric", "image_symbols", "pp_quadric", "pr_quadric", "rp_quadric", "rr_quadric"],
-    "exceptions": ["DegenerateDesignError", "EliminationError", "ImageSpaceError", "InputError",
+    "exceptions": ["AngleUnitWarning", "DegenerateDesignError", "EliminationError", "ImageSpaceError", "InputError",
                    "NearSingularWarning"],
     "core.kinematic_map": ["compose", "image_point", "inverse", "normalize", "pose_of", "transform_matrix",
                            "transform_points"],
     "core.legs": ["PPR", "PRP", "PRR", "RPP", "RPR", "RRP", "RRR", "Leg"],
     "core.certify": ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch"],
-    "manipulator": ["AssemblyMode", "CertifiedModes", "DKBatchResult", "PlanarParallel"],
+    "manipulator": ["AssemblyMode", "AssemblyModes", "CertifiedModes", "DKBatchResult", "PlanarParallel"],
     "singular.surface": ["ConicSection", "SingularitySurface", "singularity_surface", "singularity_surfaces"],
     "singular.jacobians": ["PoseJacobians", "jacobians"],
     "singular.meshing": ["export_mesh", "mesh_implicit", "mesh_surface"],
@@ -94,7 +94,7 @@ __all__ = [
     "image_point", "pose_of", "normalize", "transform_matrix", "transform_points", "compose", "inverse",
     "Quadric", "image_symbols", "rr_quadric", "pr_quadric", "rp_quadric", "pp_quadric",
     "Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR",
-    "PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes",
+    "PlanarParallel", "AssemblyMode", "AssemblyModes", "DKBatchResult", "CertifiedModes",
     "SingularitySurface", "PoseJacobians", "ConicSection", "singularity_surface", "singularity_surfaces",
     "jacobians", "mesh_surface", "mesh_implicit", "export_mesh",
     "ImagePath", "PathCheck", "check_path", "segments_free", "segment", "polyline", "polynomial_curve",
@@ -103,6 +103,7 @@ __all__ = [
     "gruebler", "manipulator_mobility", "mechanism_mobility", "sweep", "fuzzy_minmax",
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "DegenerateDesignError", "EliminationError", "NearSingularWarning",
+    "AngleUnitWarning",
     "Tolerances", "TOLERANCES",
     "GoughStewart", "ThreeRPS",
 ]

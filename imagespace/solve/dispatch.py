@@ -11,11 +11,11 @@ import numpy as np
 import numpy.typing as npt
 
 from .._memory import check_memory
-from .._validate import as_count, as_flag, as_float_array
+from .._validate import as_count, as_flag, as_float_array, warn_angle_units
 from ..exceptions import InputError, NearSingularWarning
 from .certified import certified_modes, certify_batch, exact_coefficients, exact_root_count
 from .numpy_path import complex_modes, check_rows, solve_batch
-from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
+from .results import AssemblyMode, AssemblyModes, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 
 _KERNEL_MIN_ROWS = 2000
@@ -99,7 +99,7 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
                 NearSingularWarning, stacklevel=2)
     if include_complex:
         modes += complex_modes(m, qf)
-    return modes
+    return modes if certify else AssemblyModes(modes)
 
 
 def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, method: str = "auto") -> DKBatchResult:
@@ -153,6 +153,7 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
     certify = as_flag(certify, "certify")
     if Q.ndim == 1:
         Q = Q[None, :]
+    warn_angle_units(Q, [leg.actuated_is_angle for leg in m.legs], "Q")
     if not isinstance(method, str) or method not in ("auto", "kernel", "numpy"):
         raise InputError(f"method must be 'auto', 'kernel' or 'numpy', got {method!r}")
     kernel = None

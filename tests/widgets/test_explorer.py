@@ -115,12 +115,12 @@ def test_section_regions_follow_det_j(seed002_explorer):
     xs, ys = np.asarray(ex.trace("regions").x), np.asarray(ex.trace("regions").y)
     Z = np.asarray(ex.trace("regions").z, dtype=float)
     # aspect = c * sign(det Jx) with one constant c for the design's Jacobian convention
-    c = ex.modes[0].aspect * np.sign(m.jacobians(ex.modes[0].pose).det_Jx[0])
+    c = ex.modes[0].aspect * np.sign(m.jacobians(ex.modes[0].pose).det_Jx)
     rng = np.random.default_rng(3)
     checked = 0
     for _ in range(60):
         i, j = rng.integers(0, len(ys)), rng.integers(0, len(xs))
-        det = m.jacobians([xs[j], ys[i], phi]).det_Jx[0]
+        det = m.jacobians([xs[j], ys[i], phi]).det_Jx
         if abs(det) > 1e-6 and Z[i][j] != 0:
             assert np.sign(Z[i][j]) == c * np.sign(det), (xs[j], ys[i])
             checked += 1
