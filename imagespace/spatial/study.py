@@ -325,10 +325,10 @@ def study_point(rotation, translation):
         x = _quaternion_from_matrix(rot, None, "rotation")
     else:
         if rot.shape[-1:] != (4,):
-            from .poses import CONSTRUCTORS
-
             raise InputError(f"rotation must be a quaternion (4,) or a rotation matrix (3, 3), got shape "
-                             f"{rot.shape}; spatial poses are also built by {CONSTRUCTORS}")
+                             f"{rot.shape}; spatial poses are also built by pose_from_rotation(R, t), "
+                             "pose_from_quaternion(q, t), pose_from_rpy(rpy, t, degrees=False) and "
+                             "pose_from_matrix(T) (imagespace.spatial)")
         if rot.shape == (4, 4) and np.array_equal(rot[3], [0.0, 0.0, 0.0, 1.0]):
             import warnings
 
