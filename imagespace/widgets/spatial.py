@@ -37,12 +37,16 @@ from .planar_panels import merged_labels
 from .tracking import ModeTracker
 from .view import PanelView
 
-__all__ = ["SpatialExplorer", "default_lengths", "length_ranges", "SPATIAL_SECTION_GRID", "LENGTH_STEPS"]
+__all__ = ["SpatialExplorer", "default_lengths", "length_ranges", "SPATIAL_SECTION_GRID", "LENGTH_STEPS",
+           "MAX_LENGTH_RATIO"]
 
 SPATIAL_SECTION_GRID = 120
 """Grid points per axis of the singularity section."""
 LENGTH_STEPS = 1000
 """Steps across a leg-length slider's range."""
+MAX_LENGTH_RATIO = 1e6
+"""Leg lengths beyond this many times the design's size are refused (an absurd input, answered at
+once rather than by a homotopy that overflows)."""
 _LABEL_MERGE = 0.05
 
 
@@ -132,6 +136,18 @@ def _panels():
     return {"platform": {"data": plat, "layout": plat_layout}, "section": {"data": section, "layout": section_layout}}
 
 
+def _checked(gs, L):
+    """Six positive finite leg lengths, not absurdly long for the design (:data:`MAX_LENGTH_RATIO`)."""
+    from ..spatial.platform import check_lengths
+
+    L = check_lengths(L, "L").astype(float).copy()
+    limit = MAX_LENGTH_RATIO * _size(gs)
+    if np.any(L > limit):
+        raise InputError(f"L must be at most {MAX_LENGTH_RATIO:g} times the design's size ({limit:.4g}), got "
+                         f"{float(L.max()):.4g}")
+    return L
+
+
 def _joined3(polys):
     if not polys:
         return np.zeros((0, 3))
@@ -163,13 +179,12 @@ class SpatialExplorer(W.VBox):
 
     def __init__(self, gs, L=None, box=None):
         from ..spatial.gough_stewart import GoughStewart
-        from ..spatial.platform import check_lengths
 
         if not isinstance(gs, GoughStewart):
             raise TypeError(f"gs must be a GoughStewart platform, got {type(gs).__name__}")
         gs.check_design()
         self.gs = gs
-        self.lengths = check_lengths(default_lengths(gs) if L is None else L, "L").astype(float).copy()
+        self.lengths = _checked(gs, default_lengths(gs) if L is None else L)
         self.box = None if box is None else as_box(box, dim=3)
         self.tracker = ModeTracker()
         self.mode_numbers = []
@@ -248,9 +263,7 @@ class SpatialExplorer(W.VBox):
         >>> ex.set_lengths(L * 1.001); ex.wait(), ex.status["certified_count"]
         (True, 28)
         """
-        from ..spatial.platform import check_lengths
-
-        L = check_lengths(L, "L").astype(float)
+        L = _checked(self.gs, L)
         with self._draw:
             with self._lock:
                 self._generation += 1
