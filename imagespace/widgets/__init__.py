@@ -58,9 +58,11 @@ def explore(manipulator, q=None, box=None, resolution=REST_RESOLUTION):
     >>> ex.status["count"], ex.status["certified"]
     (6, True)
     """
-    from ..spatial.gough_stewart import GoughStewart
+    import sys
 
-    if isinstance(manipulator, GoughStewart):
+    # a GoughStewart exists only if its module is loaded: planar designs do not import the spatial side
+    gough_stewart = sys.modules.get("imagespace.spatial.gough_stewart")
+    if gough_stewart is not None and isinstance(manipulator, gough_stewart.GoughStewart):
         from .spatial import SpatialExplorer
 
         return SpatialExplorer(manipulator, L=q, box=box)

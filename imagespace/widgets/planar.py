@@ -132,6 +132,7 @@ class Explorer(W.VBox):
         self._muted = False
         self._last_drawing = np.zeros((0, 2))
         self._old_numbers = []
+        self._warm = False                       # the batch path's kernel is loaded (background)
         ranges = joint_ranges(manipulator, self.q)
         self.sliders = []
         self.exact_boxes = []
@@ -170,7 +171,7 @@ class Explorer(W.VBox):
         self.view = PanelView(planar_panels(), order=["pose", "space", "section", "loop"], columns=[540, 610],
                               urgent=["pose"], controls="loop")
         with self.view.quiet():                # the first state goes out once, as the widget's state
-            self._solve(self.q)
+            self._solve(self.q, first=True)
             self._box = box if box is not None else self._initial_box()
             self.view.relayout("space", "scene", {**self.view.layout("space")["scene"], **self._scene()})
             self._title("space", "image space (meshing the singularity surface ...)")
@@ -233,16 +234,19 @@ class Explorer(W.VBox):
                 "aspectmode": "cube"}
 
     # -- computation ----------------------------------------------------------------------------
-    def _solve(self, q, exact=None):
-        """Certified real modes at ``q`` (float batch path), or at the exact values ``exact``."""
+    def _solve(self, q, exact=None, first=False):
+        """Certified real modes at ``q`` (float batch path), or at the exact values ``exact``.
+
+        ``first``: the per-call certified path (no compiled kernel to load: the page shows sooner);
+        the batch path's kernel is loaded in the background afterwards (:meth:`_work`)."""
         t0 = time.perf_counter()
         m = self.manipulator
         err = None
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                if exact is not None:
-                    cm = m.direct_kinematics(exact, certify=True)
+                if exact is not None or first:
+                    cm = m.direct_kinematics(exact if exact is not None else np.asarray(q, dtype=float), certify=True)
                     modes, certified, near = list(cm), bool(cm.certificate.certified), False
                 else:
                     res = m.direct_kinematics_batch(np.asarray(q, dtype=float)[None], certify=True)
@@ -589,6 +593,12 @@ class Explorer(W.VBox):
         threading.Thread(target=self._work, daemon=True).start()
 
     def _work(self):
+        if not self._warm:
+            self._warm = True
+            try:                                   # load the batch path's compiled kernel once, off the page's way
+                self.manipulator.direct_kinematics_batch(self.q[None], certify=True)
+            except ImageSpaceError:
+                pass
         try:
             while True:
                 with self._lock:

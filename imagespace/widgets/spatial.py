@@ -340,6 +340,10 @@ class SpatialExplorer(W.VBox):
         threading.Thread(target=self._work, daemon=True).start()
 
     def _work(self):
+        import importlib
+
+        importlib.import_module("scipy.optimize")   # the tracker's assignment of many modes, off the first move
+
         try:
             while True:
                 with self._lock:

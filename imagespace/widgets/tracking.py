@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ModeTracker", "projective_distance"]
+__all__ = ["ModeTracker", "projective_distance", "assignment"]
 
 
 def projective_distance(a, b):
@@ -32,6 +32,45 @@ def projective_distance(a, b):
     minus = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)
     plus = np.linalg.norm(a[:, None, :] + b[None, :, :], axis=2)
     return np.minimum(minus, plus)
+
+
+def assignment(D):
+    """Rows and columns of a minimum-cost one-to-one assignment of the cost matrix ``D`` (n, m):
+    every permutation for small matrices (the planar explorer: at most six modes), else
+    :func:`scipy.optimize.linear_sum_assignment` (imported only then).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.widgets.tracking import assignment
+    >>> assignment(np.array([[5.0, 1.0], [1.0, 5.0], [3.0, 3.0]]))
+    ([0, 1], [1, 0])
+    """
+    import itertools
+
+    D = np.asarray(D, dtype=float)
+    n, m = D.shape
+    if min(n, m) == 0:
+        return [], []
+    if max(n, m) > 7:
+        from scipy.optimize import linear_sum_assignment
+
+        r, c = linear_sum_assignment(D)
+        return [int(v) for v in r], [int(v) for v in c]
+    best, pick = np.inf, None
+    if n <= m:
+        for cols in itertools.permutations(range(m), n):
+            cost = float(D[np.arange(n), cols].sum())
+            if cost < best:
+                best, pick = cost, (list(range(n)), list(cols))
+    else:
+        for rows in itertools.permutations(range(n), m):
+            cost = float(D[rows, np.arange(m)].sum())
+            if cost < best:
+                best, pick = cost, (list(rows), list(range(m)))
+        order = np.argsort(pick[0])
+        pick = ([pick[0][k] for k in order], [pick[1][k] for k in order])
+    return pick
 
 
 def _names(numbers):
@@ -69,8 +108,6 @@ class ModeTracker:
 
     def update(self, points, aspects):
         """The numbers of the modes at ``points`` (n, d) with ``aspects`` (n,), in their order."""
-        from scipy.optimize import linear_sum_assignment
-
         points = np.asarray(points, dtype=float).reshape(len(aspects), -1) if len(aspects) else np.zeros((0, 4))
         aspects = [1 if a >= 0 else -1 for a in aspects]
         numbers = [0] * len(aspects)
@@ -82,7 +119,7 @@ class ModeTracker:
                 if not old or not new:
                     continue
                 D = projective_distance(self.points[old], points[new])
-                rows, cols = linear_sum_assignment(D)
+                rows, cols = assignment(D)
                 for r, c in zip(rows, cols):
                     numbers[new[c]] = self.numbers[old[r]]
                     kept.add(self.numbers[old[r]])
