@@ -1,4 +1,6 @@
-"""How long one slider move takes in the Jupyter explorer (seed 002): certified DK + redraw.
+"""How long one slider move takes in the Jupyter explorer (seed 002), in the kernel: certified DK +
+the drawing data (what the browser adds, round trip and repaint, is measured by the browser test:
+tests/browser, timings.json).
 
 Prints the median and 90th percentile of ``Explorer.set_q`` over slider positions of q3, against a
 baseline measured in the same run: the certified one-row batch DK alone (what every update must
@@ -21,6 +23,8 @@ def main(moves=60):
     t0 = time.perf_counter()
     ex = isp.widgets.explore(m)
     build = time.perf_counter() - t0
+    ex.wait()                             # the first surface is meshed in the background
+    meshed = time.perf_counter() - t0
     q0 = m.q_example_float
     qs = [np.array([q0[0], q0[1], v]) for v in np.linspace(q0[2] - 2.0, q0[2] + 2.0, moves)]
     ex.set_q(qs[0])                       # warm
@@ -43,7 +47,8 @@ def main(moves=60):
     t = time.perf_counter()
     plan = ex.change_mode(neg[0], neg[1])
     change = time.perf_counter() - t
-    print(f"explorer built (first mesh 48^3 included): {build:.2f} s")
+    print(f"explorer built (panels, status, certified modes): {build:.2f} s; with the first 48^3 mesh "
+          f"(background): {meshed:.2f} s")
     print(f"slider update (set_q: certified DK + redraw), {moves} moves: median {np.median(update):.1f} ms, "
           f"90th percentile {np.percentile(update, 90):.1f} ms")
     print(f"baseline, certified one-row DK alone: median {np.median(dk):.1f} ms "

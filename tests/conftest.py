@@ -46,7 +46,7 @@ SLOW_DOCTESTS = {
     "imagespace.paths.cusp_loops.cusp_loop",
     "imagespace.cli.demo",
     "imagespace.singular.jacobians.symbolic_jacobians",
-    "imagespace.widgets.Explorer.change_mode",
+    "imagespace.widgets.planar.Explorer.change_mode",
 }
 
 

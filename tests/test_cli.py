@@ -122,7 +122,7 @@ def test_cli_box_accepts_negative_scientific_notation(tmp_path, capsys):
     rc, out, err = _run(["mesh", "--resolution", "8", "--box", "-1.2e1", "1.2E+1", "-12e0", "12", "-3e0", "-.5e-1",
                          "-o", str(target)], capsys)
     assert rc == 0, err
-    assert "box [[-12.0, 12.0], [-12.0, 12.0], [-3.0, -0.05]]" in out
+    assert "box [[-12, 12], [-12, 12], [-3, -0.05]]" in out
     assert target.exists()
 
 

@@ -77,6 +77,11 @@ def test_mode_panels_are_titled_with_the_aspect_of_det_j(rng, tmp_path):
     panels = [a for a in fig.axes if a.get_visible()]
     assert len(panels) == 5
     assert [a.get_title() for a in panels] == [f"mode {k + 1} (aspect {e:+d})" for k, e in enumerate(expected)]
+    # every panel names its axes; the unit is in the figure's title (issue [16])
+    for a in panels:
+        assert (a.get_xlabel(), a.get_ylabel(), a.get_zlabel()) == ("x", "y", "z")
+        assert a.xaxis.label.get_visible() and a.zaxis.label.get_visible()
+    assert "length units" in fig._suptitle.get_text()
     fig.savefig(tmp_path / "modes.png")
     plt.close(fig)
     # a direct-kinematics-like result: its Study points and its aspects are used as given

@@ -16,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from .._validate import as_exact, as_float_array, is_symbolic
+from .._validate import as_exact, as_float_array, is_symbolic, warn_angle_units
 from ..exceptions import DegenerateDesignError, InputError
 from ..tolerances import TOLERANCES, Tolerances
 from .elimination import binary_form_poly, eliminate, form_coefficients, orientation_form, plan_elimination
@@ -221,6 +221,7 @@ class Mechanism:
         arr = as_float_array(q, name, last=3)
         for i, leg in enumerate(self.legs):
             leg.check_joint_value(arr[..., i], f"{name}[{i}]")
+        warn_angle_units(arr, [leg.actuated_is_angle for leg in self.legs], name)
         return arr
 
     def quadrics(self, q: Optional[JointValues] = None) -> list[Quadric]:

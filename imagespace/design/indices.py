@@ -143,7 +143,7 @@ def local_indices(manipulator, poses, length, working_modes=None):
     L = as_scalar(length, "length")
     if not L > 0:
         raise InputError(f"length must be a positive characteristic length, got {length!r}")
-    jac = manipulator.jacobians(poses, working_modes=working_modes)
+    jac = manipulator.jacobians(np.atleast_2d(poses), working_modes=working_modes)
     Jh = jac.homogeneous(length)
     ok = jac.valid & np.all(np.isfinite(Jh), axis=(1, 2))
     out = {k: np.full(len(Jh), np.nan) for k in ("manipulability", "resistivity", "isotropy", "isotropy_frobenius")}

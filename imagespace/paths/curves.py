@@ -191,12 +191,30 @@ def segment(a, b):
     -------
     ImagePath
 
+    Raises
+    ------
+    InputError
+        ``a`` or ``b`` not an image point of shape ``(4,)``; for a pose ``(x, y, phi)`` the
+        message points to :func:`~imagespace.paths.check.pose_segment` (the segment between two
+        poses) and :func:`~imagespace.image_point` (a pose's image point).
+
     Examples
     --------
     >>> from imagespace.paths.check import segment
     >>> len(segment([1, 0, 0, 0], [1, 0.5, 1, 2]))
     1
     """
+    for v, name in ((a, "a"), (b, "b")):
+        try:
+            as_float_array(v, name, last=4, allow_batch=False)
+        except InputError as e:
+            pose = np.shape(v) == (3,) if not isinstance(v, (str, bytes)) else False
+            hint = (f"{name} looks like a pose (x, y, phi): segment joins image points (x0, x1, x2, x3); "
+                    "use isp.pose_segment(pose_a, pose_b) for the path between two poses, or "
+                    "isp.image_point(pose) for a pose's image point") if pose else (
+                    "segment joins image points (x0, x1, x2, x3): isp.image_point(pose) gives a pose's, and "
+                    "isp.pose_segment(pose_a, pose_b) the path between two poses")
+            raise InputError(f"{e}; {hint}") from None
     return polyline([a, b])
 
 

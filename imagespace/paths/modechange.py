@@ -177,6 +177,10 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
     return P, Q
 
 
+def _is_index(value):
+    return isinstance(value, (numbers.Integral, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
 def _as_image(mode, name):
     X = getattr(mode, "image_point", mode)
     X = as_float_array(X, name, last=4, allow_batch=False)
@@ -195,7 +199,8 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
         Its singularity surface must not depend on the joint values.
     q : (3,) float
         The joint values both modes belong to.
-    mode_a, mode_b : AssemblyMode or (4,) float
+    mode_a, mode_b : AssemblyMode, (4,) float or int
+        A mode, its image point, or its index into ``manipulator.direct_kinematics(q)``.
     seed : int
         The sampling is deterministic for a given seed.
     samples : int
@@ -212,7 +217,8 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     ------
     InputError
         If a mode does not belong to ``q`` (leg residual not below ``Tolerances.mode_membership``,
-        default 1e-6) or the two are the same (``Tolerances.same_mode``).
+        default 1e-6), the two are the same (``Tolerances.same_mode``), or an index is not one of
+        ``direct_kinematics(q)``.
 
     Examples
     --------
@@ -225,6 +231,8 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     (True, 2, True)
     >>> plan_mode_change(m, m.q_example_float, modes[0], modes[1]).found
     False
+    >>> plan_mode_change(m, m.q_example_float, 0, 3).found          # indices into direct_kinematics(q)
+    True
     """
     check_mechanism(manipulator)
     samples = as_count(samples, "samples")
@@ -238,6 +246,21 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     if box is not None:
         _check_box(box)
     qf = manipulator.check_q(as_joint_vector(q, "q"))
+    if any(_is_index(v) for v in (mode_a, mode_b)):
+        from .._validate import as_index
+
+        modes = list(manipulator.direct_kinematics(qf))
+
+        def pick(v, name):
+            if not _is_index(v):
+                return v
+            try:
+                return modes[as_index(v, name, len(modes))]
+            except InputError as e:
+                raise InputError(f"{e} (an index into direct_kinematics(q): {len(modes)} real modes "
+                                 f"at q = {qf.tolist()})") from None
+
+        mode_a, mode_b = pick(mode_a, "mode_a"), pick(mode_b, "mode_b")
     Xa, Xb = _as_image(mode_a, "mode_a"), _as_image(mode_b, "mode_b")
     tols = manipulator.tolerances
     if np.allclose(Xa, Xb, atol=tols.same_mode):

@@ -22,6 +22,9 @@ __all__ = ["PoseJacobians", "jacobians", "symbolic_jacobians"]
 class PoseJacobians:
     """Seed 003's Jacobians at poses: ``Jx xdot = Jq qdot``, ``J = Jq^-1 Jx``.
 
+    One pose in (``pose`` of shape ``(3,)``), one pose out: the arrays below then have no batch
+    axis (``Jx`` is ``(3, 3)``, ``det_Jx`` a number, ``kind`` a string) and ``single`` is True.
+
     ``F_i(x, y, phi, q) = Q_i(image_point(x, y, phi), q_i)`` with the normalised image point; for
     an RR dyad this is ``|P_i - A_i|**2 - r_i**2`` exactly, for a line constraint the signed
     distance times the line's scale.
@@ -49,6 +52,8 @@ class PoseJacobians:
         The rows with finite joint values (the others are NaN).
     tol : float
         The threshold used (``Tolerances.singular``).
+    single : bool
+        One pose was given: the arrays have no leading batch axis.
     """
 
     pose: np.ndarray
@@ -65,6 +70,7 @@ class PoseJacobians:
     kind: np.ndarray
     valid: np.ndarray
     tol: float
+    single: bool = False
 
     def homogeneous(self, length):
         """The dimensionless Jacobian ``J_h = J diag(1, 1, 1/L)`` (seed 004, eq. 24).
@@ -81,7 +87,7 @@ class PoseJacobians:
 
         Returns
         -------
-        (n, 3, 3) float
+        (n, 3, 3) float, or (3, 3) for one pose
 
         Raises
         ------
@@ -95,7 +101,7 @@ class PoseJacobians:
         >>> import imagespace as isp
         >>> jac = isp.jacobians(isp.examples.choi_3ppr(), [0.1, 0.0, 0.2])
         >>> jac.homogeneous(1.0).shape
-        (1, 3, 3)
+        (3, 3)
         """
         L = as_scalar(length, "length", finite=False)
         if not np.isfinite(L) or L <= 0:
@@ -115,7 +121,7 @@ class PoseJacobians:
 
         Returns
         -------
-        (n, 3) float
+        (n, 3) float, or (3,) for one pose and one ``tau``
 
         Raises
         ------
@@ -129,10 +135,13 @@ class PoseJacobians:
         >>> import imagespace as isp
         >>> jac = isp.jacobians(isp.examples.general_3rpr(), [0.5, 1.0, 0.2])
         >>> jac.wrench([1.0, 0.0, 0.0]).shape
-        (1, 3)
+        (3,)
         """
-        t = np.broadcast_to(as_float_array(tau, "tau", last=3), (len(self.J), 3))
-        return np.einsum("nji,nj->ni", self.J, t)
+        tau = as_float_array(tau, "tau", last=3)
+        J = self.J[None] if self.single else self.J
+        t = np.broadcast_to(tau, (len(J), 3))
+        F = np.einsum("nji,nj->ni", J, t)
+        return F[0] if self.single and tau.ndim == 1 else F
 
     # short summaries (arrays as shape and dtype) for the terminal and Jupyter; see imagespace._html
     __repr__ = dataclass_repr
@@ -153,7 +162,8 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
     Returns
     -------
     PoseJacobians
-        Arrays with a leading batch axis (length 1 for a single pose).
+        For one pose ``(3,)`` (and one ``q``): one pose's matrices (``Jx`` of shape ``(3, 3)``,
+        ``det_Jx`` a number, ``kind`` a string); otherwise arrays with a leading batch axis.
 
     Raises
     ------
@@ -168,11 +178,15 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
     >>> import imagespace as isp
     >>> m = isp.examples.general_3rpr()
     >>> jac = isp.jacobians(m, [0.5, 1.0, 0.2])
-    >>> jac.kind.tolist()
-    ['regular']
+    >>> jac.kind, jac.Jx.shape
+    ('regular', (3, 3))
+    >>> isp.jacobians(m, [[0.5, 1.0, 0.2], [0.4, 1.0, 0.1]]).Jx.shape
+    (2, 3, 3)
     """
     check_mechanism(manipulator)
-    P = np.atleast_2d(as_float_array(pose, "pose", last=3))
+    P = as_float_array(pose, "pose", last=3)
+    single = P.ndim == 1 and (q is None or np.ndim(q) == 1)
+    P = np.atleast_2d(P)
     if working_modes is not None:
         working_modes = manipulator.check_working_modes(working_modes)
     if q is None:
@@ -208,7 +222,10 @@ def jacobians(manipulator, pose, q=None, working_modes=None):
     kind = np.where(dk & ik, "both", np.where(dk, "direct-kinematic",
                                                np.where(ik, "inverse-kinematic", "regular")))
     kind = np.where(valid, kind, "unreachable")
-    return PoseJacobians(P, Q, Jx, Jq, J, det_Jx, det_Jq, ratio_x, ratio_q, dk, ik, kind, valid, tol)
+    fields = (P, Q, Jx, Jq, J, det_Jx, det_Jq, ratio_x, ratio_q, dk, ik, kind, valid)
+    if single:          # one pose in, one pose out
+        fields = tuple(f[0].item() if f[0].ndim == 0 else f[0] for f in fields)
+    return PoseJacobians(*fields, tol, single)
 
 
 def symbolic_jacobians(manipulator):

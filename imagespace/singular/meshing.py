@@ -790,7 +790,7 @@ def _orient(func, mesh):
     return agree
 
 
-def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress=None,
+def mesh_surface(surface, box=None, chart="image", resolution=128, tol=1e-9, progress=None,
                  max_memory=MAX_MEMORY, on_uncertified="remove"):
     """Mesh a singularity surface in the image chart or the pose chart.
 
@@ -798,9 +798,10 @@ def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress
     ----------
     surface : SingularitySurface
         From :meth:`PlanarParallel.singularity_surface`.
-    box : (3, 2) float
+    box : (3, 2) float, optional
         In chart coordinates: ``chart="image"``: ranges of ``(x2/x0, x3/x0, x1/x0)``;
-        ``chart="pose"``: ranges of ``(x, y, phi)``.
+        ``chart="pose"``: ranges of ``(x, y, phi)``. Default
+        :func:`~imagespace.singular.boxes.default_box` (scaled to the design; the command line's).
     chart : {"image", "pose"}
     resolution, tol, progress, max_memory, on_uncertified
         As in :func:`mesh_implicit`; the meshing thresholds are read from the surface's
@@ -822,7 +823,13 @@ def mesh_surface(surface, box, chart="image", resolution=128, tol=1e-9, progress
     (True, 'image')
     >>> mesh.metadata["imagespace"]["uncertified"], mesh.metadata["imagespace"]["removed"]
     (0, 0)
+    >>> mesh_surface(S, resolution=16).metadata["imagespace"]["box"][2]     # the default box
+    [-3.0, 3.0]
     """
+    if box is None:
+        from .boxes import default_box
+
+        box = default_box(surface.manipulator, chart)
     func = surface_implicit(surface, chart)
     mesh = mesh_implicit(func, box, resolution=resolution, tol=tol, progress=progress,
                          max_memory=max_memory, on_uncertified=on_uncertified,

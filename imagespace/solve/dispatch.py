@@ -11,7 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .._memory import check_memory
-from .._validate import as_count, as_flag, as_float_array
+from .._validate import as_count, as_flag, as_float_array, warn_angle_units
 from ..core.certify import RealRootCertificate
 from ..core.reach import ReachObstruction, planar_design_scale, planar_reach_obstruction, prismatic_magnitude
 from ..exceptions import DegenerateDesignError, InputError, NearSingularWarning
@@ -19,7 +19,7 @@ from .certified import certified_modes, certify_batch, exact_certificate, exact_
 from .numpy_path import complex_modes, check_rows, solve_batch
 from .continuum import continuum_at
 from .proof import batch_kernel, have_numba as _have_numba
-from .results import AssemblyMode, CertifiedModes, DKBatchResult, MAX_MODES, SOLVER_NAMES
+from .results import AssemblyMode, AssemblyModes, CertifiedModes, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
 
 _KERNEL_MIN_ROWS = 2000
@@ -196,7 +196,7 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
                              f"{m.tolerances.far_reach_ratio:g} times the size of {m.name} (the "
                              f"complex modes are computed in floating point), got q = {qf.tolist()}")
         modes += complex_modes(m, qf)
-    return modes
+    return modes if certify else AssemblyModes(modes)
 
 
 def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, method: str = "auto") -> DKBatchResult:
@@ -250,6 +250,7 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
     certify = as_flag(certify, "certify")
     if Q.ndim == 1:
         Q = Q[None, :]
+    warn_angle_units(Q, [leg.actuated_is_angle for leg in m.legs], "Q")
     if not isinstance(method, str) or method not in ("auto", "kernel", "numpy"):
         raise InputError(f"method must be 'auto', 'kernel' or 'numpy', got {method!r}")
     kernel = None

@@ -9,7 +9,7 @@ from typing import Any, Optional, Sequence, Union
 from .._html import html_table, modes_table, summary
 from ..core.kinematic_map import image_point as _image_point
 
-__all__ = ["AssemblyMode", "CertifiedModes", "DKBatchResult"]
+__all__ = ["AssemblyMode", "AssemblyModes", "CertifiedModes", "DKBatchResult"]
 
 #: Width of a :class:`DKBatchResult` row: a non-degenerate planar 3-leg design has at most six
 #: assembly modes (the kinematic polynomial has degree <= 6). The numpy path, the kernel and the
@@ -77,6 +77,31 @@ class AssemblyMode:
         True
         """
         return modes_table([self], title="AssemblyMode")
+
+
+class AssemblyModes(list):
+    """The assembly modes of one joint vector from the floating-point direct kinematics: a list of
+    :class:`AssemblyMode` that Jupyter shows as a table (one row a mode). The count is not proven
+    here; ``direct_kinematics(q, certify=True)`` gives :class:`CertifiedModes`.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> m = isp.examples.general_3rpr()
+    >>> modes = m.direct_kinematics(m.q_example)
+    >>> type(modes).__name__, len(modes), modes._repr_html_().count("<tr>")
+    ('AssemblyModes', 6, 7)
+    """
+
+    def __repr__(self):
+        return f"AssemblyModes({list.__repr__(self)})"
+
+    def _repr_html_(self):
+        real = sum(1 for mm in self if mm.is_real)
+        title = (f"{real} real assembly mode{'' if real == 1 else 's'}"
+                 + (f" and {len(self) - real} complex" if len(self) > real else "")
+                 + " (floating point; certify=True proves the count)")
+        return modes_table(list(self), title=title)
 
 
 class CertifiedModes(list):

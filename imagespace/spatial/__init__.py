@@ -17,6 +17,7 @@ _ATTRIBUTES = {
     "quadrics": ["study_quadric_matrix", "form_matrix", "quadric_value", "sphere_quadric_symbolic",
                  "sphere_quadric", "point_on_plane_quadric", "point_on_line_quadrics",
                  "landed_point_times_n"],
+    "poses": ["pose_from_rotation", "pose_from_quaternion", "pose_from_rpy", "pose_from_matrix"],
     "gough_stewart": ["GoughStewart", "GOUGH_STEWART_BOUND", "PAIRED_BOUND"],
     "three_rps": ["ThreeRPS", "THREE_RPS_BOUND"],
     "platform": ["QuadricPlatform", "check_lengths"],
@@ -29,7 +30,7 @@ _ATTRIBUTES = {
     "solver": ["QuadricFamily"],
     "homotopy": ["StartSystem", "solve_start_system", "track_parameters"],
 }
-__getattr__, __dir__, _ = _lazy.attach(__name__, submodules=["screws", "study", "quadrics", "gough_stewart", "results", "exact", "certify", "solver",
+__getattr__, __dir__, _ = _lazy.attach(__name__, submodules=["screws", "study", "poses", "quadrics", "gough_stewart", "results", "exact", "certify", "solver",
                                                                    "three_rps", "platform", "singularities",
                                                                    "homotopy", "fastcert"],
                                        submod_attrs=_ATTRIBUTES)

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._html import counts_text, fmt, html_table
 from .study import rotation_matrix, translation
 
 __all__ = ["SpatialDKResult", "SpatialDKBatch", "METHODS"]
@@ -81,6 +82,9 @@ class SpatialDKResult:
     def __len__(self):
         return self.count
 
+    def _repr_html_(self):
+        return result_html(self)
+
     def __repr__(self):
         state = "certified" if self.certified else ("reliable" if self.reliable else "NOT reliable")
         of = f"of {self.complex_count} complex" if self.complex_count >= 0 else "(complex not computed)"
@@ -139,6 +143,74 @@ class SpatialDKBatch:
                                int(self.complex_count[i]), bool(self.certified[i]),
                                bool(self.reliable[i]), method)
 
+    def _repr_html_(self):
+        return batch_html(self)
+
     def __repr__(self):
         return (f"SpatialDKBatch({len(self)} rows, {int(self.counts.sum())} real modes, "
                 f"{int(np.sum(~self.reliable & self.valid))} rows not reliable)")
+
+
+#: Most modes a result's HTML table lists (Dietmaier's 40 fit; a longer list says how many are left out).
+HTML_ROWS = 48
+
+
+def _state(certified, reliable):
+    return "certified" if certified else ("reliable (not proven)" if reliable else "NOT reliable")
+
+
+def result_html(result):
+    """The modes of a :class:`SpatialDKResult` as a table for Jupyter: translation, rotation (angle
+    and axis), aspect and residual of each mode under the count and how sure it is.
+
+    Examples
+    --------
+    >>> r = SpatialDKResult(np.array([[1.0, 0, 0, 0, 0, 0.5, 0, 0]]), np.zeros(1), np.ones(1, np.int8),
+    ...                     40, True, True, "homotopy+krawczyk")
+    >>> page = result_html(r)
+    >>> "1 real assembly mode of 40 complex solutions, certified" in page, page.count("<tr>")
+    (True, 2)
+    """
+    k = result.count
+    title = (f"{k} real assembly mode{'' if k == 1 else 's'} of {result.complex_count} complex solutions, "
+             f"{_state(result.certified, result.reliable)} ({result.method})")
+    S = np.asarray(result.study_points, dtype=float)[:HTML_ROWS]
+    rows = []
+    if len(S):
+        T = translation(S)
+        x = S[:, :4] / np.linalg.norm(S[:, :4], axis=1, keepdims=True)
+        vnorm = np.linalg.norm(x[:, 1:], axis=1)
+        angle = np.degrees(2 * np.arctan2(vnorm, np.abs(x[:, 0])))
+        axis = np.where(vnorm[:, None] > 0, x[:, 1:] * np.sign(x[:, :1] + (x[:, :1] == 0)) / np.where(
+            vnorm[:, None] > 0, vnorm[:, None], 1.0), 0.0)
+        for i in range(len(S)):
+            rows.append([i + 1, "(" + ", ".join(fmt(v, 5) for v in T[i]) + ")", fmt(angle[i], 5),
+                         "(" + ", ".join(fmt(v, 4) for v in axis[i]) + ")", f"{int(result.aspects[i]):+d}",
+                         f"{float(result.residuals[i]):.1e}"])
+    out = html_table(rows, title=title, header=["#", "translation (x, y, z)", "rotation [deg]", "about the axis",
+                                                "aspect", "residual"])
+    if k > HTML_ROWS:
+        out += f"\n<p>... and {k - HTML_ROWS} more modes (result.study_points has all {k})</p>"
+    return out
+
+
+def batch_html(batch):
+    """A :class:`SpatialDKBatch` for Jupyter: rows, how many are valid, reliable and certified, and
+    the real counts seen.
+
+    Examples
+    --------
+    >>> b = SpatialDKBatch(np.array([1, 0]), np.array([0, 1, 1]), np.eye(1, 8), np.zeros(1),
+    ...                    np.ones(1, np.int8), np.array([40, 0]), np.array([True, False]),
+    ...                    np.zeros(2, bool), np.array([True, False]))
+    >>> "real modes per row" in batch_html(b)
+    True
+    """
+    valid = np.asarray(batch.valid, dtype=bool)
+    counts = np.asarray(batch.counts)[valid]
+    rows = [("rows", len(batch)), ("valid rows", int(valid.sum())),
+            ("reliable rows (float checks passed)", int(np.sum(np.asarray(batch.reliable) & valid))),
+            ("certified rows", int(np.sum(np.asarray(batch.certified) & valid))),
+            ("real modes per row", "{" + counts_text(sorted(int(c) for c in counts)) + "}" if len(counts) else "-"),
+            ("real modes in all", int(np.sum(counts)))]
+    return html_table(rows, title=f"SpatialDKBatch: {len(batch)} rows")

@@ -324,6 +324,17 @@ def study_point(rotation, translation):
     if rot.ndim >= 2 and rot.shape[-2:] == (3, 3):
         x = _quaternion_from_matrix(rot, None, "rotation")
     else:
+        if rot.shape[-1:] != (4,):
+            raise InputError(f"rotation must be a quaternion (4,) or a rotation matrix (3, 3), got shape "
+                             f"{rot.shape}; spatial poses are also built by pose_from_rotation(R, t), "
+                             "pose_from_quaternion(q, t), pose_from_rpy(rpy, t, degrees=False) and "
+                             "pose_from_matrix(T) (imagespace.spatial)")
+        if rot.shape == (4, 4) and np.array_equal(rot[3], [0.0, 0.0, 0.0, 1.0]):
+            import warnings
+
+            warnings.warn("rotation of shape (4, 4) ending in the row (0, 0, 0, 1) is read as four quaternions; "
+                          "for a 4x4 homogeneous matrix use imagespace.spatial.pose_from_matrix(T)", UserWarning,
+                          stacklevel=2)
         x = as_float_array(rotation, "rotation", last=4)
         if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
             raise InputError("rotation must be a non-zero quaternion, got zero")

@@ -15,7 +15,7 @@ from imagespace.paths.check import polynomial_curve, rational_curve
     (lambda: polynomial_curve([["1", 0, 0, 0], [0, 1, 0, 0]]), TypeError, "strings are never parsed|real numbers"),
     (lambda: rational_curve([[1, 0, 0, 0], [0, 1, 0, 0]], ["1"]), TypeError, "strings are never parsed"),
     (lambda: rational_curve([[1, 0, 0, 0], [0, 1, 0, 0]], [True]), TypeError, "bool"),
-    (lambda: isp.segment([1, 0, 0, 0], None), TypeError, "points must be numeric"),
+    (lambda: isp.segment([1, 0, 0, 0], None), TypeError, "b must be numeric"),
     (lambda: isp.segment([0, 0, 1, 0], [1, 0, 0, 0]), isp.InputError, "absolute line"),
 ])
 def test_path_input_of_the_wrong_kind(call, exc, words):

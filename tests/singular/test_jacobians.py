@@ -35,7 +35,7 @@ def test_jacobian_rows_are_derivatives_of_the_leg_ik(rng):
                     if not np.isfinite(vals[b]):
                         continue
                     jac = m.jacobians(pose, working_modes=(b, 0, 0))
-                    if not jac.valid[0] or jac.inverse_kinematic[0]:
+                    if not jac.valid or jac.inverse_kinematic:
                         continue
                     h = 1e-6
                     fd = []
@@ -46,7 +46,7 @@ def test_jacobian_rows_are_derivatives_of_the_leg_ik(rng):
                         if leg.actuated_is_angle:
                             d = np.remainder(d + np.pi, 2 * np.pi) - np.pi
                         fd.append(d / (2 * h))
-                    assert np.allclose(jac.J[0, 0], fd, rtol=1e-5, atol=1e-6), (cls.__name__, act, b)
+                    assert np.allclose(jac.J[0], fd, rtol=1e-5, atol=1e-6), (cls.__name__, act, b)
                     checked += 1
     assert checked > 40
 
@@ -55,8 +55,8 @@ def test_statics_is_the_transpose():
     m = isp.examples.general_3rpr()
     jac = m.jacobians([0.5, 1.0, 0.2])
     tau = np.array([1.0, -2.0, 0.5])
-    F = jac.wrench(tau)[0]
-    qdot = jac.J[0] @ np.array([0.3, -0.1, 0.05])
+    F = jac.wrench(tau)
+    qdot = jac.J @ np.array([0.3, -0.1, 0.05])
     assert np.isclose(tau @ qdot, F @ [0.3, -0.1, 0.05])                 # virtual power
 
 
@@ -72,5 +72,5 @@ def test_symbolic_jacobians_equal_the_numeric_ones(rng):
             q = m.inverse_kinematics(pose)
             jac = m.jacobians(pose)
             Jxn, Jqn = (np.array(a, dtype=float) for a in f(*pose, *q))
-            assert np.allclose(Jxn, jac.Jx[0], rtol=1e-10, atol=1e-10)
-            assert np.allclose(Jqn, jac.Jq[0], rtol=1e-10, atol=1e-10)
+            assert np.allclose(Jxn, jac.Jx, rtol=1e-10, atol=1e-10)
+            assert np.allclose(Jqn, jac.Jq, rtol=1e-10, atol=1e-10)

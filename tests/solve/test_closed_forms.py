@@ -25,11 +25,11 @@ def test_seed_003_closed_form_equals_image_space_dk(rng):
 def test_seed_003_singular_configurations():
     m = isp.examples.collinear_3rpr(2, 1)
     # theta = 0: the three legs meet in one point (det Jx = 16 R r sin(theta) (...) = 0)
-    assert m.jacobians([0.3, 1.2, 0.0]).direct_kinematic[0]
+    assert m.jacobians([0.3, 1.2, 0.0]).direct_kinematic
     # the other factor: R y + r x sin(theta) - r y cos(theta) = 0 -> all legs parallel
     th, x = 0.7, 0.4
     y = -x * np.sin(th) / (2 - np.cos(th))
-    assert m.jacobians([x, y, th]).direct_kinematic[0]
+    assert m.jacobians([x, y, th]).direct_kinematic
 
 
 @pytest.mark.slow
@@ -48,7 +48,7 @@ def test_seed_004_closed_form_two_modes_and_det(rng):
             for p in cf:
                 assert np.min(np.linalg.norm(dk - p, axis=1)) < 1e-9
             assert np.allclose(m.inverse_kinematics(cf), rho)                          # IK o DK
-            det = np.linalg.det(m.jacobians(pose).homogeneous(1.0))[0]
+            det = np.linalg.det(m.jacobians(pose).homogeneous(1.0))
             assert np.isclose(det, isp.examples.choi_det_jh(pose[2] - (alpha - np.pi / 2), 0.5, alpha), rtol=1e-10)
 
 

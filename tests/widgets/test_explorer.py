@@ -20,7 +20,9 @@ from msolve_ref import msolve_available, planar_dk_reference  # noqa: E402
 
 @pytest.fixture(scope="module")
 def seed002_explorer():
-    return explore(isp.examples.stigger_husty())
+    ex = explore(isp.examples.stigger_husty())
+    assert ex.wait(120)                 # the surface is meshed in the background
+    return ex
 
 
 def test_parse_joint_value_is_exact_and_never_evaluates():
@@ -90,8 +92,8 @@ def test_pose_view_draws_every_mode_with_the_given_leg_lengths(seed002_explorer)
     ex = seed002_explorer
     ex.set_q(isp.examples.stigger_husty().q_example_float)
     m = ex.manipulator
-    n = len(ex.modes)
-    assert tuple(ex.trace("numbers").text) == tuple(str(k + 1) for k in range(n))
+    shown = [int(v) for t in ex.trace("numbers").text if t for v in t.split(", ")]
+    assert sorted(shown) == sorted(ex.mode_numbers) and len(set(ex.mode_numbers)) == len(ex.modes)
     for mm in ex.modes:
         lines = mechanism_lines(m, mm.pose, ex.q)
         # RPR legs: the drawn leg is as long as the joint value (the drawing is the geometry)
@@ -113,12 +115,12 @@ def test_section_regions_follow_det_j(seed002_explorer):
     xs, ys = np.asarray(ex.trace("regions").x), np.asarray(ex.trace("regions").y)
     Z = np.asarray(ex.trace("regions").z, dtype=float)
     # aspect = c * sign(det Jx) with one constant c for the design's Jacobian convention
-    c = ex.modes[0].aspect * np.sign(m.jacobians(ex.modes[0].pose).det_Jx[0])
+    c = ex.modes[0].aspect * np.sign(m.jacobians(ex.modes[0].pose).det_Jx)
     rng = np.random.default_rng(3)
     checked = 0
     for _ in range(60):
         i, j = rng.integers(0, len(ys)), rng.integers(0, len(xs))
-        det = m.jacobians([xs[j], ys[i], phi]).det_Jx[0]
+        det = m.jacobians([xs[j], ys[i], phi]).det_Jx
         if abs(det) > 1e-6 and Z[i][j] != 0:
             assert np.sign(Z[i][j]) == c * np.sign(det), (xs[j], ys[i])
             checked += 1
@@ -133,19 +135,19 @@ def test_change_mode_equal_and_opposite_aspects(seed002_explorer):
     plan = ex.change_mode(neg[0], pos[0])
     assert not plan.found and "opposite aspects" in ex.plan_message.value
     plan = ex.change_mode(neg[0], neg[1])
-    assert plan.found and not ex.play.disabled and ex.play.max == len(plan.poses) - 1
+    assert plan.found and ex.view.frame_count == len(plan.poses)
     # the drawn path starts and ends at the two modes (same point of image space)
     C = np.column_stack([ex.trace("path").x, ex.trace("path").y, ex.trace("path").z])
     for end, k in ((C[0], neg[0]), (C[-1], neg[1])):
         assert np.allclose(end, chart_coordinates(ex.modes[k].image_point)[0], atol=1e-7)
     # the joint loop is closed and the animation frame draws the pose at that sample
     assert np.allclose(ex.trace("loop1").y[0], 0) and np.allclose(ex.trace("loop1").y[-1], 0, atol=1e-7)
-    ex.frame.value = 5
+    ex.show_frame(5)
     lines = mechanism_lines(ex.manipulator, plan.poses[5], plan.joint_loop[5])
     assert np.allclose(np.asarray(ex.trace("moving").x[:2], dtype=float), lines.legs[0][:, 0])
     # a failed plan afterwards clears the previous one (no stale animation or joint loop)
     assert not ex.change_mode(neg[0], pos[0]).found
-    assert ex.play.disabled and len(ex.trace("loop1").x) == 0 and len(ex.trace("path").x) == 0
+    assert ex.view.frame_count == 0 and len(ex.trace("loop1").x) == 0 and len(ex.trace("path").x) == 0
     with pytest.raises(InputError, match="b must be in"):
         ex.change_mode(0, 17)
 
@@ -153,8 +155,9 @@ def test_change_mode_equal_and_opposite_aspects(seed002_explorer):
 def test_save_html_is_standalone(seed002_explorer, tmp_path):
     p = seed002_explorer.save_html(tmp_path / "ex.html")
     text = p.read_text()
-    assert text.startswith("<!DOCTYPE html>") and text.count('class="plotly-graph-div"') == 1
-    assert "require(" not in text[:2000] and "isp-count" in text
+    assert text.startswith("<!DOCTYPE html>") and text.count("Plotly.newPlot(") == 4   # the four panels
+    assert "plotly.js v" in text and "<script src" not in text     # plotly.js inlined: no network, no kernel
+    assert "isp-count" in text and '"singularity surface (joint-free, 48^3 grid)"' in text
 
 
 def test_design_without_example_needs_q():
@@ -174,6 +177,7 @@ def test_joint_dependent_surface_is_remeshed():
                             isp.RPR(base=(6, 0), platform=(1, 0)), isp.RPR(base=(2, 5), platform=(0, 1))])
     q = m.inverse_kinematics([2.0, 1.5, 0.3], working_modes=(1, 0, 0))
     ex = explore(m, q=q, resolution=16)
+    assert ex.wait(120)
     first = np.asarray(ex.trace("surface").x).copy()
     ex.set_q(q + np.array([0.2, 0.0, 0.0]))
     assert "given-joints" in ex.trace("surface").name
@@ -234,8 +238,9 @@ def test_every_example_opens(name):
     ex = explore(m)
     ref = planar_dk_reference(m, m.q_example_float)
     assert ex.status["count"] == len(ref.poses) and ex.status["certified"]
-    assert len(ex.trace("surface").i) > 100          # a meshed surface with triangles
-    assert tuple(ex.trace("numbers").text) == tuple(str(k + 1) for k in range(len(ref.poses)))
+    assert ex.wait(120) and len(ex.trace("surface").i) > 100          # a meshed surface with triangles
+    shown = sorted(int(v) for t in ex.trace("numbers").text if t for v in t.split(", "))
+    assert shown == list(range(1, len(ref.poses) + 1))
 
 
 def test_typed_values_give_way_to_a_moved_slider(seed002_explorer):
@@ -279,4 +284,112 @@ def test_exact_path_that_cannot_certify_says_so(seed002_explorer):
 def test_close_stops_the_explorer():
     ex = explore(isp.examples.collinear_3rpr())
     ex.close()
-    assert ex.wait(5) and ex.comm is None and ex.figure.comm is None
+    assert ex.wait(5) and ex.comm is None and ex.view.comm is None
+
+
+# -- issue [16]: what a user tripped over ----------------------------------------------------------
+def _grid(slider, v):
+    """Where the browser shows ``v``: noUiSlider snaps to min + k * step (the nearest k)."""
+    return slider.min + round((v - slider.min) / slider.step) * slider.step
+
+
+def test_slider_snap_of_a_typed_value_is_not_a_user_move(seed002_explorer):
+    ex = seed002_explorer
+    ex.set_q(isp.examples.stigger_husty().q_example_float)
+    ex.exact_boxes[2].value = "27/2"                  # 13.5 is off q3's slider grid
+    assert ex.status["exact"] and ex.q[2] == 13.5
+    s = ex.sliders[2]
+    snapped = _grid(s, 13.5)
+    assert snapped != 13.5
+    s.value = snapped                                 # what the browser sends back after showing 13.5
+    assert ex.status["exact"] and ex.q[2] == 13.5 and ex.exact_boxes[2].value == "27/2"
+    s.value = snapped + s.step                        # the user moves the slider one step
+    assert not ex.status["exact"] and ex.exact_boxes[2].value == "" and ex.q[2] == pytest.approx(snapped + s.step)
+
+
+@pytest.mark.skipif(not msolve_available(), reason="msolve binary not installed")
+def test_modes_keep_their_numbers_across_a_count_change(seed002_explorer):
+    ex = seed002_explorer
+    m = ex.manipulator
+    q = np.array([10.0, 15.23154621, 13.25])
+    ex.set_q(q)
+    prev = {n: mm.pose.copy() for n, mm in zip(ex.mode_numbers, ex.modes)}
+    prev_aspect = {n: mm.aspect for n, mm in zip(ex.mode_numbers, ex.modes)}
+    crossed = False
+    for q3 in np.linspace(13.25, 13.8, 12)[1:]:
+        q = np.array([10.0, 15.23154621, q3])
+        ex.set_q(q)
+        ref = planar_dk_reference(m, q).poses            # msolve: the real modes here
+        assert len(ex.modes) == len(ref)
+        now = {n: mm.pose for n, mm in zip(ex.mode_numbers, ex.modes)}
+        for n, pose in now.items():
+            assert np.min(np.abs(ref - pose).sum(axis=1)) < 1e-6
+            if n in prev:       # the surviving mode numbered n is the one nearest to mode n before
+                same = [k for k in now if prev_aspect.get(k) == prev_aspect[n]]
+                d = {k: np.hypot(*(now[k][:2] - prev[n][:2])) for k in same}
+                assert min(d, key=d.get) == n
+        gone = set(prev) - set(now)
+        if gone:
+            crossed = True
+            assert set(now) < set(prev)              # no survivor renumbered
+            for g in gone:
+                assert f"{g}" in ex.status["events"]
+            assert "merged" in ex.status["events"] and "merged" in ex.status_line.value
+        prev = {n: p.copy() for n, p in now.items()}
+        prev_aspect = {n: mm.aspect for n, mm in zip(ex.mode_numbers, ex.modes)}
+    assert crossed
+
+
+@pytest.mark.skipif(not msolve_available(), reason="msolve binary not installed")
+def test_no_real_mode_is_explained_and_the_last_drawing_greyed(seed002_explorer):
+    ex = seed002_explorer
+    m = ex.manipulator
+    ex.set_q(m.q_example_float)
+    drawn = np.asarray(ex.trace("legs+1").x, dtype=float)
+    q = np.array([10.0, 15.23154621, 40.0])
+    assert len(planar_dk_reference(m, q).poses) == 0
+    ex.set_q(q)
+    assert ex.status["count"] == 0 and ex.status["certified"]
+    assert "no real assembly mode for these joint values" in ex.status_line.value
+    assert len(ex.trace("legs+1").x) == 0 and len(ex.trace("numbers").text) == 0
+    grey = np.asarray(ex.trace("last drawing").x, dtype=float)
+    # the greyed drawing holds the earlier legs (as drawn at q_example)
+    assert np.isin(drawn[np.isfinite(drawn)], grey[np.isfinite(grey)]).all()
+    assert "no real assembly mode" in ex.view.layout("pose")["annotations"][0]["text"]
+    ex.set_q(m.q_example_float)
+    assert len(ex.trace("last drawing").x) == 0 and ex.view.layout("pose")["annotations"] == []
+
+
+def test_section_shading_fills_its_axes(seed002_explorer):
+    ex = seed002_explorer
+    ex.set_q(isp.examples.stigger_husty().q_example_float)
+    for k in range(len(ex.modes)):
+        ex.section_mode.value = k
+        lay = ex.view.layout("section")
+        xs, ys = np.asarray(ex.trace("regions").x), np.asarray(ex.trace("regions").y)
+        # the axes show exactly the shaded grid, square; plotly shrinks the domain, not the range
+        assert lay["xaxis"]["range"] == [xs[0], xs[-1]] and lay["yaxis"]["range"] == [ys[0], ys[-1]]
+        assert lay["xaxis"]["constrain"] == lay["yaxis"]["constrain"] == "domain"
+        assert np.isclose(xs[-1] - xs[0], ys[-1] - ys[0])
+
+
+def test_an_update_sends_only_the_changed_traces(seed002_explorer):
+    ex = seed002_explorer
+    sent = []
+    ex.view.send = lambda content, buffers=None: sent.append((content, buffers or []))
+    try:
+        ex.set_q([10.0, 15.23154621, 13.3])
+    finally:
+        del ex.view.send
+    updates = [c for c, _ in sent if c["type"] == "update"]
+    assert updates
+    traces = {(p, int(k)) for c in updates for p, ch in c["panels"].items() for k in ch["traces"]}
+    surface = ex.view.names["surface"]
+    assert surface not in traces or all("x" not in c["panels"]["space"]["traces"].get(str(surface[1]), {})
+                                        for c in updates if "space" in c["panels"])
+    nbytes = sum(b.nbytes for _, bufs in sent for b in bufs)
+    full = sum(np.asarray(v).nbytes for tr in ex.view.panels["space"]["data"] for v in tr.values()
+               if isinstance(v, np.ndarray))
+    assert nbytes < 0.5 * full                       # far less than the image-space panel alone
+    # the pose panel comes first in each message (the browser redraws it before painting)
+    assert all(list(c["panels"])[0] == "pose" for c in updates if "pose" in c["panels"])
