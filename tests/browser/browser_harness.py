@@ -165,3 +165,25 @@ def summary(values):
     v = np.asarray([x for x in values if x is not None], dtype=float)
     return {"n": int(len(v)), "p50_ms": round(float(np.percentile(v, 50)), 1),
             "p90_ms": round(float(np.percentile(v, 90)), 1), "max_ms": round(float(v.max()), 1)}
+
+
+# -- fixtures shared by the browser test modules (imported there; a conftest.py here would clash
+# with tests/conftest.py under --doctest-modules, both being imported as the module "conftest")
+
+import pytest as _pytest
+
+
+@_pytest.fixture(scope="session")
+def artifacts():
+    base = ARTIFACTS / "browser"
+    base.mkdir(parents=True, exist_ok=True)
+    print(f"\nbrowser screenshots and timings: {base}")
+    return base
+
+
+@_pytest.fixture(scope="session")
+def timings(artifacts):
+    path = artifacts / "timings.json"
+    if path.exists():
+        path.unlink()
+    return Timings(path)

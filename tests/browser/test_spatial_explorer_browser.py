@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from browser_harness import ARTIFACTS, INSTALL_PROBE, Served, key_to_repaint, open_page, summary
+from browser_harness import artifacts, timings  # noqa: F401  (fixtures)
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
