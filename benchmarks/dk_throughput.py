@@ -49,7 +49,7 @@ def main(n=20000):
     m.direct_kinematics_batch(Q[:2000], method="kernel")  # compile / load the kernel, not timed
     t, res = timed(lambda: m.direct_kinematics_batch(Q, method="kernel"))
     rows["direct_kinematics_batch, compiled kernel"] = n / t
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
     kern = batch_kernel(m)
     t, _ = timed(lambda: kern(Q))
     rows["batch kernel alone (no masks, no result assembly)"] = n / t

@@ -33,6 +33,8 @@ _ATTRIBUTES = {
     "core.kinematic_map": ["compose", "image_point", "inverse", "normalize", "pose_of", "transform_matrix",
                            "transform_points"],
     "core.legs": ["PPR", "PRP", "PRR", "RPP", "RPR", "RRP", "RRR", "Leg"],
+    "core.mechanism": ["Mechanism"],
+    "core.planar": ["PlanarMechanism"],
     "core.certify": ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch"],
     "manipulator": ["AssemblyMode", "AssemblyModes", "CertifiedModes", "DKBatchResult", "PlanarParallel"],
     "singular.surface": ["ConicSection", "SingularitySurface", "singularity_surface", "singularity_surfaces"],

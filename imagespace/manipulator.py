@@ -1,21 +1,22 @@
-"""PlanarParallel: a :class:`~imagespace.core.mechanism.Mechanism` with the direct kinematics.
+"""PlanarParallel: a planar :class:`~imagespace.core.mechanism.Mechanism` with its back ends bound.
 
-A thin facade: the legs, quadrics, polynomials and inverse kinematics come from the mechanism
-(:mod:`imagespace.core.mechanism`); the direct kinematics from :mod:`imagespace.solve` (one call,
-batches, chunks; results in :mod:`imagespace.solve.results`); the singularity surfaces from
+A thin facade: the legs, quadrics, polynomials and inverse kinematics come from
+:class:`~imagespace.core.planar.PlanarMechanism`; the direct kinematics is the one front end
+(:mod:`imagespace.solve.front`) over the planar back ends (:mod:`imagespace.solve.planar`;
+results in :mod:`imagespace.solve.results`); the singularity surfaces come from
 :mod:`imagespace.singular`.
 """
 
 from __future__ import annotations
 
-from .core.mechanism import Mechanism
-from .solve import dispatch, distributed
+from .core.planar import PlanarMechanism
+from .solve import distributed, front, planar
 from .solve.results import AssemblyMode, AssemblyModes, CertifiedModes, DKBatchResult
 
 __all__ = ["PlanarParallel", "AssemblyMode", "AssemblyModes", "DKBatchResult", "CertifiedModes"]
 
 
-class PlanarParallel(Mechanism):
+class PlanarParallel(PlanarMechanism):
     """A planar 3-DOF parallel manipulator: a base and a platform joined by three legs.
 
     Parameters
@@ -38,11 +39,13 @@ class PlanarParallel(Mechanism):
     True
     """
 
-    # the direct kinematics (docstrings and examples at their home, imagespace.solve.dispatch)
-    direct_kinematics = dispatch.direct_kinematics
-    direct_kinematics_batch = dispatch.direct_kinematics_batch
-    direct_kinematics_chunks = dispatch.direct_kinematics_chunks
-    certified_root_counts = dispatch.certified_root_counts
+    #: the planar back ends (imagespace.solve.planar); the front end reads them
+    backends = planar.BACKENDS
+    # the direct kinematics: the one front end (docstrings and examples at imagespace.solve.front)
+    direct_kinematics = front.direct_kinematics
+    direct_kinematics_batch = front.direct_kinematics_batch
+    direct_kinematics_chunks = front.direct_kinematics_chunks
+    certified_root_counts = front.certified_root_counts
     direct_kinematics_dask = distributed.direct_kinematics_dask    # dask imported on first call
 
     def __repr__(self):

@@ -33,9 +33,9 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
         cwd=ROOT, env=env, capture_output=True, text=True, timeout=3600)
     assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-8000:]
 
-    api = out / "api" / "generated" / "imagespace.solve.dispatch.direct_kinematics.html"
+    api = out / "api" / "generated" / "imagespace.solve.front.direct_kinematics.html"
     assert api.is_file()
-    assert 'id="imagespace.solve.dispatch.direct_kinematics"' in api.read_text(encoding="utf-8")
+    assert 'id="imagespace.solve.front.direct_kinematics"' in api.read_text(encoding="utf-8")
 
     # an executed notebook: its page shows a figure the build produced
     page = out / "notebooks" / "01_direct_kinematics.html"

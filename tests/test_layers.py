@@ -97,12 +97,20 @@ def graph():
     return mods, edges
 
 
+#: The one front end of the direct kinematics (ARCHITECTURE.md "Next"): spatial uses core and it,
+#: nothing else above core.
+FRONT = "imagespace.solve.front"
+FRONT_MODULES = {FRONT, "imagespace.solve.distributed"}     # the dask face of the front end
+
+
 def allowed(src, dst):
     ls, ld = layer(src), layer(dst)
     if ls == "top":
         return True
     if ld == "top":
         return False
+    if ls == "spatial" and dst in FRONT_MODULES:  # the spatial platforms bind the one front end
+        return True
     if ls in SIDE:                       # spatial and dynamics use core only
         return ld in ("base", "core", ls)
     if ld in SIDE:                       # ... and only the top layer uses them
@@ -230,3 +238,75 @@ def test_private_import_check_sees_a_private_import(tmp_path):
     assert private_imports({"imagespace.solve.fake": path}) == {
         ("imagespace.solve.fake", "imagespace.solve.numpy_path", "_solve"),
         ("imagespace.solve.fake", "imagespace.core.quadrics", "_thing")}
+
+
+# -- issue [15]: one contract, one front end ----------------------------------------------------
+
+#: The direct-kinematics facade methods of a mechanism: engines call the front end instead.
+FACADE_METHODS = {"direct_kinematics", "direct_kinematics_batch", "direct_kinematics_chunks",
+                  "certified_root_counts", "direct_kinematics_dask", "jacobians"}
+ENGINES = ("singular", "paths", "design", "atlas", "solve", "spatial")
+
+
+def _docstring_nodes(tree):
+    """ids of the string constants that are docstrings (their examples call the facade on purpose)."""
+    out = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                out.add(id(first.value))
+    return out
+
+
+def test_engines_never_call_a_facade_method():
+    """Rule 7: singular/, paths/, design/, atlas/, and the back ends in solve/ and spatial/, reach the
+    direct kinematics through imagespace.solve.front with a mechanism (``front.direct_kinematics(m,
+    q)``), never through ``m.direct_kinematics(q)`` (a facade method)."""
+    offenders = []
+    for mod, path in modules().items():
+        if layer(mod) not in ENGINES:
+            continue
+        for node in ast.walk(parsed(path)):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                    and node.func.attr in FACADE_METHODS:
+                owner = node.func.value
+                if isinstance(owner, ast.Name) and owner.id in ("front", "jacobians_module"):
+                    continue
+                offenders.append(f"{mod}:{node.lineno} .{node.func.attr}(...)")
+    assert not offenders, offenders
+
+
+def test_the_front_end_is_the_one_place_that_batches_and_guards_memory():
+    """Rule 8: the memory guard and the chunking of a direct-kinematics batch live in the front
+    end only (the back ends of every mechanism receive validated rows)."""
+    offenders = []
+    for mod, path in modules().items():
+        if mod == FRONT or layer(mod) not in ("solve", "spatial"):
+            continue
+        for node in ast.walk(parsed(path)):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "check_memory":
+                offenders.append(f"{mod}:{node.lineno} check_memory")
+    assert not offenders, offenders
+
+
+def test_every_mechanism_honours_the_contract():
+    """Rule 7: every concrete mechanism class offers the complete back ends, and a mechanism
+    lacking them is refused with a TypeError that names what is missing."""
+    import numpy as np
+    import pytest
+
+    import imagespace as isp
+    from imagespace.core.mechanism import BACKEND_STAGES, Mechanism, check_mechanism
+    from imagespace.core.planar import PlanarMechanism
+
+    concrete = [isp.examples.general_3rpr(), isp.examples.dietmaier_1998()[0],
+                isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3))]
+    for m in concrete:
+        assert isinstance(m, Mechanism) and check_mechanism(m, image_space=None) is m
+        assert not m.backends.missing()
+        assert all(callable(getattr(m.backends, s)) for s in BACKEND_STAGES)
+    with pytest.raises(TypeError, match="lacks solve"):
+        check_mechanism(PlanarMechanism(concrete[0].legs))
+    with pytest.raises(TypeError, match="a planar mechanism"):
+        check_mechanism(concrete[1])                        # a spatial platform in a planar engine

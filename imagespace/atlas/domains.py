@@ -53,6 +53,7 @@ from .._validate import _short, as_box, as_count, as_float_array
 from ..core.mechanism import check_mechanism
 from ..exceptions import InputError
 from .boxes import check_joint_box
+from ..solve import front
 
 __all__ = ["UniquenessDomains", "uniqueness_domains", "workspace_box", "plot_uniqueness_domains"]
 
@@ -88,7 +89,7 @@ def workspace_box(manipulator, joint_box, seed=0):
     box = check_joint_box(manipulator, joint_box)
     rng = np.random.default_rng(as_count(seed, "seed", 0))
     Q = box[:, 0] + rng.random((_WORKSPACE_SAMPLES, 3)) * (box[:, 1] - box[:, 0])
-    res = manipulator.direct_kinematics_batch(Q)
+    res = front.direct_kinematics_batch(manipulator, Q)
     P = res.poses[res.valid]
     if not len(P):
         raise InputError(f"no assembly mode found for joint vectors of joint_box {box.tolist()}: the "
@@ -339,7 +340,7 @@ def uniqueness_domains(manipulator, joint_box, resolution=40, pose_box=None, wor
     # n_A at every workspace node: modes of f(X) that fall in X's aspect
     flat_aspect = aspect.ravel()
     nodes = np.flatnonzero(flat_aspect >= 0)
-    dk = manipulator.direct_kinematics_batch(Q[nodes])
+    dk = front.direct_kinematics_batch(manipulator, Q[nodes])
     poses = dk.poses                                          # (n, 6, 3)
     valid = dk.valid
     idx, inside = _locate(axes, pbox, poses.reshape(-1, 3))

@@ -12,6 +12,7 @@ import numpy as np
 
 from .._validate import _short, as_float_array
 from ..exceptions import InputError
+from ..solve import front
 
 __all__ = ["plot_atlas", "atlas_figure", "atlas_traces", "plot_atlas_section", "LEVEL_COLOURS"]
 
@@ -52,7 +53,7 @@ def _check_q(atlas, q):
 def _q_count(atlas, q, manipulator=None):
     """Certified count at q: proven anew when the design is at hand, else the atlas's grid."""
     if manipulator is not None:
-        c, _ = manipulator.certified_root_counts(q[None, :])
+        c, _ = front.certified_root_counts(manipulator, q[None, :])
         return int(c[0]), "certified at q"
     inside = np.all(q >= atlas.box[:, 0]) and np.all(q <= atlas.box[:, 1])
     return (atlas.count_at(q), "nearest grid node") if inside else (None, "outside the box")

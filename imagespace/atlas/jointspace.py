@@ -49,6 +49,7 @@ from .._validate import _short, as_box, as_count, as_flag, as_float_array
 from ..core.mechanism import check_mechanism
 from .boxes import check_joint_box
 from ..exceptions import InputError
+from ..solve import front
 
 __all__ = ["AtlasRegion", "JointAtlas", "joint_atlas", "check_joint_box", "BISECTION_STEPS",
            "MAX_NODES"]
@@ -469,7 +470,7 @@ def _surface(manipulator, counts, axes, box, tolerances):
             if not idx.size:
                 break
             mid = 0.5 * (lo[idx] + hi[idx])
-            cm, _p = manipulator.certified_root_counts(mid)
+            cm, _p = front.certified_root_counts(manipulator, mid)
             cm = cm.astype(int)
             bad = cm < 0
             below = ~bad & (cm < level)
@@ -547,7 +548,7 @@ def joint_atlas(manipulator, joint_box, resolution=40, cusps=True, progress=Fals
     t0 = time.perf_counter()
     axes = tuple(np.linspace(box[k, 0], box[k, 1], res[k]) for k in range(3))
     G = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-    counts, _path = manipulator.certified_root_counts(G)
+    counts, _path = front.certified_root_counts(manipulator, G)
     counts = counts.reshape(res).astype(np.int8)
     seconds["counts"] = time.perf_counter() - t0
     t1 = time.perf_counter()

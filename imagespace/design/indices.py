@@ -21,6 +21,7 @@ import warnings
 from .._validate import _short, as_count, as_float_array, as_scalar
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
+from ..singular.jacobians import jacobians
 from .workspace import MAX_ORIENTATIONS, check_phi_range
 
 __all__ = ["manipulability", "resistivity", "isotropy", "local_indices", "global_indices"]
@@ -143,7 +144,7 @@ def local_indices(manipulator, poses, length, working_modes=None):
     L = as_scalar(length, "length")
     if not L > 0:
         raise InputError(f"length must be a positive characteristic length, got {length!r}")
-    jac = manipulator.jacobians(np.atleast_2d(poses), working_modes=working_modes)
+    jac = jacobians(manipulator, np.atleast_2d(poses), working_modes=working_modes)
     Jh = jac.homogeneous(length)
     ok = jac.valid & np.all(np.isfinite(Jh), axis=(1, 2))
     out = {k: np.full(len(Jh), np.nan) for k in ("manipulability", "resistivity", "isotropy", "isotropy_frobenius")}

@@ -29,6 +29,7 @@ from .._validate import _short, as_count, as_float_array, as_joint_vector
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
 from .._html import dataclass_html, dataclass_repr
+from ..solve import front
 
 __all__ = ["BacklashAnalysis", "backlash", "released_curve", "MAX_MEMORY"]
 
@@ -301,7 +302,7 @@ def backlash(manipulator, q, leg, delta=0.0, samples=20000, max_memory=MAX_MEMOR
     qf = manipulator.check_q(as_joint_vector(q, "q"))
     theta, X = released_curve(manipulator, qf, leg, samples, max_memory=max_memory)
     L = manipulator.legs[leg]
-    modes = manipulator.direct_kinematics(qf)
+    modes = front.direct_kinematics(manipulator, qf)
     # the released leg's branch: the one reproducing q at the modes
     if modes:
         vals = L.actuated_values(np.array([mm.pose for mm in modes]))

@@ -15,6 +15,7 @@ from ..core.mechanism import check_mechanism
 from ..exceptions import InputError
 from ..singular.cusps import Cusp, free_joints, half_angle_gap
 from .._html import dataclass_html, dataclass_repr
+from ..solve import front
 
 __all__ = ["CuspLoop", "cusp_loop", "MAX_STEPS"]
 
@@ -162,7 +163,7 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     Q = np.repeat(cusp.q[None], steps, axis=0)
     Q[:, fa] += radius * np.cos(ang)
     Q[:, fb] += radius * np.sin(ang)
-    res = manipulator.direct_kinematics_batch(Q, method="numpy")
+    res = front.direct_kinematics_batch(manipulator, Q, method="numpy")
     count = np.where(res.row_ok, res.count.astype(np.int64), -1)     # count is uint8: widen before -1
     top = count == count.max()
     # the middle of the longest run of maximal count (cyclically)

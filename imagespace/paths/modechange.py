@@ -37,6 +37,7 @@ from ..core.kinematic_map import image_point, normalize
 from ..core.mechanism import check_mechanism
 from .check import ImagePath, PathCheck, check_path, polyline, segments_free
 from .._html import fmt, html_table, summary
+from ..solve import front
 
 __all__ = ["ModeChangePlan", "plan_mode_change", "joint_trajectory"]
 
@@ -249,7 +250,7 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
     if any(_is_index(v) for v in (mode_a, mode_b)):
         from .._validate import as_index
 
-        modes = list(manipulator.direct_kinematics(qf))
+        modes = list(front.direct_kinematics(manipulator, qf))
 
         def pick(v, name):
             if not _is_index(v):

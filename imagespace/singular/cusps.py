@@ -39,6 +39,7 @@ from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
 from .._validate import as_tolerances
 from .._html import dataclass_html, dataclass_repr
+from ..solve import front
 
 __all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "cusp_system", "free_joints",
            "half_angle_gap", "linking_number"]
@@ -183,7 +184,7 @@ def mode_count_map(manipulator, fixed, value, window, resolution=120):
         if not np.all(ok):
             raise InputError(f"window leaves the domain of joint {i} ({leg.joints}); got values like "
                              f"{Q[~ok, i][0]}")
-    res = manipulator.direct_kinematics_batch(Q)
+    res = front.direct_kinematics_batch(manipulator, Q)
     counts = np.where(res.row_ok, res.count.astype(np.int64), -1).reshape(len(a), len(b))   # uint8: widen first
     return ModeCountMap(int(fixed), float(value), free_joints(fixed), (a, b), counts)
 
@@ -353,7 +354,7 @@ def half_angle_gap(phi, theta):
 def _pose_at(m, q, theta):
     # a cusp is a triple root: the float DK is near-singular there by construction, so the batch
     # path (which flags instead of warning) gives the modes; the one nearest theta is the cusp's
-    modes = m.direct_kinematics_batch(np.asarray(q, dtype=float)[None, :], method="numpy").modes(0)
+    modes = front.direct_kinematics_batch(m, np.asarray(q, dtype=float)[None, :], method="numpy").modes(0)
     if not modes:
         return np.full(3, np.nan)
     dist = [half_angle_gap(mm.pose[2], theta) for mm in modes]

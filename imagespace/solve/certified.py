@@ -543,7 +543,7 @@ def _orientation_positions(m, q_exact, P, tr, cert, plan):
 def certified_modes(m, q, qf):
     """The certified per-call path: modes computed root by root from the exact certificate.
 
-    The certified stage of :func:`imagespace.solve.dispatch.direct_kinematics` (``certify=True``):
+    The certified stage of :func:`imagespace.solve.front.direct_kinematics` (``certify=True``):
     ``q`` is the joint vector as given (exact where it is), ``qf`` its float copy. Not public API
     (out of ``__all__``)."""
     items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
@@ -734,7 +734,7 @@ def _kernel_certificate(kernel, Q, res):
 def certify_batch(m, Q, res, kernel=None):
     """Certified counts per row on the exact input, and modes held to them (see DKBatchResult).
 
-    The certification stage of :func:`imagespace.solve.dispatch.direct_kinematics_batch`
+    The certification stage of :func:`imagespace.solve.front.direct_kinematics_batch`
     (``certify=True``): runs after the float batch solve and updates ``res`` in place. With the
     design's generic ``kernel`` the counts are proven inside it (:meth:`BatchKernel.certified_counts`:
     no symbolic derivation, no eigenvalues); without it (designs the kernel does not take) the
@@ -749,7 +749,7 @@ def certify_batch(m, Q, res, kernel=None):
     redo = {}                     # row -> (modes, solver name), stored in one rebuild after the loop
     for i in np.flatnonzero(res.row_ok & ~consistent):
         try:
-            modes = m.direct_kinematics(Q[i], certify=True)
+            modes = certified_modes(m, Q[i], Q[i])
         except DegenerateDesignError as e:
             res.row_ok[i] = False
             res.errors[int(i)] = str(e)

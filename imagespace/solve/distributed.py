@@ -1,7 +1,7 @@
 """Direct kinematics of a ``dask.array`` of joint vectors, block by block (on a cluster or locally).
 
 :func:`direct_kinematics_dask` (bound as :meth:`PlanarParallel.direct_kinematics_dask`) maps
-:func:`~imagespace.solve.dispatch.direct_kinematics_batch` over the row blocks of an ``(n, 3)``
+:func:`~imagespace.solve.front.direct_kinematics_batch` over the row blocks of an ``(n, 3)``
 dask array. Each block is solved exactly once, into one structured numpy array (a record per
 row: count, poses, masks); the result's arrays (:class:`DKDaskResult`) are lazy field views of
 that one array, so computing any or all of them solves each block once.
@@ -31,8 +31,9 @@ import numpy.typing as npt
 
 from .._html import html_table, summary
 from .._validate import as_flag, as_float_array
+from ..core.mechanism import check_mechanism
 from ..exceptions import InputError
-from .dispatch import direct_kinematics_batch
+from .front import check_method, direct_kinematics_batch
 from .results import MAX_MODES
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -95,12 +96,14 @@ def kept_design(token: str, m: Any) -> Any:
     return kept
 
 
-def record_dtype(certify: bool) -> np.dtype:
+def record_dtype(certify: bool, width: int = MAX_MODES, pose_dim: int = 3) -> np.dtype:
     """The per-row record one block solve writes: the fields of :class:`DKDaskResult`.
 
-    ``count`` uint8, ``poses`` (6, 3) float64, ``valid`` (6,) bool, ``aspect`` (6,) int8,
-    ``row_ok`` bool, ``near_singular`` bool; with ``certify`` also ``certified_roots`` int8 (-1
-    where the row is not valid) and ``consistent`` bool. 159 bytes a row (161 certified).
+    ``count`` uint8, ``poses`` (width, pose_dim) float64, ``valid`` (width,) bool, ``aspect``
+    (width,) int8, ``row_ok`` bool, ``near_singular`` bool; with ``certify`` also
+    ``certified_roots`` int8 (-1 where the row is not valid) and ``consistent`` bool. A planar
+    design: width 6, poses ``(x, y, phi)``, 159 bytes a row (161 certified); a spatial platform:
+    width its number of complex solutions, poses translation and unit quaternion (7 numbers).
 
     Examples
     --------
@@ -110,15 +113,16 @@ def record_dtype(certify: bool) -> np.dtype:
     >>> record_dtype(False).itemsize, record_dtype(True).itemsize
     (159, 161)
     """
-    spec: list[Any] = [("count", np.uint8), ("poses", np.float64, (MAX_MODES, 3)),
-                       ("valid", np.bool_, (MAX_MODES,)), ("aspect", np.int8, (MAX_MODES,)),
+    spec: list[Any] = [("count", np.uint8), ("poses", np.float64, (width, pose_dim)),
+                       ("valid", np.bool_, (width,)), ("aspect", np.int8, (width,)),
                        ("row_ok", np.bool_), ("near_singular", np.bool_)]
     if certify:
         spec += [("certified_roots", np.int8), ("consistent", np.bool_)]
     return np.dtype(spec)
 
 
-def solve_block(block: np.ndarray, m: Any, certify: bool, method: str, token: str = "") -> np.ndarray:
+def solve_block(block: np.ndarray, m: Any, certify: bool, method: str, token: str = "",
+                width: int = MAX_MODES, pose_dim: int = 3) -> np.ndarray:
     """Solve one row block: :func:`direct_kinematics_batch` on it, packed into records.
 
     The task function of :func:`direct_kinematics_dask` (runs on the workers; ``token`` names
@@ -134,15 +138,17 @@ def solve_block(block: np.ndarray, m: Any, certify: bool, method: str, token: st
     >>> rec["count"].tolist(), rec["valid"].sum(axis=1).tolist()
     ([6], [6])
     """
-    out = np.zeros(block.shape[0], dtype=record_dtype(certify))
+    out = np.zeros(block.shape[0], dtype=record_dtype(certify, width, pose_dim))
     if block.shape[0] == 0:
         return out
     res = direct_kinematics_batch(kept_design(token, m) if token else m, block, certify=certify,
                                   method=method)
     out["count"] = res.count
-    out["poses"] = res.poses
-    out["valid"] = res.valid
-    out["aspect"] = res.aspect
+    w = min(width, np.shape(res.valid)[1])
+    out["poses"] = np.nan
+    out["poses"][:, :w] = np.asarray(res.poses)[:, :w]
+    out["valid"][:, :w] = np.asarray(res.valid)[:, :w]
+    out["aspect"][:, :w] = np.asarray(res.aspect)[:, :w]
     out["row_ok"] = res.row_ok
     if res.near_singular is not None:
         out["near_singular"] = res.near_singular
@@ -325,8 +331,8 @@ class DKDaskResult:
                           title=f"DKDaskResult: {self._summary_rows()[0][1]} rows")
 
 
-def _as_row_blocks(Q: Any) -> "dask.array.Array":
-    """``Q`` as a float or integer dask array of shape ``(n, 3)`` with full rows in every block."""
+def _as_row_blocks(Q: Any, k: int = 3) -> "dask.array.Array":
+    """``Q`` as a float or integer dask array of shape ``(n, k)`` with full rows in every block."""
     import dask.array as da
 
     if isinstance(Q, da.Array):
@@ -337,14 +343,22 @@ def _as_row_blocks(Q: Any) -> "dask.array.Array":
     elif isinstance(Q, np.ndarray) and Q.dtype.kind != "O":
         raise TypeError(f"Q must be a real float or integer array, got dtype {Q.dtype}")
     else:
-        Q = as_float_array(Q, "Q", last=3, finite=False)
-    if Q.ndim != 2 or not Q.shape[1] == 3:
-        raise InputError(f"Q must have shape (n, 3) (one joint vector per row), got shape {Q.shape}")
+        Q = as_float_array(Q, "Q", last=k, finite=False)
+    if Q.ndim != 2 or not Q.shape[1] == k:
+        raise InputError(f"Q must have shape (n, {k}) (one joint vector per row), got shape {Q.shape}")
     if not isinstance(Q, da.Array):
-        Q = da.from_array(Q, chunks=(DEFAULT_CHUNK_ROWS, 3))
+        Q = da.from_array(Q, chunks=(DEFAULT_CHUNK_ROWS, k))
     if len(Q.chunks[1]) != 1:                   # chunked along the joints: whole rows per block
-        Q = Q.rechunk({1: 3})
+        Q = Q.rechunk({1: k})
     return Q
+
+
+def _layout(m: Any) -> tuple[int, int]:
+    """Mode slots and pose size of a record: 6 planar modes ``(x, y, phi)``; a spatial platform's
+    complex solution count (its start system) and translation + quaternion."""
+    if m.image_space == "planar":
+        return MAX_MODES, 3
+    return int(len(m.start_system.solutions)), 7
 
 
 def direct_kinematics_dask(m: Any, Q: "dask.array.Array | npt.ArrayLike", certify: bool = False,
@@ -358,8 +372,9 @@ def direct_kinematics_dask(m: Any, Q: "dask.array.Array | npt.ArrayLike", certif
 
     Parameters
     ----------
-    Q : (n, 3) dask array, or array_like
-        One joint vector per row, float or integer. Blocks split along the joints are
+    Q : (n, k) dask array, or array_like
+        One joint vector per row (``k = m.joint_count``: 3 planar, the legs of a spatial
+        platform), float or integer. Blocks split along the joints are
         rechunked to whole rows; anything else (a numpy array, a memmap, a list) is wrapped
         into blocks of :data:`DEFAULT_CHUNK_ROWS` rows. Rows with NaN or out-of-domain values
         are masked (``row_ok`` False), not raised.
@@ -416,17 +431,19 @@ def direct_kinematics_dask(m: Any, Q: "dask.array.Array | npt.ArrayLike", certif
     import dask.array as da
     from dask.base import tokenize
 
+    m = check_mechanism(m, image_space=None)
     certify = as_flag(certify, "certify")
-    if not isinstance(method, str) or method not in _METHODS:
-        raise InputError(f"method must be 'auto', 'kernel' or 'numpy', got {method!r}")
-    Q = _as_row_blocks(Q)
-    dtype = record_dtype(certify)
+    method = check_method(method, m)
+    Q = _as_row_blocks(Q, m.joint_count)
+    width, pose_dim = _layout(m)
+    dtype = record_dtype(certify, width, pose_dim)
     # the manipulator as one key of the graph (not copied into every task): a worker receives it
     # once and its compiled kernel, cached on that copy, serves every block the worker solves;
     # the token (of the design without its caches) finds the copy a worker kept from before
     token = tokenize(m)
     design = dask.delayed(m, name=f"{type(m).__name__}-{token}")
-    records = da.map_blocks(solve_block, Q, design, certify, method, token, dtype=dtype, drop_axis=1,
+    records = da.map_blocks(solve_block, Q, design, certify, method, token, width, pose_dim,
+                            dtype=dtype, drop_axis=1,
                             chunks=(Q.chunks[0],), meta=np.empty((0,), dtype=dtype),
                             token="direct-kinematics-dask")
     return DKDaskResult.from_records(records)

@@ -1008,7 +1008,7 @@ class BatchKernel:
         --------
         >>> import numpy as np
         >>> import imagespace as isp
-        >>> from imagespace.solve.dispatch import batch_kernel
+        >>> from imagespace.solve.proof import batch_kernel
         >>> m = isp.examples.general_3rpr()
         >>> X, P, R, A, count, flag = batch_kernel(m)(np.array([m.q_example_float]))
         >>> count.tolist(), flag.tolist()
@@ -1051,7 +1051,7 @@ class BatchKernel:
         --------
         >>> import numpy as np
         >>> import imagespace as isp
-        >>> from imagespace.solve.dispatch import batch_kernel
+        >>> from imagespace.solve.proof import batch_kernel
         >>> m = isp.examples.general_3rpr()
         >>> counts, lo, hi, chart = batch_kernel(m).certified_counts(np.array([m.q_example_float]))
         >>> counts.tolist(), int((chart[0] >= 0).sum())

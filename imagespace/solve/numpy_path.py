@@ -4,7 +4,7 @@ per-orientation solves of the Cramer cases (a)/(b).
 
 The functions take the mechanism ``m`` (a :class:`~imagespace.PlanarParallel`) first. The
 non-underscore functions are the stages :mod:`imagespace.solve.certified` and
-:mod:`imagespace.solve.dispatch` reuse; they are not public API (``__all__`` is empty)."""
+:mod:`imagespace.solve.planar` reuse; they are not public API (``__all__`` is empty)."""
 
 from __future__ import annotations
 
@@ -181,21 +181,10 @@ def _distinct_orientations_batch(half, valid, tol):
 
 
 def check_rows(m, Q):
-    """Input stage of the batch direct kinematics: which rows of ``Q`` (n, 3) hold finite joint
-    values inside every actuated joint's domain, as ``(row_ok, errors)`` with ``errors`` mapping
-    a refused row to its message. Shared by the numpy path (:func:`solve_batch`) and the kernel
-    dispatch (:mod:`imagespace.solve.dispatch`), which never raise on a bad row."""
-    errors = {}
-    row_ok = np.all(np.isfinite(Q), axis=1)
-    for i in np.flatnonzero(~row_ok):
-        errors[int(i)] = f"Q[{i}] is not finite: {Q[i].tolist()}"
-    for j, leg in enumerate(m.legs):
-        bad = row_ok & ~leg.joint_values_ok(np.where(row_ok, Q[:, j], 0.0))
-        for i in np.flatnonzero(bad):
-            row_ok[i] = False
-            errors[int(i)] = (f"Q[{i}, {j}] = {Q[i, j]} is outside the domain of the actuated "
-                              f"joint {leg.actuated_name} of {leg.joints}")
-    return row_ok, errors
+    """Input stage of the batch direct kinematics: :meth:`Mechanism.joint_rows` (which rows of
+    ``Q`` (n, 3) hold finite joint values inside every actuated joint's domain, as
+    ``(row_ok, errors)``)."""
+    return m.joint_rows(Q, warn=False)
 
 
 def store_modes(res, i, modes):
@@ -208,7 +197,7 @@ def store_modes(res, i, modes):
     res.set_modes(i, modes)
 
 
-def solve_batch(m, Q, raise_degenerate):
+def solve_batch(m, Q, raise_degenerate, exact_check=None):
     """The numpy path for a batch ``Q`` (n, 3): balanced quadrics, the kinematic polynomial's
     coefficients, companion eigenvalues in the well-conditioned chart, back-substitution,
     Newton, the legs' check; Cramer cases go row by row to :func:`_special_candidates`; returns
@@ -299,7 +288,7 @@ def solve_batch(m, Q, raise_degenerate):
     undecided = np.ones(n, dtype=bool) if proof is None else proof[0] < 0
     continuum = []
     for i in np.flatnonzero(near & (undecided | special)):
-        message = _continuum_message(m, Q[i], bool(special[i]))
+        message = _continuum_message(m, Q[i], bool(special[i]), exact_check)
         if message is None:
             continue
         if raise_degenerate:
@@ -333,19 +322,20 @@ def _proof(m, Q, row_ok):
     return counts, lo, hi, chart
 
 
-def _continuum_message(m, q, special):
+def _continuum_message(m, q, special, exact_check=None):
     """The message of a continuum of assembly modes at ``q`` (decided exactly by
     :func:`~imagespace.solve.continuum.continuum_at`), or None. Where the exact test cannot
-    decide (irrational coefficients) a Cramer-case row is decided by the certified per-call
-    path, as before."""
+    decide (irrational coefficients) a Cramer-case row is decided by ``exact_check(m, q)`` (the
+    caller's certified per-row path, which raises
+    :class:`~imagespace.exceptions.DegenerateDesignError` on a continuum), where given."""
     verdict, phi = continuum_at(m, q)
     if verdict:
         return (f"{m.name} at q = {np.asarray(q, dtype=float).tolist()}: a continuum of assembly "
                 f"modes at phi = {phi:.6g} (the positions at that orientation form a curve: "
                 f"architecture singularity or singular joint values)")
-    if verdict is None and special:
+    if verdict is None and special and exact_check is not None:
         try:
-            m.direct_kinematics(q, certify=True)
+            exact_check(m, q)
         except DegenerateDesignError as e:
             return str(e)
     return None
@@ -592,7 +582,7 @@ def complex_modes(m, q):
     polynomial with their back-substituted positions.
 
     The complex stage of the per-call direct kinematics (``include_complex=True`` in
-    :func:`imagespace.solve.dispatch.direct_kinematics`)."""
+    :func:`imagespace.solve.front.direct_kinematics`)."""
     poly = m.kinematic_polynomial([sp.Rational(float(v)) for v in q])
     coeffs = np.array([complex(c) for c in form_coefficients(poly)])
     d = len(coeffs) - 1

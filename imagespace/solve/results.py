@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import Any, Optional, Sequence, Union
 
 from .._html import html_table, modes_table, summary
+from ..core.mechanism import index_rows
 from ..core.kinematic_map import image_point as _image_point
 
 __all__ = ["AssemblyMode", "AssemblyModes", "CertifiedModes", "DKBatchResult"]
@@ -801,6 +802,43 @@ class DKBatchResult:
         return [AssemblyMode(X[j], P[j].copy(), float(self._residual[s][j]), int(self._aspect[s][j]), True,
                              1 if mult is None else int(mult[s][j]))
                 for j in range(len(P))]
+
+    def __getitem__(self, i):
+        """Row ``i``'s modes as the per-call answer (an :class:`AssemblyModes`); negative ``i``
+        counts from the end, a slice gives a list of them.
+
+        Raises
+        ------
+        IndexError
+            ``i`` is out of range.
+        TypeError
+            ``i`` is not an integer or a slice.
+
+        Examples
+        --------
+        >>> import numpy as np, imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> r = m.direct_kinematics_batch(np.array([m.q_example_float, [np.nan, 1, 1]]))
+        >>> len(r[0]), len(r[-1]), [len(x) for x in r[::-1]]
+        (6, 0, [0, 6])
+        """
+        return index_rows(self, i, lambda k: AssemblyModes(self.modes(k)))
+
+    @property
+    def certified(self) -> np.ndarray:
+        """(n,) bool: rows whose modes are proven (``certify=True``: the certified count accounts
+        for them); all False without a certificate.
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> m = isp.examples.general_3rpr()
+        >>> m.direct_kinematics_batch([m.q_example_float], certify=True).certified.tolist()
+        [True]
+        """
+        if self.consistent is None:
+            return np.zeros(len(self), dtype=bool)
+        return np.asarray(self.consistent, dtype=bool) & np.asarray(self.row_ok, dtype=bool)
 
     def _summary_rows(self):
         n = len(self)

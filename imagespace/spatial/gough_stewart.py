@@ -42,6 +42,7 @@ from .certify import exact_matrix
 from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
 from .solver import QuadricFamily
+from .study import rotation_entries
 
 __all__ = ["GoughStewart", "GOUGH_STEWART_BOUND", "PAIRED_BOUND"]
 
@@ -403,10 +404,7 @@ def _exact_det(rows):
 def _exact_jacobian(q, t, A, B):
     """Rows ``(s_i, a_i x s_i)`` at the rational pose (quaternion ``q``, translation ``t``)."""
     n = sum(v * v for v in q)
-    w, x, y, z = q
-    R = [[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-         [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
-         [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]]
+    R = rotation_entries(*q)
     rows = []
     for a, b in zip(A, B):
         s = [sum(R[i][j] * b[j] for j in range(3)) / n + t[i] - a[i] for i in range(3)]

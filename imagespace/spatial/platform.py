@@ -1,5 +1,7 @@
-"""What every spatial parallel platform of this package shares: anchors, leg vectors, and the
-direct kinematics of its quadric family (fast, certified, exact; one row or a batch).
+"""What every spatial parallel platform of this package shares: anchors, leg vectors, the
+:class:`~imagespace.core.mechanism.Mechanism` contract and the direct kinematics of its quadric
+family through the one front end (:mod:`imagespace.solve.front`) and the spatial back ends
+(:mod:`imagespace.spatial.backends`: fast, certified, exact; one row or a batch).
 
 A platform subclass (:class:`~imagespace.spatial.GoughStewart`,
 :class:`~imagespace.spatial.ThreeRPS`) supplies ``leg_count``, :meth:`QuadricPlatform.family` and,
@@ -8,17 +10,18 @@ where it has one, a design check (:meth:`QuadricPlatform.check_design`).
 
 from __future__ import annotations
 
-import warnings
 from functools import cached_property
 
 import numpy as np
 
-from .._validate import as_flag, as_float_array
+from .._validate import as_float_array
+from ..core.mechanism import Mechanism
 from ..core.reach import point_pairs_obstruction
-from ..exceptions import InputError, NearSingularWarning
-from .results import SpatialDKBatch, SpatialDKResult
-from .solver import (certify_row, certify_rows, exact_result, exact_study_solver, solve_rows,
-                     start_system)
+from ..exceptions import InputError
+from ..solve.front import (certified_root_counts, direct_kinematics, direct_kinematics_batch,
+                           direct_kinematics_chunks)
+from . import backends as _backends
+from .solver import start_system
 from .study import rotation_matrix, translation
 
 __all__ = ["QuadricPlatform", "anchor_points", "check_lengths", "DK_METHODS"]
@@ -90,13 +93,69 @@ def check_lengths(lengths, name="lengths", count=6, allow_batch=False):
     return L
 
 
-class QuadricPlatform:
-    """Base of the spatial platforms: ``base_points``, ``platform_points``, ``tolerances``.
+class QuadricPlatform(Mechanism):
+    """Base of the spatial platforms: ``base_points``, ``platform_points``, ``tolerances``; a
+    :class:`~imagespace.core.mechanism.Mechanism` of the image space ``"study"``.
 
-    Subclasses set ``leg_count`` and define :meth:`family`.
+    Subclasses set ``leg_count`` and define :meth:`family` and :meth:`inverse_kinematics`.
     """
 
     leg_count = 0
+    image_space = "study"
+    #: the spatial back ends (imagespace.spatial.backends); the front end reads them
+    backends = _backends.BACKENDS
+    # the direct kinematics: the one front end (docstrings and examples at imagespace.solve.front)
+    direct_kinematics = direct_kinematics
+    direct_kinematics_batch = direct_kinematics_batch
+    direct_kinematics_chunks = direct_kinematics_chunks
+    certified_root_counts = certified_root_counts
+
+    @property
+    def joint_count(self):
+        """Number of legs (the length of a row of leg lengths)."""
+        return self.leg_count
+
+    @property
+    def name(self):
+        """The design's name (its class, the number of legs and anchors)."""
+        return f"{type(self).__name__} ({self.leg_count} legs)"
+
+    def check_q(self, q, name="lengths"):
+        """One row of leg lengths as checked floats: real, finite, positive (see :func:`check_lengths`).
+
+        Examples
+        --------
+        >>> import imagespace as isp
+        >>> gs, L = isp.examples.dietmaier_1998()
+        >>> gs.check_q(L).shape
+        (6,)
+        """
+        return check_lengths(q, name, count=self.leg_count)
+
+    def joint_rows(self, Q):
+        """Which rows of a float array ``Q`` (n, legs) hold positive finite leg lengths:
+        ``(ok, errors)`` (a batch never raises on one bad row).
+
+        Examples
+        --------
+        >>> import numpy as np, imagespace as isp
+        >>> gs, L = isp.examples.dietmaier_1998()
+        >>> ok, errors = gs.joint_rows(np.array([L, -np.asarray(L)]))
+        >>> ok.tolist(), sorted(errors)
+        ([True, False], [1])
+        """
+        Q = np.asarray(Q, dtype=float)
+        ok = np.all(np.isfinite(Q) & (Q > 0), axis=1)
+        errors = {int(i): f"lengths[{i}] must be positive finite leg lengths, got {Q[i].tolist()}"
+                  for i in np.flatnonzero(~ok)}
+        return ok, errors
+
+    def direct_kinematics_dask(self, *args, **kwargs):
+        """The dask front end (:func:`imagespace.solve.distributed.direct_kinematics_dask`) for
+        the rows of leg lengths of a dask array."""
+        from ..solve.distributed import direct_kinematics_dask
+
+        return direct_kinematics_dask(self, *args, **kwargs)
 
     def family(self):  # pragma: no cover - every subclass defines it
         """The direct kinematics as a :class:`~imagespace.spatial.solver.QuadricFamily`."""
@@ -186,21 +245,7 @@ class QuadricPlatform:
         beyond = far & (top > tol.exact_reach_ratio * self._size)
         return obstruction, far, beyond
 
-    def _beyond_message(self, L, exact):
-        tol = self.tolerances
-        limit = tol.exact_reach_ratio if exact else tol.far_reach_ratio
-        what = ("exact arithmetic on it would take minutes" if exact else
-                "the fast path does not resolve it; certify=True or method='exact' decide it (msolve)")
-        return (f"lengths = {np.asarray(L).tolist()} reach beyond {limit:g} times the size of the "
-                f"design (its largest anchor coordinate is {self._size:g}) and no reach bound proves "
-                f"that no pose exists: {what}; expected lengths within that range")
-
-    @staticmethod
-    def _reach_result(obstruction):
-        return SpatialDKResult(np.zeros((0, 8)), np.zeros(0), np.zeros(0, np.int8), -1, True, True,
-                               "reach")
-
-    @cached_property
+    @property
     def start_system(self):
         """The family's solutions at generic complex lengths, computed once per design.
 
@@ -217,193 +262,4 @@ class QuadricPlatform:
         >>> len(isp.GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3))).start_system.solutions)
         40
         """
-        return start_system(self.family())
-
-    def _exact_solver_or_none(self):
-        from ..core.msolve import msolve_available
-
-        return exact_study_solver if msolve_available() else None
-
-    def direct_kinematics(self, lengths, certify=False, method="fast"):
-        """Every real assembly mode for given leg lengths.
-
-        Parameters
-        ----------
-        lengths : (legs,) float
-            Leg lengths, positive. Floats are taken as the exact binary rationals they are.
-        certify : bool
-            Prove the count and every mode, whatever it takes. The fast path already proves most
-            rows (``certified`` True: its compiled Krawczyk test on the exact quadrics reached
-            the family's bound, 40 for Gough-Stewart, 16 for 6-3, 3-3 and 3-RPS); a row it does
-            not prove (near a double mode) goes to Krawczyk boxes in arb (0.05-0.2 s), then to
-            msolve on the exact system (1-20 s; needs ``imagespace[exact]``).
-        method : {"fast", "exact"}
-            ``"fast"``: the parameter homotopy (one start system per design, then one compiled
-            path per start solution). ``"exact"``: msolve on the exact system; always certified.
-
-        Returns
-        -------
-        SpatialDKResult
-            ``study_points``, ``rotations``, ``translations``, ``residuals``, ``aspects``,
-            ``count``, ``complex_count``, ``certified``, ``reliable``, ``method``.
-
-        Raises
-        ------
-        InputError
-            If ``lengths`` is not ``legs`` positive finite numbers, or ``method`` is unknown; if
-            the lengths exceed ``tolerances.far_reach_ratio`` times the design's size without
-            ``certify`` or ``method="exact"`` (the fast path does not resolve them), or
-            ``tolerances.exact_reach_ratio`` times it at all, and no reach bound decides them.
-        DegenerateDesignError
-            If the design check refuses the design (an architecture singularity), or with
-            ``method="exact"`` (or a certification that falls back to it) if the solution set is
-            positive-dimensional.
-
-        Warns
-        -----
-        NearSingularWarning
-            When the fast path's answer is not ``reliable`` (its compiled certificate did not
-            prove the row: a double mode near, a path that did not arrive, two paths at one
-            endpoint), so its count may be wrong, or when a requested certificate is not
-            available.
-
-        Notes
-        -----
-        Every call first tries a reach bound (:mod:`imagespace.core.reach`): when two legs cannot
-        meet (a leg ``1e300`` long next to one of length 2 on anchors a unit apart), the answer is
-        no mode, proven at once (``method="reach"``, ``certified``, ``complex_count`` -1: not
-        computed). Far lengths are decided by msolve directly (no tracking).
-
-        Examples
-        --------
-        >>> import imagespace as isp
-        >>> from imagespace.spatial.study import study_point
-        >>> rng = np.random.default_rng(0)
-        >>> gs = isp.GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
-        >>> s = study_point([1.0, 0.2, -0.1, 0.3], [0.1, 0.2, 1.5])
-        >>> res = gs.direct_kinematics(gs.inverse_kinematics(s), certify=True)
-        >>> res.certified, res.complex_count
-        (True, 40)
-        >>> bool(np.min(np.abs(res.study_points - s).max(axis=1)) < 1e-9)
-        True
-        """
-        L = check_lengths(lengths, count=self.leg_count)
-        certify = as_flag(certify, "certify")
-        if method not in DK_METHODS:
-            raise InputError(f"method must be one of {DK_METHODS}, got {method!r}")
-        self.check_design()
-        (obstruction,), (far,), (beyond,) = self.reach_check(L)
-        if obstruction is not None:
-            return self._reach_result(obstruction)
-        if beyond:
-            raise InputError(self._beyond_message(L, exact=True))
-        if far:
-            if not certify and method != "exact":
-                raise InputError(self._beyond_message(L, exact=False))
-            return exact_result(self.family(), L)
-        if method == "exact":
-            return exact_result(self.family(), L)
-        if certify:
-            return certify_row(self.family(), self.start_system, L, self.tolerances,
-                               exact_solver=self._exact_solver_or_none())
-        res = solve_rows(self.family(), self.start_system, (L ** 2)[None], self.tolerances,
-                         lengths=L[None])[0]
-        if not res.reliable:
-            warnings.warn(f"the fast path could not prove this row: its {res.count} real modes may be "
-                          "wrong (the compiled Krawczyk test did not prove every solution distinct "
-                          "and decided: a double mode near, or a lost path); use certify=True",
-                          NearSingularWarning, stacklevel=2)
-        return res
-
-    def direct_kinematics_batch(self, lengths, certify=False):
-        """Real assembly modes of many rows of leg lengths (the fast path, per-row masks).
-
-        Parameters
-        ----------
-        lengths : (n, legs) float
-            One row per problem. Rows with a non-positive or non-finite length are marked invalid
-            (``valid[i] = False``, no modes) instead of raising; so are rows beyond
-            ``tolerances.far_reach_ratio`` times the design's size (without ``certify``) or
-            ``tolerances.exact_reach_ratio`` times it (with ``certify``) that no reach bound
-            decides. Rows a reach bound proves empty are valid, certified, with no mode and
-            ``complex_count`` -1.
-        certify : bool
-            Prove every valid row (see :meth:`direct_kinematics`): one compiled pass for all
-            rows, arb and msolve only for the rows it does not prove.
-
-        Returns
-        -------
-        SpatialDKBatch
-            ``counts``, ragged ``study_points`` (row ``i``: ``batch[i]``), ``reliable``,
-            ``certified``, ``valid`` masks.
-
-        Raises
-        ------
-        InputError
-            If ``lengths`` does not have shape ``(n, legs)``.
-        DegenerateDesignError
-            If the design check refuses the design.
-
-        Examples
-        --------
-        >>> import imagespace as isp
-        >>> rng = np.random.default_rng(0)
-        >>> gs = isp.GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
-        >>> b = gs.direct_kinematics_batch([[2.0] * 6, [float("nan")] * 6])
-        >>> b.valid.tolist()
-        [True, False]
-        """
-        L = np.asarray(lengths, dtype=float)
-        k = self.leg_count
-        if L.ndim != 2 or L.shape[1] != k:
-            raise InputError(f"lengths must have shape (n, {k}), got {L.shape}")
-        certify = as_flag(certify, "certify")
-        self.check_design()
-        valid = np.all(np.isfinite(L) & (L > 0), axis=1)
-        n = L.shape[0]
-        reach = [None] * n
-        far = np.zeros(n, dtype=bool)
-        if valid.any():
-            ob, f, beyond = self.reach_check(L[valid])
-            rows_ok = np.flatnonzero(valid)
-            for k, i in enumerate(rows_ok):
-                reach[i] = ob[k]
-            far[rows_ok] = f
-            # masked: beyond what the fast path (or, certifying, exact arithmetic) resolves
-            valid[rows_ok[beyond if certify else f]] = False
-        empty = np.array([r is not None for r in reach], dtype=bool)
-        if not certify:
-            todo = valid & ~empty
-            Lv = np.where(todo[:, None], L, 1.0)
-            out = solve_rows(self.family(), self.start_system, Lv ** 2, self.tolerances, valid=todo,
-                             lengths=Lv)
-            if empty.any():                 # proven empty: certified, no complex count
-                out.certified[empty] = True
-                out.reliable[empty] = True
-                out.complex_count[empty] = -1
-                out.valid[empty] = True
-            return out
-        todo = valid & ~empty & ~far
-        proven = certify_rows(self.family(), self.start_system, L, self.tolerances, valid=todo,
-                              exact_solver=self._exact_solver_or_none())
-        if not (empty.any() or (far & valid).any()):
-            return proven
-
-        def one(i):
-            if reach[i] is not None:
-                return self._reach_result(reach[i])
-            if far[i]:
-                return exact_result(self.family(), L[i])
-            return proven[i]
-
-        rows = [one(i) if valid[i] else None for i in range(n)]
-        done = [r for r in rows if r is not None]
-        counts = np.array([r.count if r is not None else 0 for r in rows], dtype=np.int64)
-        return SpatialDKBatch(
-            counts, np.concatenate([[0], np.cumsum(counts)]),
-            np.vstack([r.study_points for r in done]) if done else np.zeros((0, 8)),
-            np.concatenate([r.residuals for r in done]) if done else np.zeros(0),
-            np.concatenate([r.aspects for r in done]).astype(np.int8) if done else np.zeros(0, np.int8),
-            np.array([r.complex_count if r is not None else 0 for r in rows]),
-            np.array([r.reliable if r is not None else False for r in rows]),
-            np.array([r.certified if r is not None else False for r in rows]), valid)
+        return self.cached("start_system", lambda: start_system(self.family()))

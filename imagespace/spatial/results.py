@@ -91,14 +91,18 @@ class SpatialDKResult:
         return f"SpatialDKResult({self.count} real modes {of}, {state}, method={self.method!r})"
 
 
-@dataclass(frozen=True)
 class SpatialDKBatch:
     """Real modes of many problems, stored ragged (row ``i`` owns ``offsets[i]:offsets[i+1]``).
 
+    The batch vocabulary of every mechanism (see :mod:`imagespace.solve.front`): ``count``,
+    ``row_ok``, ``near_singular``, ``certified``, ``certificate_path``, ``certified_roots``,
+    ``errors``; ``batch[i]`` (negative ``i`` from the end, a slice gives a list) is row ``i``'s
+    :class:`SpatialDKResult`; padded per-mode arrays ``valid``, ``poses``, ``aspect``.
+
     Attributes
     ----------
-    counts : (n,) int
-        Real modes per row.
+    count : (n,) int
+        Real modes per row (``counts`` is the same array, its name before issue [15]).
     offsets : (n + 1,) int
     study_points : (total, 8) float
     residuals : (total,) float
@@ -109,46 +113,150 @@ class SpatialDKBatch:
         False marks a row whose count may be wrong.
     certified : (n,) bool
         The row is proven.
-    valid : (n,) bool
-        The row's input was acceptable (positive finite lengths); invalid rows have no modes.
+    row_ok : (n,) bool
+        The row's input was acceptable and solved; invalid rows have no modes and their reason
+        in ``errors``.
+    errors : dict
+        Row -> message, for the rows not solved.
+    methods : (n,) str
+        How each row was answered (:data:`METHODS`, ``"invalid"`` for a row not solved).
 
     Examples
     --------
     >>> b = SpatialDKBatch(np.array([1, 0]), np.array([0, 1, 1]), np.eye(1, 8), np.zeros(1),
     ...                    np.ones(1, np.int8), np.array([40, 0]), np.array([True, False]),
     ...                    np.zeros(2, bool), np.array([True, False]))
-    >>> b[0].count, len(b)
-    (1, 2)
+    >>> b[0].count, len(b), b[-1].count, b.row_ok.tolist()
+    (1, 2, 0, [True, False])
     """
 
-    counts: np.ndarray
-    offsets: np.ndarray
-    study_points: np.ndarray
-    residuals: np.ndarray
-    aspects: np.ndarray
-    complex_count: np.ndarray
-    reliable: np.ndarray
-    certified: np.ndarray
-    valid: np.ndarray
+    def __init__(self, count, offsets, study_points, residuals, aspects, complex_count, reliable,
+                 certified, row_ok, errors=None, methods=None):
+        self.count = np.array(count, dtype=np.int64)
+        self.offsets = np.array(offsets, dtype=np.int64)
+        self.study_points = np.asarray(study_points, dtype=float).reshape(-1, 8)
+        self.residuals = np.asarray(residuals, dtype=float)
+        self.aspects = np.asarray(aspects, dtype=np.int8)
+        self.complex_count = np.array(complex_count, dtype=np.int64)
+        self.reliable = np.array(reliable, dtype=bool)
+        self.certified = np.array(certified, dtype=bool)
+        self.row_ok = np.array(row_ok, dtype=bool)
+        self.errors = dict(errors or {})
+        if methods is None:
+            methods = np.where(~self.row_ok, "invalid",
+                               np.where(self.complex_count < 0, "reach",
+                                        np.where(self.certified, "homotopy+krawczyk", "homotopy")))
+        self.methods = np.asarray(methods, dtype=object)
+
+    @classmethod
+    def from_results(cls, results, errors=None):
+        """A batch from per-row :class:`SpatialDKResult` (None for a row not solved).
+
+        Examples
+        --------
+        >>> r = SpatialDKResult(np.eye(1, 8), np.zeros(1), np.ones(1, np.int8), 40, True, True, "msolve")
+        >>> b = SpatialDKBatch.from_results([r, None])
+        >>> b.count.tolist(), b.row_ok.tolist(), b[0].method
+        ([1, 0], [True, False], 'msolve')
+        """
+        done = [r for r in results if r is not None]
+        count = np.array([r.count if r is not None else 0 for r in results], dtype=np.int64)
+        return cls(count, np.concatenate([[0], np.cumsum(count)]),
+                   np.vstack([r.study_points for r in done]) if done else np.zeros((0, 8)),
+                   np.concatenate([r.residuals for r in done]) if done else np.zeros(0),
+                   np.concatenate([r.aspects for r in done]).astype(np.int8) if done else np.zeros(0, np.int8),
+                   np.array([r.complex_count if r is not None else 0 for r in results]),
+                   np.array([r.reliable if r is not None else False for r in results]),
+                   np.array([r.certified if r is not None else False for r in results]),
+                   np.array([r is not None for r in results]), errors,
+                   np.array([r.method if r is not None else "invalid" for r in results], dtype=object))
+
+    # -- the batch vocabulary ----------------------------------------------------------------------
+    @property
+    def counts(self):
+        """The same array as :attr:`count` (the name before issue [15])."""
+        return self.count
+
+    @property
+    def near_singular(self):
+        """(n,) bool: solved rows whose count is not proven (``row_ok`` and not ``reliable``)."""
+        return self.row_ok & ~self.reliable
+
+    @property
+    def certified_roots(self):
+        """(n,) int8: the proven count of real modes per row, -1 where not proven."""
+        return np.where(self.row_ok & self.certified, self.count, -1).astype(np.int8)
+
+    @property
+    def consistent(self):
+        """(n,) bool: the rows whose modes are proven (as :attr:`certified`, on solved rows)."""
+        return self.row_ok & self.certified
+
+    @property
+    def certificate_path(self):
+        """(n,) str: what proved each row's count: ``"krawczyk"`` (the compiled certificate or
+        Krawczyk boxes in arb), ``"msolve"``, ``"reach"``; ``"uncertified"``, ``"invalid"``."""
+        out = np.full(len(self), "uncertified", dtype=object)
+        out[~self.row_ok] = "invalid"
+        for i in np.flatnonzero(self.row_ok & self.certified):
+            m = self.methods[i]
+            out[i] = "msolve" if m == "msolve" else ("reach" if m == "reach" else "krawczyk")
+        return out.astype(str)
+
+    @property
+    def width(self):
+        """The most modes of a row (the padded arrays' second axis)."""
+        return int(self.count.max()) if len(self) else 0
+
+    def _padded(self, values, fill, dtype, trailing=()):
+        n, w = len(self), self.width
+        out = np.full((n, w) + tuple(trailing), fill, dtype=dtype)
+        slot = np.arange(w)[None, :] < self.count[:, None]
+        out[slot] = values
+        return out
+
+    @property
+    def valid(self):
+        """(n, width) bool: which padded slots hold a mode (the planar results' ``valid``)."""
+        return np.arange(self.width)[None, :] < self.count[:, None]
+
+    @property
+    def poses(self):
+        """(n, width, 7) float: each mode as translation ``(x, y, z)`` and unit quaternion
+        ``(w, x, y, z)`` (``w >= 0``), NaN in unused slots."""
+        S = self.study_points
+        if len(S):
+            x = S[:, :4] / np.linalg.norm(S[:, :4], axis=1, keepdims=True)
+            x = x * np.where(x[:, :1] < 0, -1.0, 1.0)
+            vals = np.concatenate([translation(S), x], axis=1)
+        else:
+            vals = np.zeros((0, 7))
+        return self._padded(vals, np.nan, float, (7,))
+
+    @property
+    def aspect(self):
+        """(n, width) int8: the modes' aspects, 0 in unused slots."""
+        return self._padded(self.aspects, 0, np.int8)
 
     def __len__(self):
-        return int(self.counts.shape[0])
+        return int(self.count.shape[0])
 
     def __getitem__(self, i):
-        i = int(i)
-        sl = slice(int(self.offsets[i]), int(self.offsets[i + 1]))
-        method = ("reach" if self.complex_count[i] < 0 else
-                  "homotopy+krawczyk" if self.certified[i] else "homotopy")
-        return SpatialDKResult(self.study_points[sl], self.residuals[sl], self.aspects[sl],
-                               int(self.complex_count[i]), bool(self.certified[i]),
-                               bool(self.reliable[i]), method)
+        from ..core.mechanism import index_rows
+
+        def row(k):
+            sl = slice(int(self.offsets[k]), int(self.offsets[k + 1]))
+            return SpatialDKResult(self.study_points[sl], self.residuals[sl], self.aspects[sl],
+                                   int(self.complex_count[k]), bool(self.certified[k]),
+                                   bool(self.reliable[k]), str(self.methods[k]))
+        return index_rows(self, i, row)
 
     def _repr_html_(self):
         return batch_html(self)
 
     def __repr__(self):
-        return (f"SpatialDKBatch({len(self)} rows, {int(self.counts.sum())} real modes, "
-                f"{int(np.sum(~self.reliable & self.valid))} rows not reliable)")
+        return (f"SpatialDKBatch({len(self)} rows, {int(self.count.sum())} real modes, "
+                f"{int(np.sum(self.near_singular))} rows not reliable)")
 
 
 #: Most modes a result's HTML table lists (Dietmaier's 40 fit; a longer list says how many are left out).
@@ -206,8 +314,8 @@ def batch_html(batch):
     >>> "real modes per row" in batch_html(b)
     True
     """
-    valid = np.asarray(batch.valid, dtype=bool)
-    counts = np.asarray(batch.counts)[valid]
+    valid = np.asarray(batch.row_ok, dtype=bool)
+    counts = np.asarray(batch.count)[valid]
     rows = [("rows", len(batch)), ("valid rows", int(valid.sum())),
             ("reliable rows (float checks passed)", int(np.sum(np.asarray(batch.reliable) & valid))),
             ("certified rows", int(np.sum(np.asarray(batch.certified) & valid))),

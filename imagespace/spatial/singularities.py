@@ -54,7 +54,7 @@ from .._validate import as_float_array, as_tolerances
 from ..exceptions import DegenerateDesignError, InputError
 from .gough_stewart import GoughStewart
 from .quadrics import form_matrix, landed_point_times_n
-from .study import matrix_from_quaternion, study_symbols
+from .study import matrix_from_quaternion, rotation_entries, study_symbols
 
 __all__ = ["leg_line_forms", "jacobian_matrix", "jacobian_determinant", "aspect",
            "constant_orientation_singularity", "ConstantOrientationSingularity"]
@@ -324,12 +324,8 @@ def _exact_rotation(rotation, tolerances):
 
 
 def _quaternion_rotation_exact(q):
-    w0, w1, w2, w3 = q
-    n = w0 * w0 + w1 * w1 + w2 * w2 + w3 * w3
-    rows = [[w0 * w0 + w1 * w1 - w2 * w2 - w3 * w3, 2 * (w1 * w2 - w0 * w3), 2 * (w1 * w3 + w0 * w2)],
-            [2 * (w1 * w2 + w0 * w3), w0 * w0 - w1 * w1 + w2 * w2 - w3 * w3, 2 * (w2 * w3 - w0 * w1)],
-            [2 * (w1 * w3 - w0 * w2), 2 * (w2 * w3 + w0 * w1), w0 * w0 - w1 * w1 - w2 * w2 + w3 * w3]]
-    return [[v / n for v in r] for r in rows]
+    n = sum(w * w for w in q)
+    return [[v / n for v in r] for r in rotation_entries(*q)]
 
 
 class ConstantOrientationSingularity:

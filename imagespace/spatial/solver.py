@@ -400,16 +400,7 @@ def certify_rows(family, start, lengths, tolerances, valid=None, exact_solver=No
         one = FastCertificate(*(getattr(fc, f)[j:j + 1] for f in FastCertificate.__dataclass_fields__))
         results[i] = certify_row(family, start, L[i], tolerances, Z=Z[j], status=status[j],
                                  exact_solver=exact_solver, fast=(results[i], one))
-    done = [r for r in results if r is not None]
-    counts = np.array([r.count if r is not None else 0 for r in results], dtype=np.int64)
-    return SpatialDKBatch(
-        counts, np.concatenate([[0], np.cumsum(counts)]),
-        np.vstack([r.study_points for r in done]) if done else np.zeros((0, 8)),
-        np.concatenate([r.residuals for r in done]) if done else np.zeros(0),
-        np.concatenate([r.aspects for r in done]).astype(np.int8) if done else np.zeros(0, np.int8),
-        np.array([r.complex_count if r is not None else 0 for r in results]),
-        np.array([r.reliable if r is not None else False for r in results]),
-        np.array([r.certified if r is not None else False for r in results]), valid)
+    return SpatialDKBatch.from_results(results)
 
 
 def quadric_polynomials(Q_exact):

@@ -161,15 +161,30 @@ def quaternion_conjugate(q):
     return _conj(as_float_array(q, "q", last=4))
 
 
+def rotation_entries(x0, x1, x2, x3):
+    """The rotation of the quaternion ``x`` times its squared norm ``x x~``: the nine entries
+    ``N R`` (rows of a nested list) with ``R p = x p x~ / (x x~)``, in whatever arithmetic the
+    components are (floats, numpy arrays, Fractions, sympy): the one home of this formula.
+
+    Examples
+    --------
+    >>> from fractions import Fraction
+    >>> from imagespace.spatial.study import rotation_entries
+    >>> rotation_entries(1, 0, 0, 1)          # a quarter turn about z, times N = 2
+    [[0, -2, 0], [2, 0, 0], [0, 0, 2]]
+    """
+    return [[x0 * x0 + x1 * x1 - x2 * x2 - x3 * x3, 2 * (x1 * x2 - x0 * x3), 2 * (x1 * x3 + x0 * x2)],
+            [2 * (x1 * x2 + x0 * x3), x0 * x0 - x1 * x1 + x2 * x2 - x3 * x3, 2 * (x2 * x3 - x0 * x1)],
+            [2 * (x1 * x3 - x0 * x2), 2 * (x2 * x3 + x0 * x1), x0 * x0 - x1 * x1 - x2 * x2 + x3 * x3]]
+
+
 def _rotation_of(x):
     """``R`` with ``R p = x p x~ / (x x~)`` from quaternions ``(..., 4)`` (numpy or object)."""
     x0, x1, x2, x3 = x[..., 0], x[..., 1], x[..., 2], x[..., 3]
     n = x0 * x0 + x1 * x1 + x2 * x2 + x3 * x3
     if x.dtype == object:
         n = np.asarray(n, dtype=object)      # one sympy quaternion: a 0-d array so n[..., None] works
-    rows = [[x0 * x0 + x1 * x1 - x2 * x2 - x3 * x3, 2 * (x1 * x2 - x0 * x3), 2 * (x1 * x3 + x0 * x2)],
-            [2 * (x1 * x2 + x0 * x3), x0 * x0 - x1 * x1 + x2 * x2 - x3 * x3, 2 * (x2 * x3 - x0 * x1)],
-            [2 * (x1 * x3 - x0 * x2), 2 * (x2 * x3 + x0 * x1), x0 * x0 - x1 * x1 - x2 * x2 + x3 * x3]]
+    rows = rotation_entries(x0, x1, x2, x3)
     return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2) / n[..., None, None]
 
 

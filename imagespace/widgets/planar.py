@@ -50,6 +50,7 @@ from .inputs import joint_ranges, parse_joint_value
 from .planar_panels import joined_polylines, merged_labels, planar_panels
 from .tracking import ModeTracker
 from .view import PanelView
+from ..solve import front
 
 __all__ = ["explore_planar", "Explorer", "REST_DELAY", "DRAG_RESOLUTION", "REST_RESOLUTION", "SECTION_GRID",
            "SLIDER_STEPS", "FRAME_RATE"]
@@ -246,10 +247,10 @@ class Explorer(W.VBox):
             warnings.simplefilter("always")
             try:
                 if exact is not None or first:
-                    cm = m.direct_kinematics(exact if exact is not None else np.asarray(q, dtype=float), certify=True)
+                    cm = front.direct_kinematics(m, exact if exact is not None else np.asarray(q, dtype=float), certify=True)
                     modes, certified, near = list(cm), bool(cm.certificate.certified), False
                 else:
-                    res = m.direct_kinematics_batch(np.asarray(q, dtype=float)[None], certify=True)
+                    res = front.direct_kinematics_batch(m, np.asarray(q, dtype=float)[None], certify=True)
                     if not res.row_ok[0]:
                         err = "; ".join(str(e) for e in res.errors.values()) or "no solution for this row"
                         modes, certified, near = [], False, False
@@ -596,7 +597,7 @@ class Explorer(W.VBox):
         if not self._warm:
             self._warm = True
             try:                                   # load the batch path's compiled kernel once, off the page's way
-                self.manipulator.direct_kinematics_batch(self.q[None], certify=True)
+                front.direct_kinematics_batch(self.manipulator, self.q[None], certify=True)
             except ImageSpaceError:
                 pass
         try:

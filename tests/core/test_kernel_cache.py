@@ -228,7 +228,7 @@ def test_temporaries_are_unpredictable_and_cleaned_up(cache, template):
     (cache / template[1]).unlink()
     with warnings.catch_warnings(record=True):
         warnings.simplefilter("always")
-        from imagespace.solve.dispatch import batch_kernel
+        from imagespace.solve.proof import batch_kernel
         assert batch_kernel(isp.examples.general_3rpr()) is not None
     leftovers = [p.name for p in cache.iterdir() if p.name.endswith(".tmp") or p.name == ".probe"]
     assert leftovers == []

@@ -6,13 +6,14 @@ import pytest
 import sympy as sp
 
 import imagespace as isp
-from imagespace.core.mechanism import Mechanism, check_mechanism, form_coefficients
+from imagespace.core.mechanism import Mechanism, check_mechanism
+from imagespace.core.planar import PlanarMechanism, form_coefficients
 
 
 def test_planar_parallel_is_a_mechanism_with_the_same_derivations():
     m = isp.examples.general_3rpr()
-    core = Mechanism(m.legs, name="core only")
-    assert isinstance(m, Mechanism)
+    core = PlanarMechanism(m.legs, name="core only")
+    assert isinstance(m, PlanarMechanism) and isinstance(m, Mechanism)
     # the same polynomial from the core alone as from the manipulator (both derived here)
     assert sp.expand(core.kinematic_polynomial(m.q_example).as_expr()
                      - m.kinematic_polynomial(m.q_example).as_expr()) == 0

@@ -71,7 +71,7 @@ def test_far_modes_are_found(m):
 @pytest.mark.parametrize("certify", [False, True])
 @pytest.mark.parametrize("method", ["numpy", "kernel"])
 def test_a_batch_is_not_aborted(m, certify, method):
-    if method == "kernel" and isp.solve.dispatch.batch_kernel(m) is None:
+    if method == "kernel" and isp.solve.proof.batch_kernel(m) is None:
         pytest.skip("no kernel (numba missing)")
     Q = np.array([m.q_example_float, [1e300, 5, 10], [1e20] * 3, [np.nan, 1, 1],
                   [1e7, 1e7 + 3, 1e7 - 4], [1e-300] * 3])
@@ -154,10 +154,10 @@ def test_spatial_batch_masks_far_rows(gs):
     L = np.array([[2.0] * 6, [1e300] * 6, [1e-300] * 6, [1e300, 1, 1, 1, 1, 1]])
     b = gs.direct_kinematics_batch(L)
     ref = gs.direct_kinematics(L[0])
-    assert b.valid.tolist() == [True, False, True, True]
+    assert b.row_ok.tolist() == [True, False, True, True]
     assert b.counts.tolist() == [ref.count, 0, 0, 0]
     assert b.certified.tolist()[1:] == [False, True, True]
     assert b[2].method == "reach"
     m = isp.spatial.ThreeRPS(np.eye(3), 0.5 * np.eye(3))
     b = m.direct_kinematics_batch([[1.0] * 3, [1e300] * 3, [1e-300] * 3], certify=True)
-    assert b.valid.tolist() == [True, False, True] and b.certified.tolist() == [True, False, True]
+    assert b.row_ok.tolist() == [True, False, True] and b.certified.tolist() == [True, False, True]

@@ -123,7 +123,7 @@ def _modes_match(poses, ref):
 def run_paths(label, case):
     """Every certified path on the rows of one design: a list of dicts, one per row, each with
     ``{path: (verdict, got, want)}``, verdict "ok", "wrong" or "declined"."""
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     m = design(label)
     rows = case["rows"]
@@ -212,7 +212,7 @@ def _fail_text(table, pp):
 def test_the_file_is_what_the_issue_asks():
     """>= 300 designs, every angle-actuated joint, hard rows where rounding changes the count, the
     issue's case, and rows the kernel's bounds cannot decide (the exact fallback is exercised)."""
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     d = data()
     assert len(d["sample"]) >= 300
@@ -350,7 +350,7 @@ def test_fold_referee_agrees_with_the_analytic_count():
 
 def test_fold_certified_paths():
     """The library's certified paths at the hard floats of the analytic fold (4 modes or none)."""
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     m = fold_design()
     _, hard = fold_hard_angles()

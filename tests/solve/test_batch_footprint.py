@@ -91,7 +91,7 @@ def test_padded_attributes_equal_per_row_solves(name, m, spread, rng):
 @pytest.mark.slow
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel needs numba")
 def test_kernel_result_in_chunks_equals_numpy_result_padded(rng, monkeypatch):
-    from imagespace.solve import dispatch
+    from imagespace.solve import planar as dispatch
 
     m = isp.examples.stigger_husty()
     Q = random_rows(m, rng, 3000)

@@ -17,7 +17,7 @@ import sympy as sp
 import imagespace as isp
 from hard_rows import KIND_SETS, LEVELS, hard_rows, random_design
 from imagespace.solve.continuum import continuum_at
-from imagespace.solve.dispatch import batch_kernel
+from imagespace.solve.proof import batch_kernel
 from imagespace.solve.kernel import HAVE_NUMBA
 from msolve_ref import POSITIVE_DIMENSIONAL, msolve_available, planar_dk_reference
 

@@ -59,7 +59,7 @@ def test_design_row_encloses_the_exact_dyads(name):
 
 def test_no_design_generates_code():
     """Two designs share the one compiled loop: no per-design source, no per-design compile."""
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     ks = [batch_kernel(m) for m in designs().values()]
     assert len({k.source for k in ks}) == 1
@@ -76,7 +76,7 @@ def test_kernel_counts_equal_the_disc_certificate_on_seed002():
     """The kernel's proven counts against inclusion discs + flint on the enclosed general-q
     polynomial (a different algorithm on a different derivation of the same polynomial)."""
     from imagespace.core.certify import certify_real_roots_batch
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     m = isp.examples.stigger_husty()
     Q = reachable_rows(m, 6000, 3, box=((-6, 6), (-6, 6), (-np.pi, np.pi)))

@@ -152,7 +152,7 @@ def test_batch_masks_bad_rows():
     L[1, 2] = np.nan
     L[2, 0] = -1.0
     b = gs.direct_kinematics_batch(L)
-    assert b.valid.tolist() == [True, False, False]
+    assert b.row_ok.tolist() == [True, False, False]
     assert b.counts[1] == b.counts[2] == 0 and b.counts[0] >= 1
     assert np.allclose(_euclidean_lengths(gs, b[0].study_points), L[0], atol=1e-9)
     with pytest.raises(InputError, match="lengths"):
