@@ -48,16 +48,25 @@ def test_cusps_stays_the_function_after_its_module_is_loaded():
     assert loaded == ["True", "function"]
 
 
-def test_the_notebooks_short_paths_still_import():
-    """Modules moved into the layered packages stay importable under their former names (the
-    notebooks and users' scripts use them)."""
+def test_short_module_names_are_attributes_of_the_package_not_files():
+    """``isp.screws``, ``isp.workspace`` ... are the modules of the layered packages, reached through
+    the lazy loader of ``imagespace/__init__``; no top-level file re-exports them any more (issue [15]:
+    the former shims ``imagespace/screws.py`` ... were removed, the notebooks import the canonical paths)."""
     import importlib
+    import pathlib
 
-    expected = {"screws": "reciprocal_system", "modechange": "plan_mode_change", "clearance": "backlash",
-                "mobility": "gruebler", "workspace": "reachable_workspace", "indices": "local_indices",
-                "cusps": "cusp_loop", "paths": "check_path", "design": "fuzzy_minmax"}
-    for old, name in expected.items():
-        assert callable(getattr(importlib.import_module(f"imagespace.{old}"), name)), old
+    expected = {"screws": ("spatial.screws", "reciprocal_system"), "modechange": ("paths.modechange", "plan_mode_change"),
+                "clearance": ("paths.backlash", "backlash"), "mobility": ("design.mobility", "gruebler"),
+                "workspace": ("design.workspace", "reachable_workspace"), "indices": ("design.indices", "local_indices"),
+                "paths": ("paths", "check_path"), "design": ("design", "fuzzy_minmax")}
+    for short, (home, name) in expected.items():
+        module = getattr(isp, short)
+        assert module is importlib.import_module(f"imagespace.{home}"), short
+        assert callable(getattr(module, name)), short
+    package = pathlib.Path(isp.__file__).parent
+    shims = [n for n in ("screws", "cusps", "clearance", "indices", "mobility", "modechange", "workspace")
+             if (package / f"{n}.py").exists()]
+    assert shims == []
 
 
 def test_a_function_using_the_package_pickles_by_reference():

@@ -310,3 +310,23 @@ def test_every_mechanism_honours_the_contract():
         check_mechanism(PlanarMechanism(concrete[0].legs))
     with pytest.raises(TypeError, match="a planar mechanism"):
         check_mechanism(concrete[1])                        # a spatial platform in a planar engine
+
+
+MAX_LINES = 900
+# TEMPORARY: files another helper is splitting right now (issue [15]); remove each entry when its
+# split is merged. This list may only shrink.
+OVERSIZE_BEING_SPLIT = {"imagespace/solve/kernel.py", "imagespace/singular/surface.py"}
+
+
+def test_no_module_is_longer_than_900_lines():
+    """A file over ``MAX_LINES`` lines is split by topic (issue [15]), its public names kept
+    importable where they were."""
+    long_files = {}
+    for path in ROOT.rglob("*.py"):
+        if "__pycache__" in path.parts:
+            continue
+        n = len(path.read_text().splitlines())
+        rel = path.relative_to(ROOT.parent).as_posix()
+        if n > MAX_LINES and rel not in OVERSIZE_BEING_SPLIT:
+            long_files[rel] = n
+    assert not long_files, f"files over {MAX_LINES} lines: {long_files}"

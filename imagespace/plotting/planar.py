@@ -285,7 +285,7 @@ def plot_backlash(manipulator, analysis, ax=None, n=300):
     ----------
     manipulator : PlanarParallel
     analysis : BacklashAnalysis
-        From :func:`imagespace.clearance.backlash`.
+        From :func:`imagespace.paths.backlash.backlash`.
     ax : matplotlib Axes, optional
     n : int
         Grid size for drawing the band (legs ending in a platform revolute).
