@@ -12,7 +12,6 @@ Methods
 * ``certify_real_roots_batch`` on the compiled coefficients (certified counts: companion
   eigenvalues, inclusion discs, flint fallback) and ``certified_root_counts`` (the proof inside
   the generic kernel: bounded coefficients and elimination, Bernstein isolation);
-* the derivative-cascade real-root kernel (numba) on the same coefficients;
 * baselines: ``numpy.roots`` in a Python loop, batched companion ``numpy.linalg.eigvals``,
   python-flint exact isolation per row, sympy elimination per row (a few rows), per-call
   ``direct_kinematics``.
@@ -70,12 +69,6 @@ def main(n=20000):
     rows["in-kernel proof alone (no exact fallback rows)"] = n / t
     kernel_same = np.array_equal(kcounts, counts)
 
-    from imagespace.solve.kernel import real_roots_cascade
-    real_roots_cascade(F[:4])                              # JIT compile / load the cache, not timed
-    t, (_, kc, ks) = timed(lambda: real_roots_cascade(F))
-    rows["real roots, derivative cascade kernel (numba)"] = n / t
-    agree = np.mean(kc[~ks] == counts[~ks])
-
     k = min(n, 3000)
     t, _ = timed(lambda: [np.roots(F[i, ::-1]) for i in range(k)])
     rows["numpy.roots loop (roots only)"] = k / t
@@ -114,9 +107,7 @@ def main(n=20000):
     print(f"rows: {n}  (kernel and numpy paths give the same counts on every row: {same}; "
           f"solver per row: {solver})")
     print(f"rows: {n}  (modes per row: {np.bincount(res.count).tolist()}; "
-          f"certified rows by discs: {np.sum(path == 'discs')}, by flint: {np.sum(path == 'flint')}; "
-          f"cascade kernel agrees with the certified counts on {100 * agree:.2f} % of its unflagged rows, "
-          f"flags {int(ks.sum())})")
+          f"certified rows by discs: {np.sum(path == 'discs')}, by flint: {np.sum(path == 'flint')})")
     base = rows["numpy.roots loop (roots only)"]
     eigb = rows["batched companion eigvals (roots only)"]
     for name, rate in rows.items():

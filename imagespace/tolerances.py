@@ -17,9 +17,17 @@ What stays a named module constant is a numerical-method knob, not a decision: h
 polished, a bisection's stopping width, a finite-difference step, a minimiser's ``xatol``.
 """
 
+import warnings
 from dataclasses import dataclass
 
 __all__ = ["Tolerances", "TOLERANCES"]
+
+DEPRECATED = {
+    "kernel_chart_overlap": "the compiled kernel's charts are isolated by Descartes' rule and do not overlap",
+    "kernel_chart_duplicate": "the compiled kernel's charts are isolated by Descartes' rule and share no root",
+}
+"""Fields of :class:`Tolerances` that no computation reads any more; setting one to anything but
+its default warns (``FutureWarning``)."""
 
 
 @dataclass(frozen=True)
@@ -77,12 +85,12 @@ class Tolerances:
         circle of radius ``r`` and a line), is a tangency (the two branches meet) rather than no
         solution.
     kernel_chart_overlap : float
-        The compiled kernel: a root ``t`` of one chart's polynomial is kept when
-        ``|t| <= 1 + kernel_chart_overlap``; the roots both charts keep are deduplicated
-        (``kernel_chart_duplicate``).
+        Deprecated, has no effect (issue [15]): the compiled kernel isolates the roots of each
+        chart by Descartes' rule in the Bernstein basis, so its charts (``t`` in ``[-1, 1]``,
+        ``s`` in ``(-1, 1)``) neither overlap nor share a root. Setting it warns
+        (``FutureWarning``); the field will be removed.
     kernel_chart_duplicate : float
-        The compiled kernel: two orientation candidates from the two charts with
-        ``|x0 x1' - x1 x0'|`` below this are one root.
+        Deprecated, has no effect (issue [15]), for the same reason; setting it warns.
     kernel_newton_stop : float
         The compiled kernel: Newton on the full system stops once a step is below this times the
         point's size.
@@ -252,7 +260,14 @@ class Tolerances:
 
     The compiled kernel also reads ``cramer_small`` (a root with ``|D| <= cramer_small max|D|``
     sends the row to the numpy path) and ``newton_stop`` (its 4x4 solve's pivot threshold); it
-    receives its seven as one array (:func:`imagespace.solve.kernel.kernel_tolerances`).
+    receives its thresholds as one array (:func:`imagespace.solve.kernel.kernel_tolerances`).
+
+    Examples
+    --------
+    >>> from imagespace.tolerances import Tolerances, TOLERANCES
+    >>> loose = Tolerances(joint_residual=1e-5)
+    >>> loose.joint_residual, TOLERANCES.joint_residual
+    (1e-05, 1e-07)
     """
 
     joint_residual: float = 1e-7
@@ -269,8 +284,8 @@ class Tolerances:
     near_singular_condition: float = 1e-8
     ik_parallel: float = 1e-14
     ik_tangent: float = 1e-12
-    kernel_chart_overlap: float = 1e-12
-    kernel_chart_duplicate: float = 1e-10
+    kernel_chart_overlap: float = 1e-12       # deprecated: no effect (see DEPRECATED)
+    kernel_chart_duplicate: float = 1e-10     # deprecated: no effect (see DEPRECATED)
     kernel_newton_stop: float = 1e-9
     kernel_residual: float = 1e-9
     kernel_duplicate: float = 1e-9
@@ -329,6 +344,12 @@ class Tolerances:
                 raise ValueError(f"Tolerances.{name} must be a positive finite number, got {value!r}")
         if int(self.newton_steps) != self.newton_steps:
             raise ValueError(f"Tolerances.newton_steps must be a whole number, got {self.newton_steps!r}")
+        for name, why in DEPRECATED.items():
+            if getattr(self, name) != _DEFAULTS[name]:
+                warnings.warn(f"Tolerances.{name} is deprecated and has no effect ({why}); it will be "
+                              f"removed", FutureWarning, stacklevel=3)
 
+
+_DEFAULTS = {name: field.default for name, field in Tolerances.__dataclass_fields__.items()}
 
 TOLERANCES = Tolerances()

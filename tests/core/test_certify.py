@@ -194,32 +194,3 @@ def test_batch_dk_with_certificates(rng):
                             isp.RPR(base=(3, 8), platform=(2, 5))])
     rt = t.direct_kinematics_batch(np.array([[3.0, 7.0, 5.0]]), certify=True)
     assert rt.certified_roots.tolist() == [3] and rt.count.tolist() == [3] and rt.consistent.tolist() == [True]
-
-
-@pytest.mark.slow
-def test_derivative_cascade_kernel_against_exact_counts(rng):
-    """The compiled real-root kernel: same counts as exact isolation wherever it does not flag the row."""
-    from imagespace.solve.kernel import real_roots_cascade
-    from imagespace.core.certify import certify_real_roots_batch
-
-    m = isp.examples.stigger_husty()
-    poses = np.column_stack([rng.uniform(-6, 6, 1500), rng.uniform(-6, 6, 1500), rng.uniform(-np.pi, np.pi, 1500)])
-    F = m.compiled().coefficients(m.inverse_kinematics(poses))
-    doubles = []
-    for _ in range(300):
-        r = rng.integers(-5, 6, 2) / 2.0
-        f = np.convolve(np.convolve([-r[0], 1.0], [-r[0], 1.0]), [-r[1], 1.0])   # double root r0
-        while len(f) < 7:
-            f = np.convolve(f, [rng.integers(-4, 5) or 1.0, 1.0])
-        doubles.append(f)
-    F = np.concatenate([F, np.array(doubles)])
-    roots, counts, suspect = real_roots_cascade(F)
-    exact, _ = certify_real_roots_batch(F)
-    assert np.all(counts[~suspect] == exact[~suspect])
-    assert np.sum(~suspect) >= 1500
-    # every root found is a root: |p(t)| small against the size of the terms
-    for i in range(0, F.shape[0], 37):
-        for t in roots[i][np.isfinite(roots[i])]:
-            val = np.polyval(F[i, ::-1], t)
-            size = np.polyval(np.abs(F[i, ::-1]), abs(t))
-            assert abs(val) <= 1e-9 * size
