@@ -13,7 +13,7 @@ import sympy as sp
 
 import imagespace as isp
 from imagespace.paths.modechange import plan_mode_change
-from imagespace.core.certify import roots_in_unit_interval
+from imagespace.core.exact_roots import roots_in_unit_interval
 from imagespace.paths.check import _piece_polynomial, _prepare, segment, segments_free
 
 

@@ -49,7 +49,7 @@ import sympy as sp
 
 from .._html import dataclass_html, dataclass_repr
 from .._validate import _short, as_count
-from ..core.certify import float_down, float_up
+from ..core.exact_roots import float_down, float_up
 from ..core.mechanism import check_mechanism
 from ..exceptions import InputError
 from ..singular.cusps import cusp_system

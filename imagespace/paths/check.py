@@ -44,7 +44,7 @@ import sympy as sp
 
 from .._validate import as_float_array
 from .curves import ImagePath, pose_segment, polyline, polynomial_curve, rational_curve, segment  # noqa: F401
-from ..core.certify import ISOLATION_WIDTH, float_down, float_up, fmpq_of, roots_in_unit_interval
+from ..core.exact_roots import ISOLATION_WIDTH, float_down, float_up, fmpq_of, roots_in_unit_interval
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
 from .._html import counts_text, dataclass_html, dataclass_items, html_table, summary

@@ -13,7 +13,7 @@ import numpy as np
 import sympy as sp
 
 from .._validate import as_float_array
-from ..core.certify import fmpq_of, roots_in_unit_interval
+from ..core.exact_roots import fmpq_of, roots_in_unit_interval
 from ..exceptions import InputError
 from .._html import html_table, summary
 

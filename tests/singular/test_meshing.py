@@ -16,6 +16,7 @@ import trimesh
 from scipy.spatial import cKDTree
 
 import imagespace as isp
+import imagespace.singular.mesh_export as mesh_export
 import imagespace.singular.meshing as meshing
 from imagespace.cli import default_box, main
 from imagespace.singular.meshing import (EXPORT_FORMATS, PolynomialImplicit, export_mesh, mesh_implicit,
@@ -358,9 +359,9 @@ def test_a_failed_export_leaves_the_old_file(image_mesh, tmp_path, monkeypatch, 
         raise OSError("disk full")
 
     if suffix == ".ply":
-        monkeypatch.setattr(meshing, "_write_ply", broken_writer)
+        monkeypatch.setattr(mesh_export, "_write_ply", broken_writer)
     elif suffix == ".obj":
-        monkeypatch.setattr(meshing, "_write_obj", broken_writer)
+        monkeypatch.setattr(mesh_export, "_write_obj", broken_writer)
     else:
         monkeypatch.setattr(os, "fsync", broken_fsync)
     with pytest.raises((RuntimeError, OSError), match="disk full"):
