@@ -44,5 +44,13 @@ def test_bad_input(table, call, exc, words):
 
 
 def test_valid_input_still_works(table):
-    res = fuzzy_minmax(table, {"sum": (np.float64(1.0), "max"), "product": [1, "min"]})
-    assert res.best == [1] or res.best == [0] or len(res.best) >= 1
+    """numpy weights and a list ``[weight, sense]`` are accepted, and the answer is Choi's fuzzy
+    min-max worked by hand: rows (a, b) = (1, 2), (2, 2) have sum 3, 4 and product 2, 4; normalised
+    u_sum = (0, 1), u_product = (0, 1), so z_sum = 1 + 1 (u - 1) = (0, 1) and z_product ("min":
+    1 - u) = 1 + 0.5 ((1, 0) - 1) = (1, 0.5); W = min = (0, 0.5): row 1 is best."""
+    res = fuzzy_minmax(table, {"sum": (np.float64(1.0), "max"), "product": [0.5, "min"]})
+    assert res.composite.tolist() == [0.0, 0.5]
+    assert res.memberships["sum"].tolist() == [0.0, 1.0] and res.memberships["product"].tolist() == [1.0, 0.5]
+    assert res.best == [1]
+    # equal weights tie the two rows (W = (0, 0)): both are best
+    assert fuzzy_minmax(table, {"sum": (np.float64(1.0), "max"), "product": [1, "min"]}).best == [0, 1]

@@ -1,4 +1,6 @@
-"""The compiled batch kernel against the certified path, the numpy path and the per-call path."""
+"""The compiled batch kernel against independent references (certified counts by discs and flint,
+mpmath roots of the exact polynomial, msolve on the Euclidean DK system of ``tests/msolve_ref.py``)
+and, as consistency checks beside them, against the numpy path and the per-call path."""
 
 import numpy as np
 import pytest
@@ -7,6 +9,7 @@ import imagespace as isp
 from imagespace.core.certify import certify_real_roots_batch
 from imagespace.solve.kernel import HAVE_NUMBA
 from imagespace.core.kinematic_map import pose_of
+from msolve_ref import msolve_available, planar_dk_reference
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel needs numba")
 
@@ -151,8 +154,22 @@ def test_kernel_roots_within_1e_10_of_the_exact_polynomial(seed002, hundred_thou
     print(f"checked {checked} rows, worst far-root error {worst_far:.2e}")
 
 
+def assert_modes_match_msolve(m, Q, res, rows, tol):
+    """The kernel's modes of each row in ``rows`` against msolve's real solutions of the Euclidean
+    DK system (exact rational input: the floats as binary rationals), poses sorted by ``phi``."""
+    for i in rows:
+        ref = planar_dk_reference(m, Q[i])
+        assert len(ref.poses) == res.count[i], (i, Q[i].tolist())
+        mine = res.poses[i, res.valid[i]]
+        mine = mine[np.argsort(mine[:, 2])]
+        assert np.max(np.abs(mine - ref.poses), initial=0.0) <= tol, (i, Q[i].tolist())
+
+
 @pytest.mark.slow
 def test_kernel_equals_numpy_path_and_per_call_on_10000_rows(seed002):
+    """A consistency check (the three paths of imagespace agree row by row), beside the
+    independent ones: msolve on a sample of these rows here, the certified counts and the mpmath
+    roots above."""
     rng = np.random.default_rng(7)
     q0 = np.asarray(seed002.q_example_float)
     Q = q0 * (1 + 0.1 * rng.standard_normal((10_000, 3)))
@@ -174,11 +191,14 @@ def test_kernel_equals_numpy_path_and_per_call_on_10000_rows(seed002):
         for j, mm in enumerate(single):
             assert np.max(np.abs(mm.image_point - ker.image_points[i, j])) < 1e-9
             assert mm.aspect == ker.aspect[i, j]
+    if msolve_available():
+        assert_modes_match_msolve(seed002, Q, ker, range(0, len(Q), 400), 1e-8)
 
 
 @pytest.mark.slow
 def test_kernel_on_other_leg_types(rng):
-    """RRR, PRR, RRP legs with actuated angles and offsets: kernel = numpy path."""
+    """RRR, PRR, RRP legs with actuated angles and offsets: the kernel's modes against msolve on a
+    sample of rows (independent), then kernel = numpy path on all rows (a consistency check)."""
     legs = [isp.RRR(base=(0, 0), platform=(0, 0), lengths=(3.0, 2.5), actuated=0),
             isp.PRR(base=(6, 0), axis=(0.4, 1.0), platform=(1.5, 0), length=2.8),
             isp.RRP(base=(2, 5), length=2.0, platform=(0, 1.2), direction=(1.0, 0.3))]
@@ -192,6 +212,8 @@ def test_kernel_on_other_leg_types(rng):
     num = m.direct_kinematics_batch(Q, method="numpy")
     same = ker.solver == "kernel"
     assert same.mean() > 0.98
+    if msolve_available():
+        assert_modes_match_msolve(m, Q, ker, np.flatnonzero(same)[:30], 1e-7)
     assert np.array_equal(ker.count[same], num.count[same])
     v = ker.valid & same[:, None]
     assert np.max(np.abs(ker.image_points[v] - num.image_points[v])) < 1e-8

