@@ -52,7 +52,7 @@ def test_design_row_encloses_the_exact_dyads(name):
                 assert Ce[8 * i + k] <= 1e-13 * max(1.0, abs(float(e)), float(qf[i]) ** 2)
                 dv = float(sp.N(deriv[k], 30))
                 assert abs(buf[24 + 8 * i + k] - dv) <= 1e-12 * max(1.0, abs(dv))
-        # the unbounded evaluation gives the same values
+        # the unbounded evaluation gives the same values (a consistency check beside the exact one)
         buf2 = np.zeros(48)
         design_row(qf, t.expo, t.coef, t.cerr, t.nmono, t.trig, False, buf2, Ce, acc)
         assert np.allclose(buf2, buf, rtol=1e-14, atol=1e-14)
@@ -123,8 +123,9 @@ def test_kernel_intervals_hold_one_independent_mode_each():
 
 def test_certified_root_counts_three_rrr_against_exact_rows():
     """Three actuated base revolutes (cos/sin of the joint values in every coefficient): the
-    kernel's counts against the exact per-row certificate (sympy elimination at the exact input,
-    arb isolation) on a few rows, and against the float modes of the certified batch."""
+    kernel's counts against msolve's real solutions of the Euclidean system (independent of the
+    image space) and against the exact per-row certificate (sympy elimination at the exact input,
+    arb isolation) on a few rows; then, as a consistency check, against the certified batch."""
     from imagespace.solve.certified import exact_root_count
 
     m = isp.PlanarParallel(RRR3)
@@ -133,6 +134,9 @@ def test_certified_root_counts_three_rrr_against_exact_rows():
     assert np.mean(path == "kernel") > 0.98
     for i in range(3):
         assert exact_root_count(m, Q[i])[0] == counts[i]
+    if msolve_available():
+        for i in range(8):
+            assert len(planar_dk_reference(m, Q[i]).poses) == counts[i], Q[i].tolist()
     res = m.direct_kinematics_batch(Q, certify=True)
     assert np.array_equal(res.certified_roots, counts)
     assert res.consistent.mean() > 0.98
