@@ -105,7 +105,7 @@ def test_kernel_intervals_hold_one_independent_mode_each():
     from imagespace.solve.dispatch import batch_kernel
 
     m = isp.examples.stigger_husty()
-    Q = reachable_rows(m, 40, 7, box=((-6, 6), (-6, 6), (-np.pi, np.pi)))[:16]
+    Q = reachable_rows(m, 40, 7, box=((-6, 6), (-6, 6), (-np.pi, np.pi)))[:12]
     counts, lo, hi, chart = batch_kernel(m).certified_counts(Q)
     checked = 0
     for i in np.flatnonzero(counts >= 0):
@@ -118,7 +118,7 @@ def test_kernel_intervals_hold_one_independent_mode_each():
         assert np.all(holds.sum(axis=1) == 1), (i, Q[i].tolist())     # one mode in every interval
         assert np.all(holds.sum(axis=0) == 1), (i, Q[i].tolist())     # every mode in one interval
         checked += 1
-    assert checked >= 12
+    assert checked >= 10
 
 
 def test_certified_root_counts_three_rrr_against_exact_rows():
