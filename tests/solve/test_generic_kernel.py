@@ -102,7 +102,7 @@ def test_kernel_intervals_hold_one_independent_mode_each():
     """Each isolating interval of the kernel's proof holds exactly one assembly mode found by msolve
     on the Euclidean DK system (``tests/msolve_ref.py``: no image space, no elimination, floats
     taken as the exact binary rationals they are), and every such mode lies in one interval."""
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     m = isp.examples.stigger_husty()
     Q = reachable_rows(m, 40, 7, box=((-6, 6), (-6, 6), (-np.pi, np.pi)))[:12]
