@@ -122,6 +122,95 @@ def _solve4(J, r, dx, pivot):
 
 
 @njit(cache=True)
+def _root_point(t, chart):
+    """The unit orientation ``(x0, x1)`` (``x0 >= 0``) of the root ``t`` of chart ``chart`` (0:
+    ``t = x1/x0``, 1: ``t = x0/x1``)."""
+    h = 1.0 / math.sqrt(1.0 + t * t)
+    x0 = h if chart == 0 else t * h
+    x1 = t * h if chart == 0 else h
+    if x0 < 0.0 or (x0 == 0.0 and x1 < 0.0):
+        x0, x1 = -x0, -x1
+    return x0, x1
+
+
+@njit(cache=True)
+def _mode_start(buf, oD, oX2, oX3, dD, dX, Cs, x0, x1, dn, tol, X, val, J):
+    """The mode of orientation ``(x0, x1)``: back-substituted into ``X`` (``x2 = X2/D``, ``x3 =
+    X3/D``, the forms at ``buf[oD]``, ``buf[oX2]``, ``buf[oX3]``), the system and its Jacobian at
+    it into ``val``, ``J``. Returns ``(ok, det, polished)``: ``ok`` False when the Cramer
+    denominator nearly vanishes there (``|D| <= cramer_small * max |D_k|``), ``polished`` when the
+    residual proves the point accurate already (Newton skipped)."""
+    Dv = _bf(buf, oD, dD, x0, x1)
+    if abs(Dv) <= tol[_T_CRAMER_SMALL] * dn:
+        return False, 0.0, False
+    X[0], X[1] = x0, x1
+    X[2] = _bf(buf, oX2, dX, x0, x1) / Dv
+    X[3] = _bf(buf, oX3, dX, x0, x1) / Dv
+    # Newton on the 4x4 system: one step takes the back-substituted point (error ~1e-13)
+    # to rounding; the error after a step is of the order of the step squared, so stop once
+    # a step is below 1e-9 of the size. A point whose residual is already at rounding level
+    # (about 90 % of them) is not stepped. The aspect is the sign of the determinant at the
+    # last linearisation point (within a step of 1e-9 of the mode)
+    _system(Cs, X, val, J)
+    det = _det4(J, X[0], X[1])
+    size = 1.0 + X[2] * X[2] + X[3] * X[3]
+    # skipped only where that residual proves the point accurate: a small residual and a
+    # well-conditioned Jacobian (|det J| against the product of its rows' norms, Hadamard's
+    # bound); near a singularity (close roots) a small residual says little
+    hadamard = 1.0
+    for i in range(4):
+        hadamard *= math.sqrt(J[i, 0] * J[i, 0] + J[i, 1] * J[i, 1] + J[i, 2] * J[i, 2] + J[i, 3] * J[i, 3])
+    polished = (max(abs(val[0]), abs(val[1]), abs(val[2])) <= _POLISHED * size
+                and abs(det) >= _CONDITIONED * hadamard)
+    return True, det, polished
+
+
+@njit(cache=True)
+def _mode_finish(Cs, g, X, val, J, dx, det, polished, tol):
+    """After :func:`_mode_start`: Newton on the 4x4 system unless ``polished``, the point
+    normalised (``x0**2 + x1**2 = 1``, ``x0 >= 0``) in ``X``, its relative residual checked and
+    the joint residual ``max_i |Q_i| / |dQ_i/dq_i|`` computed (``g``: the scaled derivatives).
+    Returns ``(ok, det, jres)`` (``det`` at the last linearisation point)."""
+    if not polished:
+        for it in range(8):
+            if it > 0:
+                _system(Cs, X, val, J)
+                det = _det4(J, X[0], X[1])
+            for i in range(4):
+                val[i] = -val[i]
+            if _solve4(J, val, dx, tol[_T_PIVOT]) == 0.0:
+                break
+            big = 1.0
+            stp = 0.0
+            for i in range(4):
+                X[i] += dx[i]
+                big = max(big, abs(X[i]))
+                stp = max(stp, abs(dx[i]))
+            if stp <= tol[_T_NEWTON_STOP] * big:
+                break
+    sg = -1.0 if (X[0] < 0.0 or (X[0] == 0.0 and X[1] < 0.0)) else 1.0
+    nrm = sg / math.sqrt(X[0] * X[0] + X[1] * X[1])
+    for i in range(4):
+        X[i] = X[i] * nrm
+    if polished:              # the quadrics are homogeneous of degree 2
+        for i in range(3):
+            val[i] = val[i] * (nrm * nrm)
+    else:
+        _system(Cs, X, val, J)
+    size = 1.0 + X[2] * X[2] + X[3] * X[3]
+    rel = max(abs(val[0]), abs(val[1]), abs(val[2])) / size
+    if not (rel <= tol[_T_RESIDUAL]):
+        return False, det, 0.0
+    jres = 0.0
+    for i in range(3):
+        dq = (g[8 * i] * (X[2] * X[2] + X[3] * X[3]) + X[2] * (g[8 * i + 1] * X[0] + g[8 * i + 2] * X[1])
+              + X[3] * (g[8 * i + 3] * X[0] + g[8 * i + 4] * X[1]) + g[8 * i + 5] * X[0] * X[0]
+              + g[8 * i + 6] * X[0] * X[1] + g[8 * i + 7] * X[1] * X[1])
+        jres = max(jres, abs(val[i]) / abs(dq) if dq != 0.0 else math.inf)
+    return True, det, jres
+
+
+@njit(cache=True)
 def _solve_row(buf, Ef, layout, tol, out_X, out_P, out_res, out_asp, work):
     """Everything after the coefficients for one row. Returns (count, flag): flag 0 ok,
     1 special (careful path), 2 suspect (certified path). ``tol``: :func:`kernel_tolerances`;
@@ -184,76 +273,18 @@ def _solve_row(buf, Ef, layout, tol, out_X, out_P, out_res, out_asp, work):
         if deg == 0 or not (fa * fb < 0.0):
             return 0, 1          # rounding hid the sign change the isolation proved: careful path
         t = _monotone_root(p, deg, a, b, fa, fb, False, False, False)
-        h = 1.0 / math.sqrt(1.0 + t * t)
-        x0 = h if chart == 0 else t * h
-        x1 = t * h if chart == 0 else h
-        if x0 < 0.0 or (x0 == 0.0 and x1 < 0.0):
-            x0, x1 = -x0, -x1
+        x0, x1 = _root_point(t, chart)
         cand[ncand, 0] = x0
         cand[ncand, 1] = x1
         ncand += 1
     count = 0
     for j in range(ncand):
-        x0, x1 = cand[j, 0], cand[j, 1]
-        Dv = _bf(buf, oD, dD, x0, x1)
-        if abs(Dv) <= tol[_T_CRAMER_SMALL] * dn:
+        ok, det, polished = _mode_start(buf, oD, oX2, oX3, dD, dX, Cs, cand[j, 0], cand[j, 1], dn, tol, X, val, J)
+        if not ok:
             return 0, 1
-        X[0], X[1] = x0, x1
-        X[2] = _bf(buf, oX2, dX, x0, x1) / Dv
-        X[3] = _bf(buf, oX3, dX, x0, x1) / Dv
-        # Newton on the 4x4 system: one step takes the back-substituted point (error ~1e-13)
-        # to rounding; the error after a step is of the order of the step squared, so stop once
-        # a step is below 1e-9 of the size. A point whose residual is already at rounding level
-        # (about 90 % of them) is not stepped. The aspect is the sign of the determinant at the
-        # last linearisation point (within a step of 1e-9 of the mode)
-        _system(Cs, X, val, J)
-        det = _det4(J, X[0], X[1])
-        size = 1.0 + X[2] * X[2] + X[3] * X[3]
-        # skipped only where that residual proves the point accurate: a small residual and a
-        # well-conditioned Jacobian (|det J| against the product of its rows' norms, Hadamard's
-        # bound); near a singularity (close roots) a small residual says little
-        hadamard = 1.0
-        for i in range(4):
-            hadamard *= math.sqrt(J[i, 0] * J[i, 0] + J[i, 1] * J[i, 1] + J[i, 2] * J[i, 2] + J[i, 3] * J[i, 3])
-        polished = (max(abs(val[0]), abs(val[1]), abs(val[2])) <= _POLISHED * size
-                    and abs(det) >= _CONDITIONED * hadamard)
-        if not polished:
-            for it in range(8):
-                if it > 0:
-                    _system(Cs, X, val, J)
-                    det = _det4(J, X[0], X[1])
-                for i in range(4):
-                    val[i] = -val[i]
-                if _solve4(J, val, dx, tol[_T_PIVOT]) == 0.0:
-                    break
-                big = 1.0
-                stp = 0.0
-                for i in range(4):
-                    X[i] += dx[i]
-                    big = max(big, abs(X[i]))
-                    stp = max(stp, abs(dx[i]))
-                if stp <= tol[_T_NEWTON_STOP] * big:
-                    break
-        sg = -1.0 if (X[0] < 0.0 or (X[0] == 0.0 and X[1] < 0.0)) else 1.0
-        nrm = sg / math.sqrt(X[0] * X[0] + X[1] * X[1])
-        for i in range(4):
-            X[i] = X[i] * nrm
-        if polished:              # the quadrics are homogeneous of degree 2
-            for i in range(3):
-                val[i] = val[i] * (nrm * nrm)
-        else:
-            _system(Cs, X, val, J)
-        size = 1.0 + X[2] * X[2] + X[3] * X[3]
-        rel = max(abs(val[0]), abs(val[1]), abs(val[2])) / size
-        if not (rel <= tol[_T_RESIDUAL]):
+        ok, det, jres = _mode_finish(Cs, buf[24:48], X, val, J, dx, det, polished, tol)
+        if not ok:
             return 0, 1
-        jres = 0.0
-        for i in range(3):
-            g = buf[24 + 8 * i:32 + 8 * i]
-            dq = (g[0] * (X[2] * X[2] + X[3] * X[3]) + X[2] * (g[1] * X[0] + g[2] * X[1])
-                  + X[3] * (g[3] * X[0] + g[4] * X[1]) + g[5] * X[0] * X[0] + g[6] * X[0] * X[1]
-                  + g[7] * X[1] * X[1])
-            jres = max(jres, abs(val[i]) / abs(dq) if dq != 0.0 else math.inf)
         if count >= _MAX:
             return 0, 1
         phi = 2.0 * math.atan2(X[1], X[0])
