@@ -93,8 +93,7 @@ from .._validate import as_float_array
 from ..exceptions import InputError
 from ._numba import njit, prange
 
-__all__ = ["count_real_roots_row", "count_real_roots_lane", "certified_root_counts", "ISOLATE_WORK_SIZE",
-           "MAX_DEGREE", "GRID_FIELDS"]
+__all__ = ["count_real_roots_row", "certified_root_counts", "ISOLATE_WORK_SIZE", "MAX_DEGREE", "GRID_FIELDS"]
 
 #: Largest degree :func:`count_real_roots_row` handles (the scratch layout is sized for it).
 MAX_DEGREE = 6
@@ -136,13 +135,14 @@ _HID = _SCALED + 2 * (MAX_DEGREE + 1)   # per stack slot: the node's heap index 
 ISOLATE_WORK_SIZE = _HID + _SLOTS
 
 # -- the split grid of the lockstep kernel (imagespace.solve.kernel.lockstep) ----------------------
-# For a block of rows side by side (one column per row), the Bernstein coefficients of every node
-# of the first levels of the subdivision tree, split at 1/2 from the chart's root node: node ``h``
-# of chart ``ch`` (heap order: root 1, children 2h and 2h + 1) holds c_0..c_6 in rows
-# ``(ch * 2 * nleaf + h) * GRID_FIELDS + 0..6``, their bounds in ``+ 7..13`` and, for an inner
-# node, the certain sign of its split point (the children's common end coefficient) in ``+ 14``.
+# For a block of ``lanes`` rows side by side, the Bernstein coefficients of every node of the
+# first levels of the subdivision tree, split at 1/2 from the chart's root node: node ``h`` of chart
+# ``ch`` (heap order: root 1, children 2h and 2h + 1) is row ``ch * 2 * nleaf + h`` of the grid, and
+# field ``f`` of the block's row ``lane`` its column ``f * lanes + lane``: c_0..c_6 in fields 0..6,
+# their bounds in 7..13 and, for an inner node, the certain sign of its split point (the children's
+# common end coefficient) in 14.
 # The depth-first search of a row takes a node's children from there instead of splitting it
-# (the same floats: _split_half_lanes is _split at 1/2, lane by lane).
+# (the same floats: the lockstep kernel's _half_split_block is _split at 1/2, lane by lane).
 #: Rows of one node in the split grid.
 GRID_FIELDS = 15
 
@@ -415,7 +415,8 @@ def count_real_roots_row(F, E, d, lo, hi, chart, work):
         if (_certain_sign(work[_C], work[_E]) == 0
                 or _certain_sign(work[_C + MAX_DEGREE], work[_E + MAX_DEGREE]) == 0):
             return -1
-        count, splits = _descend(work, ch, count, splits, d, lo, hi, chart, work[:1].reshape((1, 1)), 0, 1)
+        count, splits = _descend(work, ch, count, splits, d, lo, hi, chart, work[:GRID_FIELDS].reshape((1, GRID_FIELDS)),
+                                 0, 1)
         if count < 0:
             return -1
     return count
@@ -430,8 +431,27 @@ def _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf):
     kernel passes ``nleaf = 1`` (no grid)."""
     work[_HID] = 1.0
     start = count
+    count, splits, _ = _search(work, ch, count, splits, np.inf, d, lo, hi, chart, grid, lane, nleaf)
+    if count < 0:
+        return -1, splits
+    # roots were found right to left: reverse this chart's entries
+    i, j = start, count - 1
+    while i < j:
+        lo[i], lo[j] = lo[j], lo[i]
+        hi[i], hi[j] = hi[j], hi[i]
+        i += 1
+        j -= 1
+    return count, splits
+
+
+@njit(cache=True)
+def _search(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nleaf):
+    """The depth-first search of :func:`_descend` from the node in slot 0 of ``work`` (its heap
+    index in the split grid at ``work[_HID]``, 0 when it is not a grid node), the roots appended
+    right to left from ``count`` on, ``last_lo`` the left end of the last root found (to its
+    right). Returns ``(count, splits, last_lo)``, count -1 when undecided."""
+    lanes = grid.shape[1] // GRID_FIELDS
     top = 0
-    last_lo = np.inf
     gbase = ch * 2 * nleaf
     while top >= 0:
         o = top * _STRIDE
@@ -445,7 +465,7 @@ def _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf):
             continue
         if kind == 1 and b != last_lo and not (ch == 1 and (a == -1.0 or b == 1.0)):
             if count >= d:              # impossible for a degree-d form; never report it
-                return -1, splits
+                return -1, splits, last_lo
             lo[count] = a
             hi[count] = b
             chart[count] = ch
@@ -457,7 +477,7 @@ def _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf):
         # one-root node that touches an excluded end is cut close to that end first
         splits += 1
         if splits > MAX_SPLITS:
-            return -1, splits
+            return -1, splits, last_lo
         first = 0.5
         if kind == 1:
             touch_hi = b == last_lo or (ch == 1 and b == 1.0)
@@ -468,11 +488,10 @@ def _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf):
                 first = 1.0 - _EDGE_LAM
         h = int(work[_HID + top])
         if first == 0.5 and 0 < h < nleaf and bits + 1 <= MAX_BITS:
-            g = (gbase + h) * GRID_FIELDS
-            if grid[g + 14, lane] != 0.0:       # the split point's sign is certain: children from the grid
+            if grid[gbase + h, 14 * lanes + lane] != 0.0:   # the split point's sign is certain: children from the grid
                 m = a + 0.5 * (b - a)
-                _store_grid(work, o, a, m, bits + 1, grid, (gbase + 2 * h) * GRID_FIELDS, lane)
-                _store_grid(work, o + _STRIDE, m, b, bits + 1, grid, (gbase + 2 * h + 1) * GRID_FIELDS, lane)
+                _store_grid(work, o, a, m, bits + 1, grid, gbase + 2 * h, lanes, lane)
+                _store_grid(work, o + _STRIDE, m, b, bits + 1, grid, gbase + 2 * h + 1, lanes, lane)
                 work[_HID + top] = 2.0 * h
                 work[_HID + top + 1] = 2.0 * h + 1.0
                 top += 1
@@ -501,46 +520,19 @@ def _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf):
                 done = True
                 break
         if not done:
-            return -1, splits
+            return -1, splits, last_lo
         top += 1
-    # roots were found right to left: reverse this chart's entries
-    i, j = start, count - 1
-    while i < j:
-        lo[i], lo[j] = lo[j], lo[i]
-        hi[i], hi[j] = hi[j], hi[i]
-        i += 1
-        j -= 1
-    return count, splits
+    return count, splits, last_lo
 
 
 @njit(cache=True)
-def _store_grid(work, o, a, b, bits, grid, g, lane):
-    """Store the node at rows ``g..g+13`` of column ``lane`` of the split grid in slot ``o``."""
+def _store_grid(work, o, a, b, bits, grid, node, lanes, lane):
+    """Store node ``node`` of the block's row ``lane`` of the split grid in slot ``o``."""
     work[o] = a
     work[o + 1] = b
     work[o + 2] = bits
     for i in range(2 * (MAX_DEGREE + 1)):
-        work[o + 3 + i] = grid[g + i, lane]
-
-
-@njit(cache=True)
-def count_real_roots_lane(grid, lane, nleaf, d, lo, hi, chart, work):
-    """:func:`count_real_roots_row` for the row in column ``lane`` of a split grid (``GRID_FIELDS``;
-    built by :func:`imagespace.solve.kernel.lockstep.isolate_block` from the same scaled
-    coefficients and bounds, and then equal to it bit for bit: the same nodes, the same decisions,
-    the same intervals). ``nleaf``: the number of nodes on the grid's deepest level."""
-    count = 0
-    splits = 0
-    for ch in range(2):
-        g = ch * 2 * nleaf * GRID_FIELDS + GRID_FIELDS      # the chart's root, heap index 1
-        _store_grid(work, 0, -1.0, 1.0, 0, grid, g, lane)
-        if (_certain_sign(work[_C], work[_E]) == 0
-                or _certain_sign(work[_C + MAX_DEGREE], work[_E + MAX_DEGREE]) == 0):
-            return -1
-        count, splits = _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf)
-        if count < 0:
-            return -1
-    return count
+        work[o + 3 + i] = grid[node, i * lanes + lane]
 
 
 @njit(cache=True, parallel=True)

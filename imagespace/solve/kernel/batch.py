@@ -35,7 +35,7 @@ class BatchKernel:
         self.layout = np.array([2, 3, tables.degree], dtype=np.int64)
         self.tolerances = kernel_tolerances(TOLERANCES if tolerances is None else tolerances)
 
-    def __call__(self, Q, proof=True):
+    def __call__(self, Q, proof=True, lockstep=True):
         """Solve joint vectors ``Q`` (n, 3) (finite, in the joints' domains).
 
         Parameters
@@ -48,6 +48,10 @@ class BatchKernel:
             kinematic form, and a row the bounds cannot decide is flagged 2. ``False`` takes
             the float coefficients as exact (an unflagged count may then be wrong near a
             double root; kept as the baseline of ``benchmarks/dk_throughput.py``).
+        lockstep : bool
+            Solve blocks of rows in lockstep (:mod:`.lockstep`, the default); ``False`` runs the
+            row-at-a-time loop, which gives the same answers bit for bit (kept as the baseline of
+            ``benchmarks/dk_throughput.py``).
 
         Returns
         -------
@@ -74,17 +78,20 @@ class BatchKernel:
         cnt = np.empty(n, dtype=np.int64)
         flag = np.empty(n, dtype=np.int8)
         if n:
-            _generic_loop("run")(Q, *self.tables.arrays(), self.tolerances, bool(proof), X, P, R, A, cnt, flag)
+            _generic_loop("run" if lockstep else "run_rows")(Q, *self.tables.arrays(), self.tolerances, bool(proof),
+                                                             X, P, R, A, cnt, flag)
         return X, P, R, A, cnt, flag
 
-    def certified_counts(self, Q):
+    def certified_counts(self, Q, lockstep=True):
         """Proven numbers of distinct real roots of the kinematic form for joint vectors ``Q`` (n, 3)
         (finite, in the joints' domains; floats taken as the exact binary rationals they are).
 
         Per row: the quadric coefficients with rigorous error bounds (``cos``/``sin`` enclosed),
         the elimination with a rigorous bound on every coefficient of ``F``, then
         :func:`imagespace.core.isolate.count_real_roots_row` (Descartes' rule in the Bernstein
-        basis, every sign decided despite the bounds). No eigenvalues, no flint.
+        basis, every sign decided despite the bounds). No eigenvalues, no flint. Blocks of rows
+        run in lockstep (:mod:`.lockstep`) unless ``lockstep`` is False (the row-at-a-time loop,
+        the same answers; a benchmark baseline).
 
         Returns
         -------
@@ -114,7 +121,8 @@ class BatchKernel:
         hi = np.full((n, _MAX), np.nan)
         chart = np.full((n, _MAX), -1, dtype=np.int8)
         if n > _SERIAL_ROWS:
-            _generic_loop("run_counts")(Q, *self.tables.arrays(), counts, lo, hi, chart)
+            _generic_loop("run_counts" if lockstep else "run_counts_rows")(Q, *self.tables.arrays(), counts, lo, hi,
+                                                                           chart)
         elif n:
             self._counts_serial(Q, counts, lo, hi, chart)
         return counts, lo, hi, chart

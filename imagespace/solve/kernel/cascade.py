@@ -18,6 +18,7 @@ _UNIT_ROUNDOFF = 2.2e-16     # the double precision unit roundoff the rounding b
 _HORNER_ZERO = 4.5e-16       # |p(t)| below this * deg * sum|c_k||t|^k is zero within Horner's rounding
 _BISECT_WIDTH = 4e-16        # a bracket narrower than this (relative) has converged: stopping width
 _TOUCH_ZERO = 64 * _UNIT_ROUNDOFF  # a critical value below this * deg * scale touches the axis
+_NEWTON_STEPS = 400          # most steps of the bracketed Newton iteration (bisection guarantees far fewer)
 
 
 @njit(cache=True)
@@ -58,8 +59,16 @@ def _monotone_root(c, deg, a, b, fa, fb, flat_a, flat_b, coarse):
         t = a - fa * (b - a) / (fb - fa)
     if not (a < t < b):
         t = 0.5 * (a + b)
-    width = b - a
-    for it in range(400):
+    return _bracketed_newton(c, deg, a, b, fa, fb, t, b - a, 0, coarse)
+
+
+@njit(cache=True)
+def _bracketed_newton(c, deg, a, b, fa, fb, t, width, it0, coarse):
+    """The iteration of :func:`_monotone_root` from its step ``it0`` on, at the point ``t`` of the
+    bracket ``[a, b]`` (``width``: the bracket's width at the last safeguard check): the lockstep
+    kernel runs the first steps of every root of a block together and finishes the few slow ones
+    here."""
+    for it in range(it0, _NEWTON_STEPS):
         f = c[deg]
         d = 0.0
         e = abs(c[deg])

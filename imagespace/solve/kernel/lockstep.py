@@ -44,13 +44,17 @@ from ...core._numba import njit
 from ...core.bounded_trig import cos_sin_bounded
 from ...core.elimination import (ELIMINATION_ROW_SIZE, ROW_D, ROW_F, ROW_X2, ROW_X3,
                                  _ROW_GAMMA, _ROW_INFLATE, _ROW_TINY, _ROW_U)
-from ...core.isolate import (BERNSTEIN_MATRIX, GRID_FIELDS, MAX_DEGREE, _BINOM, _GAMMA, _INFL, _NO_SCALING_ABOVE,
-                             _NO_SCALING_BELOW, _TINY as _ISO_TINY, _U as _ISO_U, count_real_roots_lane,
-                             count_real_roots_row)
+from ...core.isolate import (BERNSTEIN_MATRIX, GRID_FIELDS, MAX_DEGREE, _BINOM, _GAMMA, _HID, _INFL,
+                             _NO_SCALING_ABOVE, _NO_SCALING_BELOW, _TINY as _ISO_TINY, _U as _ISO_U, _search,
+                             _store_grid, count_real_roots_row)
+from ...core.isolate import ISOLATE_WORK_SIZE
+from .cascade import _BISECT_WIDTH, _HORNER_ZERO, _bracketed_newton, _horner, _monotone_root
+from .row import _duplicate_modes, _insert_mode, _mode_finish, _mode_start, _root_point
 from .tables import _GAMMA_SUM, _INFLATE, _TINY, _U
 
-__all__ = ["LOCKSTEP_ROWS", "GRID_LEVELS", "coefficients_block", "eliminate_block", "isolate_block",
-           "refine_roots", "modes_block", "S_SIZE", "grid_rows"]
+__all__ = ["LOCKSTEP_ROWS", "GRID_LEVELS", "LOCKSTEP_NEWTON_STEPS", "S_SIZE", "grid_rows", "coefficients_block",
+           "eliminate_block", "isolate_block", "refine_roots", "modes_block", "store_block", "block_workspace",
+           "solve_block", "counts_block"]
 
 #: Rows per block (a speed knob: the block's workspace, ~40 kB, stays in the level-2 cache).
 LOCKSTEP_ROWS = 32
@@ -83,16 +87,16 @@ S_SIZE = sum(_S_SIZES)
 
 
 def grid_rows(levels=GRID_LEVELS):
-    """Rows of the split grid of :func:`isolate_block` for ``levels`` levels (two charts, the
-    heap-ordered nodes ``1 .. 2**(levels + 1) - 1`` of each, ``GRID_FIELDS`` rows a node).
+    """Rows (nodes) of the split grid of :func:`isolate_block` for ``levels`` levels: two charts,
+    the heap-ordered nodes ``1 .. 2**(levels + 1) - 1`` of each (row 0 of a chart unused).
 
     Examples
     --------
     >>> from imagespace.solve.kernel.lockstep import grid_rows
     >>> grid_rows(3)
-    480
+    32
     """
-    return 2 * 2 ** (levels + 1) * GRID_FIELDS
+    return 2 * 2 ** (levels + 1)
 
 
 # --------------------------------------------------------------------------- 1. coefficients
@@ -363,27 +367,29 @@ def eliminate_block(S, plan, nb, bounded):
 # --------------------------------------------------------------------------- 3. isolation
 
 @njit(cache=True)
-def _half_split_block(grid, src, left, right, nb):
-    """de Casteljau at 1/2 of the node at grid rows ``src`` for every row of the block: the
-    children into rows ``left`` and ``right``, the certain sign of the split point into
-    ``src + 14`` (:func:`imagespace.core.isolate._split` with ``lam = 1/2``, operation for
-    operation)."""
+def _half_split_block(src, left, right, nb):
+    """de Casteljau at 1/2 of the split-grid node ``src`` (a row of the grid: field ``f`` of the
+    block's row ``l`` at ``f * LOCKSTEP_ROWS + l``) for every row of the block: the children into
+    ``left`` and ``right``, the certain sign of the split point into field 14 of ``src``
+    (:func:`imagespace.core.isolate._split` with ``lam = 1/2``, operation for operation). The
+    fields sit at constant distances, so the loop over the rows vectorises."""
     u = _ISO_U
+    B = LOCKSTEP_ROWS
     for l in range(nb):
-        c0 = grid[src, l]
-        c1 = grid[src + 1, l]
-        c2 = grid[src + 2, l]
-        c3 = grid[src + 3, l]
-        c4 = grid[src + 4, l]
-        c5 = grid[src + 5, l]
-        c6 = grid[src + 6, l]
-        e0 = grid[src + 7, l]
-        e1 = grid[src + 8, l]
-        e2 = grid[src + 9, l]
-        e3 = grid[src + 10, l]
-        e4 = grid[src + 11, l]
-        e5 = grid[src + 12, l]
-        e6 = grid[src + 13, l]
+        c0 = src[l]
+        c1 = src[1 * B + l]
+        c2 = src[2 * B + l]
+        c3 = src[3 * B + l]
+        c4 = src[4 * B + l]
+        c5 = src[5 * B + l]
+        c6 = src[6 * B + l]
+        e0 = src[7 * B + l]
+        e1 = src[8 * B + l]
+        e2 = src[9 * B + l]
+        e3 = src[10 * B + l]
+        e4 = src[11 * B + l]
+        e5 = src[12 * B + l]
+        e6 = src[13 * B + l]
         p0 = (c0 + c1) * 0.5
         ep0 = (e0 + e1) * 0.5 + u * abs(p0)
         p1 = (c1 + c2) * 0.5
@@ -426,46 +432,176 @@ def _half_split_block(grid, src, left, right, nb):
         ev1 = (es1 + es2) * 0.5 + u * abs(v1)
         w0 = (v0 + v1) * 0.5
         ew0 = ((ev0 + ev1) * 0.5 + u * abs(w0)) * _INFL + _ISO_TINY
-        grid[left, l] = c0
-        grid[left + 1, l] = p0
-        grid[left + 2, l] = q0
-        grid[left + 3, l] = r0
-        grid[left + 4, l] = s0
-        grid[left + 5, l] = v0
-        grid[left + 6, l] = w0
-        grid[left + 7, l] = e0
-        grid[left + 8, l] = ep0 * _INFL + _ISO_TINY
-        grid[left + 9, l] = eq0 * _INFL + _ISO_TINY
-        grid[left + 10, l] = er0 * _INFL + _ISO_TINY
-        grid[left + 11, l] = es0 * _INFL + _ISO_TINY
-        grid[left + 12, l] = ev0 * _INFL + _ISO_TINY
-        grid[left + 13, l] = ew0
-        grid[right, l] = w0
-        grid[right + 1, l] = v1
-        grid[right + 2, l] = s2
-        grid[right + 3, l] = r3
-        grid[right + 4, l] = q4
-        grid[right + 5, l] = p5
-        grid[right + 6, l] = c6
-        grid[right + 7, l] = ew0
-        grid[right + 8, l] = ev1 * _INFL + _ISO_TINY
-        grid[right + 9, l] = es2 * _INFL + _ISO_TINY
-        grid[right + 10, l] = er3 * _INFL + _ISO_TINY
-        grid[right + 11, l] = eq4 * _INFL + _ISO_TINY
-        grid[right + 12, l] = ep5 * _INFL + _ISO_TINY
-        grid[right + 13, l] = e6
-        grid[src + 14, l] = 1.0 if w0 > ew0 else (-1.0 if w0 < -ew0 else 0.0)
+        left[l] = c0
+        left[1 * B + l] = p0
+        left[2 * B + l] = q0
+        left[3 * B + l] = r0
+        left[4 * B + l] = s0
+        left[5 * B + l] = v0
+        left[6 * B + l] = w0
+        left[7 * B + l] = e0
+        left[8 * B + l] = ep0 * _INFL + _ISO_TINY
+        left[9 * B + l] = eq0 * _INFL + _ISO_TINY
+        left[10 * B + l] = er0 * _INFL + _ISO_TINY
+        left[11 * B + l] = es0 * _INFL + _ISO_TINY
+        left[12 * B + l] = ev0 * _INFL + _ISO_TINY
+        left[13 * B + l] = ew0
+        right[l] = w0
+        right[1 * B + l] = v1
+        right[2 * B + l] = s2
+        right[3 * B + l] = r3
+        right[4 * B + l] = q4
+        right[5 * B + l] = p5
+        right[6 * B + l] = c6
+        right[7 * B + l] = ew0
+        right[8 * B + l] = ev1 * _INFL + _ISO_TINY
+        right[9 * B + l] = es2 * _INFL + _ISO_TINY
+        right[10 * B + l] = er3 * _INFL + _ISO_TINY
+        right[11 * B + l] = eq4 * _INFL + _ISO_TINY
+        right[12 * B + l] = ep5 * _INFL + _ISO_TINY
+        right[13 * B + l] = e6
+        src[14 * B + l] = 1.0 if w0 > ew0 else (-1.0 if w0 < -ew0 else 0.0)
+
+
+def _node_order(levels):
+    """The split grid's nodes of one chart ordered by their left end, then by depth: rows of heap
+    index, first and last leaf index, depth. Nodes where a search stops are disjoint, so this is
+    the order of their intervals."""
+    nleaf = 2 ** levels
+    nodes = []
+    for h in range(1, 2 * nleaf):
+        depth = h.bit_length() - 1
+        span = nleaf >> depth
+        i0 = (h - (1 << depth)) * span
+        nodes.append((i0, depth, h, i0 + span))
+    nodes.sort()
+    return np.array([(h, i0, i1, depth) for i0, depth, h, i1 in nodes], dtype=np.int64)
+
+
+_NODE_ORDER = _node_order(GRID_LEVELS)
 
 
 @njit(cache=True)
-def isolate_block(S, F0, Fe0, d, nb, grid, nleaf, status, counts, lo, hi, chart, work, fl, el):
+def _classify_block(grid, nleaf, status, nb, kinds):
+    """The split grid's nodes classified for the whole block, branch free: ``kinds[2 ch, h, l]``
+    the kind of node ``h`` of chart ``ch`` (0 no root, 1 one simple root, 2 undecided:
+    :func:`imagespace.core.isolate._classify`; -1 for a root node with an end of uncertain sign,
+    which makes the row undecided), ``kinds[2 ch + 1, h, l]`` 1 where the row's search visits the
+    node: the root, and the children of a visited undecided node whose split point has a certain
+    sign (the search splits it at 1/2 first). Rows with ``status != 0`` are not searched."""
+    B = LOCKSTEP_ROWS
+    for ch in range(2):
+        base = ch * 2 * nleaf
+        kind = kinds[2 * ch]
+        seen = kinds[2 * ch + 1]
+        for h in range(1, 2 * nleaf):
+            g = grid[base + h]
+            kh = kind[h]
+            for l in range(nb):
+                c0 = g[l]
+                c6 = g[6 * B + l]
+                s0 = 1.0 if c0 > 0 else -1.0
+                sd = 1.0 if c6 > 0 else -1.0
+                o1 = s0 * g[B + l] < g[8 * B + l]
+                o2 = s0 * g[2 * B + l] < g[9 * B + l]
+                o3 = s0 * g[3 * B + l] < g[10 * B + l]
+                o4 = s0 * g[4 * B + l] < g[11 * B + l]
+                o5 = s0 * g[5 * B + l] < g[12 * B + l]
+                m5 = s0 * g[5 * B + l] > -g[12 * B + l]
+                m4 = m5 | (s0 * g[4 * B + l] > -g[11 * B + l])
+                m3 = m4 | (s0 * g[3 * B + l] > -g[10 * B + l])
+                m2 = m3 | (s0 * g[2 * B + l] > -g[9 * B + l])
+                same = o1 | o2 | o3 | o4 | o5
+                cross = (o1 & m2) | (o2 & m3) | (o3 & m4) | (o4 & m5)
+                k = (2 if same else 0) if s0 == sd else (2 if cross else 1)
+                if h == 1:
+                    e0 = g[7 * B + l]
+                    e6 = g[13 * B + l]
+                    certain = (c0 > e0 or c0 < -e0) and (c6 > e6 or c6 < -e6)
+                    k = k if certain else -1
+                kh[l] = k
+        s1 = seen[1]
+        k1 = kind[1]
+        for l in range(nb):
+            s1[l] = 1 if (status[l] == 0 and k1[l] >= 0) else 0
+        for h in range(2, 2 * nleaf):
+            sv = seen[h]
+            sp = seen[h // 2]
+            kp = kind[h // 2]
+            gp = grid[base + h // 2]
+            for l in range(nb):
+                sv[l] = 1 if (sp[l] == 1 and kp[l] == 2 and gp[14 * B + l] != 0.0) else 0
+
+
+@njit(cache=True)
+def _walk_lane(grid, nleaf, kinds, lane, d, lo, hi, chart, work):
+    """:func:`~imagespace.core.isolate.count_real_roots_row` for row ``lane`` of the block from its
+    classified split grid (:func:`_classify_block`): the nodes its depth-first search would stop
+    at on the grid (visited, and not split there at 1/2) are taken right to left, as the search
+    meets them: a node without a root is passed, a one-root node that touches neither the last
+    root's interval nor an excluded end is a root, any other node is searched from
+    (:func:`imagespace.core.isolate._search`, splitting off the grid). The same decisions in the
+    same order, hence the same count and intervals; the split budget counts every split on the
+    grid up front (the search gives up at the same total)."""
+    B = LOCKSTEP_ROWS
+    order = _NODE_ORDER
+    splits = 0
+    for ch in range(2):
+        base = ch * 2 * nleaf
+        if kinds[2 * ch, 1, lane] < 0:
+            return -1
+        for h in range(1, nleaf):
+            if kinds[2 * ch + 1, h, lane] == 1 and kinds[2 * ch, h, lane] == 2 and grid[base + h, 14 * B + lane] != 0.0:
+                splits += 1
+    count = 0
+    for ch in range(2):
+        base = ch * 2 * nleaf
+        kind = kinds[2 * ch]
+        seen = kinds[2 * ch + 1]
+        start = count
+        last_lo = np.inf
+        for j in range(order.shape[0] - 1, -1, -1):
+            h = order[j, 0]
+            if seen[h, lane] == 0:
+                continue
+            k = kind[h, lane]
+            if k == 0 or (k == 2 and h < nleaf and grid[base + h, 14 * B + lane] != 0.0):
+                continue
+            a = -1.0 + order[j, 1] * (2.0 / nleaf)
+            b = -1.0 + order[j, 2] * (2.0 / nleaf)
+            if k == 1 and b != last_lo and not (ch == 1 and (a == -1.0 or b == 1.0)):
+                if count >= d:
+                    return -1
+                lo[count] = a
+                hi[count] = b
+                chart[count] = ch
+                count += 1
+                last_lo = a
+                continue
+            _store_grid(work, 0, a, b, order[j, 3], grid, base + h, B, lane)
+            work[_HID] = h
+            count, splits, last_lo = _search(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nleaf)
+            if count < 0:
+                return -1
+        i, j = start, count - 1
+        while i < j:
+            lo[i], lo[j] = lo[j], lo[i]
+            hi[i], hi[j] = hi[j], hi[i]
+            i += 1
+            j -= 1
+    return count
+
+
+@njit(cache=True)
+def isolate_block(S, F0, Fe0, d, nb, grid, nleaf, status, counts, lo, hi, chart, work, fl, el, kinds):
     """:func:`~imagespace.core.isolate.count_real_roots_row` for every row of the block: the form
     of degree ``d`` in rows ``F0 .. F0 + d`` of ``S``, its bounds in ``Fe0 ..``; counts into
     ``counts[l]``, the isolating intervals into ``lo[l], hi[l], chart[l]``.
 
-    ``grid`` (``grid_rows(levels)``, ``nb``) takes the split grid, ``nleaf = 2**levels``;
+    ``grid`` (``grid_rows(levels)``, ``GRID_FIELDS * LOCKSTEP_ROWS``) takes the split grid (see
+    :mod:`imagespace.core.isolate`), ``nleaf = 2**levels``;
     ``status`` (``nb``) int scratch; ``work`` (``ISOLATE_WORK_SIZE``), ``fl``, ``el`` (7) scratch
-    of the rows' searches.
+    of the rows' searches; ``kinds`` (4, 2 * nleaf, LOCKSTEP_ROWS) int scratch of :func:`_classify_block`.
     """
     # the rows' inputs as count_real_roots_row checks and scales them: rows whose forms would be
     # scaled take the slow lane (count_real_roots_row itself), non-finite ones are undecided
@@ -508,8 +644,9 @@ def isolate_block(S, F0, Fe0, d, nb, grid, nleaf, status, counts, lo, hi, chart,
     acc = S[_S_BERN]
     mag = S[_S_BERN + 1]
     box = S[_S_BERN + 2]
+    B = LOCKSTEP_ROWS
     for ch in range(2):
-        root = (ch * 2 * nleaf + 1) * GRID_FIELDS
+        root = grid[ch * 2 * nleaf + 1]
         for i in range(MAX_DEGREE + 1):
             for l in range(nb):
                 acc[l] = 0.0
@@ -526,19 +663,17 @@ def isolate_block(S, F0, Fe0, d, nb, grid, nleaf, status, counts, lo, hi, chart,
                     mag[l] += aw * abs(g[l])
                     box[l] += aw * ge[l]
             binom = _BINOM[i]
-            out = grid[root + i]
-            oute = grid[root + MAX_DEGREE + 1 + i]
             for l in range(nb):
                 b = acc[l] / binom
-                out[l] = b
-                oute[l] = ((box[l] + _GAMMA * mag[l]) / binom + _ISO_U * abs(b)) * _INFL + _ISO_TINY
+                root[i * B + l] = b
+                root[(MAX_DEGREE + 1 + i) * B + l] = ((box[l] + _GAMMA * mag[l]) / binom + _ISO_U * abs(b)) * _INFL + _ISO_TINY
         h = 1
         while h < nleaf:
             base = ch * 2 * nleaf
-            _half_split_block(grid, (base + h) * GRID_FIELDS, (base + 2 * h) * GRID_FIELDS,
-                              (base + 2 * h + 1) * GRID_FIELDS, nb)
+            _half_split_block(grid[base + h], grid[base + 2 * h], grid[base + 2 * h + 1], nb)
             h += 1
-    # each row's depth-first search, on the grid where it can
+    # the grid classified for the block at once, then each row's search from where it leaves the grid
+    _classify_block(grid, nleaf, status, nb, kinds)
     for l in range(nb):
         if status[l] < 0:
             counts[l] = -1
@@ -548,4 +683,319 @@ def isolate_block(S, F0, Fe0, d, nb, grid, nleaf, status, counts, lo, hi, chart,
                 el[k] = S[Fe0 + k, l]
             counts[l] = count_real_roots_row(fl, el, d, lo[l], hi[l], chart[l], work)
         else:
-            counts[l] = count_real_roots_lane(grid, l, nleaf, d, lo[l], hi[l], chart[l], work)
+            counts[l] = _walk_lane(grid, nleaf, kinds, l, d, lo[l], hi[l], chart[l], work)
+
+
+# --------------------------------------------------------------------------- 4. modes
+
+# the roots of a block (at most MAX_DEGREE per row), one column each: MD (_M_SIZE, MAX_DEGREE * rows)
+_M_SIZES = (MAX_DEGREE + 1,   # P: the polynomial of the root's chart, scaled by 1 / max |F|
+            6,                # A, B, FA, FB, T, W: bracket, values at its ends, iterate, width
+            MAX_DEGREE + 1,   # H: Horner's value, derivative and magnitude (scratch of refine_roots)
+            4, 2)             # X: the mode's image point; DET, JRES
+(_M_P, _M_A, _M_H, _M_X, _M_DET) = (0, *itertools.accumulate(_M_SIZES[:-1]))
+_M_B, _M_FA, _M_FB, _M_T, _M_W = _M_A + 1, _M_A + 2, _M_A + 3, _M_A + 4, _M_A + 5
+_M_JRES = _M_DET + 1
+_M_SIZE = sum(_M_SIZES)
+# integer columns of the roots: MI (_MI_SIZE, MAX_DEGREE * rows)
+_MI_LANE, _MI_CHART, _MI_DEG, _MI_DONE = range(4)
+_MI_SIZE = 4
+#: Steps of the safeguarded Newton iteration all roots of a block take together; roots that need
+#: more finish one by one (:func:`.cascade._bracketed_newton`). A speed knob, not a decision.
+LOCKSTEP_NEWTON_STEPS = 12
+# per row of the block (_R_SIZE floats each): Cs, the scaled derivatives, D X2 X3 F (the row
+# kernel's buf layout from 24 on)
+_R_SIZE = 48 + ELIMINATION_ROW_SIZE
+
+
+@njit(cache=True, error_model="numpy")
+def refine_roots(MD, MI, nm, deg):
+    """:func:`.cascade._monotone_root` (no flat ends, not coarse) for the roots ``0 .. nm - 1`` of
+    ``MD``, each in its bracket ``[A, B]`` with values ``FA, FB`` of opposite signs: the result in
+    ``MD[_M_T]``. Roots of degree ``deg`` take the first :data:`LOCKSTEP_NEWTON_STEPS` steps together
+    (Horner's rule for all of them at once, then each root's decision), operation for operation
+    the scalar iteration's; the rest of their steps, and roots of another degree, go through the
+    scalar routine itself."""
+    A = MD[_M_A]
+    B = MD[_M_B]
+    FA = MD[_M_FA]
+    FB = MD[_M_FB]
+    T = MD[_M_T]
+    W = MD[_M_W]
+    fv = MD[_M_H]
+    dv = MD[_M_H + 1]
+    ev = MD[_M_H + 2]
+    done = MI[_MI_DONE]
+    deg_of = MI[_MI_DEG]
+    for j in range(nm):
+        a = A[j]
+        b = B[j]
+        fa = FA[j]
+        fb = FB[j]
+        if deg_of[j] == deg:
+            t = a - fa * (b - a) / (fb - fa)
+            if not (a < t < b):
+                t = 0.5 * (a + b)
+            T[j] = t
+            W[j] = b - a
+            done[j] = 0
+        else:
+            T[j] = _monotone_root(MD[_M_P:_M_P + MAX_DEGREE + 1, j], deg_of[j], a, b, fa, fb, False, False, False)
+            done[j] = 1
+    hz = _HORNER_ZERO * deg
+    for it in range(LOCKSTEP_NEWTON_STEPS):
+        top = MD[_M_P + deg]
+        for j in range(nm):
+            fv[j] = top[j]
+            dv[j] = 0.0
+            ev[j] = abs(top[j])
+        for k in range(deg - 1, -1, -1):
+            c = MD[_M_P + k]
+            for j in range(nm):
+                t = T[j]
+                dv[j] = dv[j] * t + fv[j]
+                fv[j] = fv[j] * t + c[j]
+                ev[j] = ev[j] * abs(t) + abs(c[j])
+        active = 0
+        for j in range(nm):
+            if done[j] != 0:
+                continue
+            t = T[j]
+            f = fv[j]
+            if abs(f) <= hz * ev[j]:
+                done[j] = 1
+                continue
+            a = A[j]
+            b = B[j]
+            fa = FA[j]
+            if (f < 0.0) == (fa < 0.0):
+                a = t
+                A[j] = t
+                FA[j] = f
+            else:
+                b = t
+                B[j] = t
+                FB[j] = f
+            if b - a <= _BISECT_WIDTH * max(1.0, abs(a), abs(b)):
+                done[j] = 1
+                continue
+            d = dv[j]
+            tn = t - f / d if d != 0.0 else 0.5 * (a + b)
+            if it % 4 == 3:
+                if b - a > 0.5 * W[j]:
+                    tn = 0.5 * (a + b)
+                W[j] = b - a
+            if not (a < tn < b):
+                tn = 0.5 * (a + b)
+            T[j] = tn
+            active += 1
+        if active == 0:
+            return
+    for j in range(nm):
+        if done[j] == 0:
+            T[j] = _bracketed_newton(MD[_M_P:_M_P + MAX_DEGREE + 1, j], deg, A[j], B[j], FA[j], FB[j], T[j], W[j],
+                                     LOCKSTEP_NEWTON_STEPS, False)
+
+
+@njit(cache=True, error_model="numpy")
+def modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, rows, p, X, val, J, dx):
+    """The rest of :func:`.row._solve_row` for every row of the block, up to the modes: the scaled
+    quadrics, the checks of ``F`` and ``D``, each isolated root (``counts``, ``lo``, ``hi``,
+    ``chart`` of :func:`isolate_block`) refined (:func:`refine_roots`), back-substituted and
+    polished (:func:`.row._mode_start`, :func:`.row._mode_finish`). Each row's flag goes to
+    ``lflag[l]`` (0, 1 or 2, as the row kernel's), its modes to the columns of ``MD`` (image
+    point, ``det``, joint residual), in the order of its roots. Returns the number of roots."""
+    F0 = _S_EL + ROW_F
+    for l in range(nb):
+        lflag[l] = 0
+    # scaled quadrics (zero set unchanged) and their q-derivatives with the same scale
+    sc = S[_S_BERN]
+    for i in range(3):
+        for l in range(nb):
+            sc[l] = 0.0
+        for k in range(8):
+            c = S[_S_C + 8 * i + k]
+            for l in range(nb):
+                sc[l] = max(sc[l], abs(c[l]))
+        for l in range(nb):
+            if not (sc[l] > 0.0) or not np.isfinite(sc[l]):
+                lflag[l] = 1
+        for k in range(8):
+            c = S[_S_C + 8 * i + k]
+            cs = S[_S_CS + 8 * i + k]
+            dc = S[_S_DC + 8 * i + k]
+            for l in range(nb):
+                cs[l] = c[l] / sc[l]
+                dc[l] = dc[l] / sc[l]
+    fn = S[_S_FN]
+    dn = S[_S_FN + 1]
+    for l in range(nb):
+        fn[l] = 0.0
+        dn[l] = 0.0
+    for k in range(d + 1):
+        f = S[F0 + k]
+        for l in range(nb):
+            if not np.isfinite(f[l]):
+                lflag[l] = 1
+            fn[l] = max(fn[l], abs(f[l]))
+    for k in range(3):
+        f = S[_S_EL + ROW_D + k]
+        for l in range(nb):
+            dn[l] = max(dn[l], abs(f[l]))
+    for l in range(nb):
+        if fn[l] == 0.0 or dn[l] == 0.0:
+            lflag[l] = 1
+        elif lflag[l] == 0 and counts[l] < 0:
+            lflag[l] = 2
+    # the roots of the block, one column each
+    nm = 0
+    for l in range(nb):
+        if lflag[l] != 0:
+            continue
+        first = nm
+        for m in range(counts[l]):
+            ch = 0 if chart[l, m] == 0 else 1
+            for k in range(d + 1):
+                p[k] = S[F0 + k, l] / fn[l] if ch == 0 else S[F0 + d - k, l] / fn[l]
+            deg = d
+            while deg > 0 and p[deg] == 0.0:
+                deg -= 1
+            a = lo[l, m]
+            b = hi[l, m]
+            fa = _horner(p, deg, a)
+            fb = _horner(p, deg, b)
+            if deg == 0 or not (fa * fb < 0.0):
+                lflag[l] = 1         # rounding hid the sign change the isolation proved: careful path
+                nm = first
+                break
+            for k in range(d + 1):
+                MD[_M_P + k, nm] = p[k]
+            MD[_M_A, nm] = a
+            MD[_M_B, nm] = b
+            MD[_M_FA, nm] = fa
+            MD[_M_FB, nm] = fb
+            MI[_MI_LANE, nm] = l
+            MI[_MI_CHART, nm] = ch
+            MI[_MI_DEG, nm] = deg
+            nm += 1
+    refine_roots(MD, MI, nm, d)
+    # each row's scaled quadrics and forms side by side (the row kernel's layout) for the modes
+    for l in range(nb):
+        if lflag[l] == 0 and counts[l] > 0:
+            for k in range(24):
+                rows[l, k] = S[_S_CS + k, l]
+                rows[l, 24 + k] = S[_S_DC + k, l]
+            for k in range(ELIMINATION_ROW_SIZE):
+                rows[l, 48 + k] = S[_S_EL + k, l]
+    for j in range(nm):
+        l = MI[_MI_LANE, j]
+        if lflag[l] != 0:
+            continue
+        x0, x1 = _root_point(MD[_M_T, j], MI[_MI_CHART, j])
+        buf = rows[l]
+        Cs = buf[0:24]
+        ok, det, polished = _mode_start(buf, 48 + ROW_D, 48 + ROW_X2, 48 + ROW_X3, 2, 3, Cs, x0, x1, dn[l], tol,
+                                        X, val, J)
+        if ok:
+            ok, det, jres = _mode_finish(Cs, buf[24:48], X, val, J, dx, det, polished, tol)
+        if not ok:
+            lflag[l] = 1
+            continue
+        for i in range(4):
+            MD[_M_X + i, j] = X[i]
+        MD[_M_DET, j] = det
+        MD[_M_JRES, j] = jres
+    return nm
+
+
+@njit(cache=True)
+def store_block(r0, nb, counts, lflag, MD, MI, nm, tol, X, out_X, out_P, out_R, out_A, cnt, flag):
+    """Each row's modes sorted by ``phi`` into the kernel's outputs (:func:`.row._insert_mode`),
+    two coinciding modes flagged (:func:`.row._duplicate_modes`), unused slots NaN, a flagged
+    row's count 0."""
+    j = 0
+    for l in range(nb):
+        r = r0 + l
+        k = 0
+        f = lflag[l]
+        if f == 0:
+            while j < nm and MI[_MI_LANE, j] < l:
+                j += 1
+            for m in range(counts[l]):
+                for i in range(4):
+                    X[i] = MD[_M_X + i, j + m]
+                _insert_mode(out_X[r], out_P[r], out_R[r], out_A[r], k, X, MD[_M_JRES, j + m], MD[_M_DET, j + m])
+                k += 1
+            if _duplicate_modes(out_X[r], k, tol):
+                f = 1
+        if f != 0:
+            k = 0
+        for s in range(k, out_X.shape[1]):
+            for i in range(4):
+                out_X[r, s, i] = np.nan
+            for i in range(3):
+                out_P[r, s, i] = np.nan
+            out_R[r, s] = np.nan
+            out_A[r, s] = 0
+        cnt[r] = k
+        flag[r] = f
+
+
+@njit(cache=True)
+def block_workspace():
+    """The scratch arrays of one block (one set per parallel chunk of blocks): ``S``, the split
+    grid, per-row ints, intervals, the root columns and small per-mode arrays."""
+    B = LOCKSTEP_ROWS
+    M = MAX_DEGREE * B
+    S = np.zeros((S_SIZE, B))
+    grid = np.zeros((2 * 2 ** (GRID_LEVELS + 1), GRID_FIELDS * B))
+    ints = np.zeros((3, B), dtype=np.int64)          # isolation status, counts, row flags
+    kinds = np.zeros((4, 2 ** (GRID_LEVELS + 1), B), dtype=np.int64)
+    lo = np.full((B, MAX_DEGREE), np.nan)
+    hi = np.full((B, MAX_DEGREE), np.nan)
+    chart = np.full((B, MAX_DEGREE), -1, dtype=np.int8)
+    work = np.zeros(ISOLATE_WORK_SIZE)
+    small = np.zeros((2, MAX_DEGREE + 1))           # one row's F and E for the slow lane
+    MD = np.zeros((_M_SIZE, M))
+    MI = np.zeros((_MI_SIZE, M), dtype=np.int64)
+    rows = np.zeros((B, _R_SIZE))
+    X = np.zeros(4)
+    val = np.zeros(4)
+    J = np.zeros((4, 4))
+    dx = np.zeros(4)
+    p = np.zeros(MAX_DEGREE + 1)
+    return S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p
+
+
+@njit(cache=True)
+def solve_block(Q, r0, nb, expo, coef, cerr, nmono, trig, plan, tol, proof, out_X, out_P, out_R, out_A, cnt, flag,
+                S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p):
+    """The rows ``r0 .. r0 + nb - 1`` of ``Q`` through every stage in lockstep, into the kernel's
+    outputs (the row kernel's ``run``, block by block)."""
+    coefficients_block(Q, r0, nb, expo, coef, cerr, nmono, trig, proof, S)
+    d = eliminate_block(S, plan, nb, proof)
+    status, counts, lflag = ints[0], ints[1], ints[2]
+    isolate_block(S, _S_EL + ROW_F, _S_ELE + ROW_F, d, nb, grid, 2 ** GRID_LEVELS, status, counts, lo, hi, chart,
+                  work, small[0], small[1], kinds)
+    nm = modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, rows, p, X, val, J, dx)
+    store_block(r0, nb, counts, lflag, MD, MI, nm, tol, X, out_X, out_P, out_R, out_A, cnt, flag)
+
+
+@njit(cache=True)
+def counts_block(Q, r0, nb, expo, coef, cerr, nmono, trig, plan, out_counts, out_lo, out_hi, out_chart,
+                 S, grid, ints, kinds, lo, hi, chart, work, small):
+    """The certified counts of the rows ``r0 .. r0 + nb - 1`` (the row kernel's ``run_counts``):
+    bounded coefficients and elimination, isolation; intervals of undecided rows left NaN / -1."""
+    coefficients_block(Q, r0, nb, expo, coef, cerr, nmono, trig, True, S)
+    d = eliminate_block(S, plan, nb, True)
+    status, counts = ints[0], ints[1]
+    isolate_block(S, _S_EL + ROW_F, _S_ELE + ROW_F, d, nb, grid, 2 ** GRID_LEVELS, status, counts, lo, hi, chart,
+                  work, small[0], small[1], kinds)
+    for l in range(nb):
+        r = r0 + l
+        k = counts[l]
+        out_counts[r] = k
+        for m in range(max(k, 0)):
+            out_lo[r, m] = lo[l, m]
+            out_hi[r, m] = hi[l, m]
+            out_chart[r, m] = chart[l, m]

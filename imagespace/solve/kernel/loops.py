@@ -14,10 +14,38 @@ from ...tolerances import TOLERANCES
 from .row import _MAX, kernel_tolerances
 from .tables import MAX_MONOMIALS
 
-_LOOP_SOURCE = """
+_LOCKSTEP_SOURCE = """
 
 @njit(parallel=True, cache=CACHE)
 def run(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, flag):
+    n = Q.shape[0]
+    nblk = (n + BLOCK - 1) // BLOCK
+    nchunks = min(nblk, 64)
+    for c in prange(nchunks):
+        S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, x, val, J, dx, p = block_workspace()
+        for blk in range(c * nblk // nchunks, (c + 1) * nblk // nchunks):
+            r0 = blk * BLOCK
+            solve_block(Q, r0, min(BLOCK, n - r0), expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A,
+                        cnt, flag, S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, x, val, J, dx, p)
+
+
+@njit(parallel=True, cache=CACHE)
+def run_counts(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart):
+    n = Q.shape[0]
+    nblk = (n + BLOCK - 1) // BLOCK
+    nchunks = min(nblk, 64)
+    for c in prange(nchunks):
+        S, grid, ints, kinds, blo, bhi, bchart, work, small, MD, MI, rows, x, val, J, dx, p = block_workspace()
+        for blk in range(c * nblk // nchunks, (c + 1) * nblk // nchunks):
+            r0 = blk * BLOCK
+            counts_block(Q, r0, min(BLOCK, n - r0), expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart,
+                         S, grid, ints, kinds, blo, bhi, bchart, work, small)
+"""
+
+_LOOP_SOURCE = """
+
+@njit(parallel=True, cache=CACHE)
+def run_rows(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, flag):
     n = Q.shape[0]
     nblocks = min(n, 64)
     dF = 4 if plan[6] == 1 else 6
@@ -53,7 +81,7 @@ def run(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, fla
 _COUNTS_SOURCE = """
 
 @njit(parallel=True, cache=CACHE)
-def run_counts(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart):
+def run_counts_rows(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart):
     n = Q.shape[0]
     nblocks = min(n, 64)
     for b in prange(nblocks):
@@ -77,6 +105,8 @@ from imagespace.core._numba import njit, prange
 from imagespace.solve.kernel import (_solve_row, _WORK_SIZE as WORK_SIZE, design_row,
     eliminate_row, ELIMINATION_ROW_SIZE as ROW_SIZE, ELIMINATION_WORK_SIZE as ELIM_WORK, ROW_F,
     count_real_roots_row, ISOLATE_WORK_SIZE as ISOLATE_WORK)
+from imagespace.solve.kernel.lockstep import (LOCKSTEP_ROWS as BLOCK, block_workspace, solve_block,
+    counts_block)
 """
 
 _DISK_ATTEMPTS = 3         # loads from the disk cache before compiling in memory (see _compile)
@@ -117,46 +147,48 @@ def _helpers_without_code():
     """The cached numba helpers of the modules the loops compile in (:data:`_INLINED_MODULES`) not
     compiled in this process: after a kernel entry was discarded and loading still fails, their
     own cache entries are the suspects."""
-    import sys
+    import importlib
 
     seen = {}
     for name in _INLINED_MODULES:
-        for v in vars(sys.modules[name]).values():
+        for v in vars(importlib.import_module(name)).values():
             if hasattr(v, "_cache") and hasattr(v, "overloads") and not v.overloads:
                 seen[id(v)] = v
     return list(seen.values())
 
 
 def _warm(mod, name):
-    """Compile (or load from numba's cache) the loop ``name`` (``"run"`` or ``"run_counts"``) of
-    the generated module ``mod`` for exactly the types :class:`BatchKernel` passes, on an empty
+    """Compile (or load from numba's cache) the loop ``name`` (``"run"``, ``"run_counts"``: the
+    lockstep loops; ``"run_rows"``, ``"run_counts_rows"``: the row-at-a-time loops, kept as the
+    benchmarks' baseline) of the generated module ``mod`` for exactly the types :class:`BatchKernel` passes, on an empty
     batch: a corrupted cache entry fails here, not in a user's batch. Each loop is loaded only
     when first needed (loading one takes about half a second)."""
     i64 = np.int64
     tables = (np.zeros((3, MAX_MONOMIALS, 3), dtype=i64), np.zeros((3, MAX_MONOMIALS, 16)),
               np.zeros((3, MAX_MONOMIALS, 16)), np.zeros(3, dtype=i64), np.zeros(3, dtype=i64),
               np.zeros(7, dtype=i64))
-    if name == "run":
-        mod.run(np.empty((0, 3)), *tables, np.zeros(len(kernel_tolerances(TOLERANCES))), True,
+    if name in ("run", "run_rows"):
+        getattr(mod, name)(np.empty((0, 3)), *tables, np.zeros(len(kernel_tolerances(TOLERANCES))), True,
                 np.empty((0, _MAX, 4)), np.empty((0, _MAX, 3)), np.empty((0, _MAX)),
                 np.empty((0, _MAX), dtype=np.int8), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8))
     else:
-        mod.run_counts(np.empty((0, 3)), *tables, np.empty(0, dtype=np.int8), np.empty((0, _MAX)),
+        getattr(mod, name)(np.empty((0, 3)), *tables, np.empty(0, dtype=np.int8), np.empty((0, _MAX)),
                        np.empty((0, _MAX)), np.empty((0, _MAX), dtype=np.int8))
     return getattr(mod, name)
 
 
 _INLINED_MODULES = ("imagespace.solve.kernel", "imagespace.solve.kernel.cascade", "imagespace.solve.kernel.row",
                     "imagespace.solve.kernel.tables", "imagespace.solve.kernel.loops",
+                    "imagespace.solve.kernel.lockstep",
                     "imagespace.core.elimination", "imagespace.core.quadrics", "imagespace.core.isolate",
                     "imagespace.core.bounded_trig")
 
 
 def _module_source(name):
-    """The bytes of an imported module's source file."""
-    import sys
+    """The bytes of a module's source file (imported if it is not yet)."""
+    import importlib
 
-    with open(sys.modules[name].__file__, "rb") as fh:
+    with open(importlib.import_module(name).__file__, "rb") as fh:
         return fh.read()
 
 
@@ -207,7 +239,7 @@ def _compile(source, name):
     return _warm(mod, name)
 
 
-_SOURCE = _HEADER + _LOOP_SOURCE + _COUNTS_SOURCE
+_SOURCE = _HEADER + _LOCKSTEP_SOURCE + _LOOP_SOURCE + _COUNTS_SOURCE
 _RUN = {}                  # the compiled generic loops per cache directory in effect, per process
 
 

@@ -211,6 +211,43 @@ def _mode_finish(Cs, g, X, val, J, dx, det, polished, tol):
 
 
 @njit(cache=True)
+def _insert_mode(out_X, out_P, out_res, out_asp, count, X, jres, det):
+    """Insert the mode ``X`` (normalised image point) among the ``count`` modes of a row, sorted
+    by ``phi``: image point, pose ``(x, y, phi)``, joint residual and aspect (sign of ``det``)."""
+    phi = 2.0 * math.atan2(X[1], X[0])
+    pos = count
+    while pos > 0 and out_P[pos - 1, 2] > phi:
+        for i in range(4):
+            out_X[pos, i] = out_X[pos - 1, i]
+        for i in range(3):
+            out_P[pos, i] = out_P[pos - 1, i]
+        out_res[pos] = out_res[pos - 1]
+        out_asp[pos] = out_asp[pos - 1]
+        pos -= 1
+    for i in range(4):
+        out_X[pos, i] = X[i]
+    out_P[pos, 0] = 2.0 * (X[3] * X[0] + X[2] * X[1])
+    out_P[pos, 1] = 2.0 * (X[3] * X[1] - X[2] * X[0])
+    out_P[pos, 2] = phi
+    out_res[pos] = jres
+    out_asp[pos] = 1 if det > 0 else (-1 if det < 0 else 0)
+
+
+@njit(cache=True)
+def _duplicate_modes(out_X, count, tol):
+    """Two of the ``count`` modes coincide (within ``kernel_duplicate``): two roots polished onto
+    one mode, which only wrong float roots can cause."""
+    for a in range(count):
+        for b in range(a + 1, count):
+            dd = 0.0
+            for i in range(4):
+                dd = max(dd, abs(out_X[a, i] - out_X[b, i]))
+            if dd <= tol[_T_DUPLICATE] * (1.0 + abs(out_X[a, 2]) + abs(out_X[a, 3])):
+                return True
+    return False
+
+
+@njit(cache=True)
 def _solve_row(buf, Ef, layout, tol, out_X, out_P, out_res, out_asp, work):
     """Everything after the coefficients for one row. Returns (count, flag): flag 0 ok,
     1 special (careful path), 2 suspect (certified path). ``tol``: :func:`kernel_tolerances`;
@@ -287,31 +324,9 @@ def _solve_row(buf, Ef, layout, tol, out_X, out_P, out_res, out_asp, work):
             return 0, 1
         if count >= _MAX:
             return 0, 1
-        phi = 2.0 * math.atan2(X[1], X[0])
-        # insertion by phi
-        pos = count
-        while pos > 0 and out_P[pos - 1, 2] > phi:
-            for i in range(4):
-                out_X[pos, i] = out_X[pos - 1, i]
-            for i in range(3):
-                out_P[pos, i] = out_P[pos - 1, i]
-            out_res[pos] = out_res[pos - 1]
-            out_asp[pos] = out_asp[pos - 1]
-            pos -= 1
-        for i in range(4):
-            out_X[pos, i] = X[i]
-        out_P[pos, 0] = 2.0 * (X[3] * X[0] + X[2] * X[1])
-        out_P[pos, 1] = 2.0 * (X[3] * X[1] - X[2] * X[0])
-        out_P[pos, 2] = phi
-        out_res[pos] = jres
-        out_asp[pos] = 1 if det > 0 else (-1 if det < 0 else 0)
+        _insert_mode(out_X, out_P, out_res, out_asp, count, X, jres, det)
         count += 1
     # two roots may polish onto one mode only if the float roots were wrong: let the careful path decide
-    for a in range(count):
-        for b in range(a + 1, count):
-            dd = 0.0
-            for i in range(4):
-                dd = max(dd, abs(out_X[a, i] - out_X[b, i]))
-            if dd <= tol[_T_DUPLICATE] * (1.0 + abs(out_X[a, 2]) + abs(out_X[a, 3])):
-                return 0, 1
+    if _duplicate_modes(out_X, count, tol):
+        return 0, 1
     return count, 0
