@@ -697,6 +697,7 @@ _M_SIZES = (MAX_DEGREE + 1,   # P: the polynomial of the root's chart, scaled by
 _M_B, _M_FA, _M_FB, _M_T, _M_W = _M_A + 1, _M_A + 2, _M_A + 3, _M_A + 4, _M_A + 5
 _M_JRES = _M_DET + 1
 _M_SIZE = sum(_M_SIZES)
+_M_MAX = MAX_DEGREE * LOCKSTEP_ROWS    # columns of MD (the most roots of a block)
 # integer columns of the roots: MI (_MI_SIZE, MAX_DEGREE * rows)
 _MI_LANE, _MI_CHART, _MI_DEG, _MI_DONE = range(4)
 _MI_SIZE = 4
@@ -743,19 +744,25 @@ def refine_roots(MD, MI, nm, deg):
             T[j] = _monotone_root(MD[_M_P:_M_P + MAX_DEGREE + 1, j], deg_of[j], a, b, fa, fb, False, False, False)
             done[j] = 1
     hz = _HORNER_ZERO * deg
+    # Horner's rule for every root at once, on the flat columns (the rows at constant distances
+    # _M_MAX apart, so the loop over the roots vectorises)
+    md = MD.reshape(MD.size)
+    toprow = MD[_M_P + deg]
     for it in range(LOCKSTEP_NEWTON_STEPS):
-        top = MD[_M_P + deg]
         for j in range(nm):
-            fv[j] = top[j]
-            dv[j] = 0.0
-            ev[j] = abs(top[j])
+            top = toprow[j]
+            md[_M_H * _M_MAX + j] = top
+            md[(_M_H + 1) * _M_MAX + j] = 0.0
+            md[(_M_H + 2) * _M_MAX + j] = abs(top)
         for k in range(deg - 1, -1, -1):
-            c = MD[_M_P + k]
+            crow = MD[_M_P + k]
             for j in range(nm):
-                t = T[j]
-                dv[j] = dv[j] * t + fv[j]
-                fv[j] = fv[j] * t + c[j]
-                ev[j] = ev[j] * abs(t) + abs(c[j])
+                t = md[_M_T * _M_MAX + j]
+                c = crow[j]
+                f = md[_M_H * _M_MAX + j]
+                md[(_M_H + 1) * _M_MAX + j] = md[(_M_H + 1) * _M_MAX + j] * t + f
+                md[_M_H * _M_MAX + j] = f * t + c
+                md[(_M_H + 2) * _M_MAX + j] = md[(_M_H + 2) * _M_MAX + j] * abs(t) + abs(c)
         active = 0
         for j in range(nm):
             if done[j] != 0:
@@ -946,7 +953,7 @@ def block_workspace():
     """The scratch arrays of one block (one set per parallel chunk of blocks): ``S``, the split
     grid, per-row ints, intervals, the root columns and small per-mode arrays."""
     B = LOCKSTEP_ROWS
-    M = MAX_DEGREE * B
+    M = _M_MAX
     S = np.zeros((S_SIZE, B))
     grid = np.zeros((2 * 2 ** (GRID_LEVELS + 1), GRID_FIELDS * B))
     ints = np.zeros((3, B), dtype=np.int64)          # isolation status, counts, row flags
