@@ -31,6 +31,19 @@ kernel then
    below ``1e-9``, joint residual ``max_i |Q_i| / |dQ_i/dq_i|`` reported,
 5. writes normalised image points, poses, aspects (sign of the 4x4 determinant) sorted by ``phi``.
 
+The rows go through these steps in blocks of :data:`.lockstep.LOCKSTEP_ROWS`, side by side
+(:mod:`.lockstep`: structure-of-arrays loops over the rows of a block, the split grid of the
+isolation computed and classified for the block at once), with exactly the operations of the
+row-at-a-time functions (:mod:`.row`, :func:`design_row`, ``eliminate_row``,
+``count_real_roots_row``), so both loops give the same answers bit for bit; the row-at-a-time
+loop stays as the benchmarks' baseline (``kernel(Q, lockstep=False)``).
+
+Package layout: :mod:`.tables` (design tables, :func:`design_row`), :mod:`.cascade` (the
+derivative cascade and the bracketed Newton iteration), :mod:`.row` (the per-row stages),
+:mod:`.lockstep`, :mod:`.block_layout` and :mod:`.block_isolate` (the block stages),
+:mod:`.loops` (the generated generic loops and their on-disk cache), :mod:`.batch`
+(:class:`BatchKernel`, :func:`build_kernel`).
+
 A row is flagged instead of guessed when a float computation cannot decide it: roots the
 isolation cannot separate (a double root, or a complex pair within rounding of the axis:
 ``suspect``), or the Cramer denominator vanishing at a root, a vanishing polynomial, a Newton
