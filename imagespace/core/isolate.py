@@ -93,7 +93,7 @@ from .._validate import as_float_array
 from ..exceptions import InputError
 from ._numba import njit, prange
 
-__all__ = ["count_real_roots_row", "certified_root_counts", "ISOLATE_WORK_SIZE", "MAX_DEGREE"]
+__all__ = ["count_real_roots_row", "certified_root_counts", "ISOLATE_WORK_SIZE", "MAX_DEGREE", "GRID_FIELDS"]
 
 #: Largest degree :func:`count_real_roots_row` handles (the scratch layout is sized for it).
 MAX_DEGREE = 6
@@ -130,8 +130,21 @@ _STRIDE = 3 + 2 * (MAX_DEGREE + 1)
 # a depth-first stack: one node per bit level plus the root and two scratch nodes for a split
 _SLOTS = MAX_BITS + 4
 _SCALED = _SLOTS * _STRIDE          # the scaled F and E (2 * (MAX_DEGREE + 1) floats)
+_HID = _SCALED + 2 * (MAX_DEGREE + 1)   # per stack slot: the node's heap index in a split grid (0: none)
 #: Length of the float64 scratch array ``work`` that :func:`count_real_roots_row` needs.
-ISOLATE_WORK_SIZE = _SCALED + 2 * (MAX_DEGREE + 1)
+ISOLATE_WORK_SIZE = _HID + _SLOTS
+
+# -- the split grid of the lockstep kernel (imagespace.solve.kernel.lockstep) ----------------------
+# For a block of ``lanes`` rows side by side, the Bernstein coefficients of every node of the
+# first levels of the subdivision tree, split at 1/2 from the chart's root node: node ``h`` of chart
+# ``ch`` (heap order: root 1, children 2h and 2h + 1) is row ``ch * 2 * nleaf + h`` of the grid, and
+# field ``f`` of the block's row ``lane`` its column ``f * lanes + lane``: c_0..c_6 in fields 0..6,
+# their bounds in 7..13 and, for an inner node, the certain sign of its split point (the children's
+# common end coefficient) in 14.
+# The depth-first search of a row takes a node's children from there instead of splitting it
+# (the same floats: the lockstep kernel's _half_split_block is _split at 1/2, lane by lane).
+#: Rows of one node in the split grid.
+GRID_FIELDS = 15
 
 
 def _bernstein_matrix():
@@ -402,74 +415,124 @@ def count_real_roots_row(F, E, d, lo, hi, chart, work):
         if (_certain_sign(work[_C], work[_E]) == 0
                 or _certain_sign(work[_C + MAX_DEGREE], work[_E + MAX_DEGREE]) == 0):
             return -1
-        start = count
-        top = 0
-        last_lo = np.inf
-        while top >= 0:
-            o = top * _STRIDE
-            a = work[o]
-            b = work[o + 1]
-            bits = int(work[o + 2])
-            c, e = _load(work, o)
-            kind = _classify(c, e)
-            if kind == 0:
-                top -= 1
-                continue
-            if kind == 1 and b != last_lo and not (ch == 1 and (a == -1.0 or b == 1.0)):
-                if count >= d:              # impossible for a degree-d form; never report it
-                    return -1
-                lo[count] = a
-                hi[count] = b
-                chart[count] = ch
-                count += 1
-                last_lo = a
-                top -= 1
-                continue
-            # split: the left part replaces the node, the right part goes on top of it. A
-            # one-root node that touches an excluded end is cut close to that end first
-            splits += 1
-            if splits > MAX_SPLITS:
-                return -1
-            first = 0.5
-            if kind == 1:
-                touch_hi = b == last_lo or (ch == 1 and b == 1.0)
-                touch_lo = ch == 1 and a == -1.0
-                if touch_hi and not touch_lo:
-                    first = _EDGE_LAM
-                elif touch_lo and not touch_hi:
-                    first = 1.0 - _EDGE_LAM
-            done = False
-            for j in range(_LAM.shape[0] + 1):
-                if j == 0:
-                    lam = first
-                    r = 1 if first == 0.5 else _EDGE_BITS
-                else:
-                    lam = _LAM[j - 1]
-                    r = _LAM_BITS[j - 1]
-                    if lam == first:
-                        continue
-                # exact split point a + lam (b - a): lam = num / 2**r with num < 16 needs
-                # bits + 4 <= MAX_BITS, lam = 1/2 needs bits + 1 <= MAX_BITS (see _LAM)
-                if bits + (1 if lam == 0.5 else 4) > MAX_BITS:
-                    continue
-                lc, le, rc, re = _split(c, e, lam)
-                if _certain_sign(rc[0], re[0]) != 0:
-                    m = a + lam * (b - a)
-                    _store(work, o, a, m, bits + r, lc, le)
-                    _store(work, o + _STRIDE, m, b, bits + r, rc, re)
-                    done = True
-                    break
-            if not done:
-                return -1
-            top += 1
-        # roots were found right to left: reverse this chart's entries
-        i, j = start, count - 1
-        while i < j:
-            lo[i], lo[j] = lo[j], lo[i]
-            hi[i], hi[j] = hi[j], hi[i]
-            i += 1
-            j -= 1
+        count, splits = _descend(work, ch, count, splits, d, lo, hi, chart, work[:GRID_FIELDS].reshape((1, GRID_FIELDS)),
+                                 0, 1)
+        if count < 0:
+            return -1
     return count
+
+
+@njit(cache=True)
+def _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf):
+    """The depth-first Bernstein--Descartes search of chart ``ch`` from the root node in ``work``
+    (module docstring): appends the roots found to ``lo, hi, chart`` from ``count`` on and returns
+    ``(count, splits)``, count -1 when undecided. A node of heap index ``h < nleaf`` split at 1/2
+    takes its children from column ``lane`` of the split ``grid`` (see ``GRID_FIELDS``); the row
+    kernel passes ``nleaf = 1`` (no grid)."""
+    work[_HID] = 1.0
+    start = count
+    count, splits, _ = _search(work, ch, count, splits, np.inf, d, lo, hi, chart, grid, lane, nleaf)
+    if count < 0:
+        return -1, splits
+    # roots were found right to left: reverse this chart's entries
+    i, j = start, count - 1
+    while i < j:
+        lo[i], lo[j] = lo[j], lo[i]
+        hi[i], hi[j] = hi[j], hi[i]
+        i += 1
+        j -= 1
+    return count, splits
+
+
+@njit(cache=True)
+def _search(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nleaf):
+    """The depth-first search of :func:`_descend` from the node in slot 0 of ``work`` (its heap
+    index in the split grid at ``work[_HID]``, 0 when it is not a grid node), the roots appended
+    right to left from ``count`` on, ``last_lo`` the left end of the last root found (to its
+    right). Returns ``(count, splits, last_lo)``, count -1 when undecided."""
+    lanes = grid.shape[1] // GRID_FIELDS
+    top = 0
+    gbase = ch * 2 * nleaf
+    while top >= 0:
+        o = top * _STRIDE
+        a = work[o]
+        b = work[o + 1]
+        bits = int(work[o + 2])
+        c, e = _load(work, o)
+        kind = _classify(c, e)
+        if kind == 0:
+            top -= 1
+            continue
+        if kind == 1 and b != last_lo and not (ch == 1 and (a == -1.0 or b == 1.0)):
+            if count >= d:              # impossible for a degree-d form; never report it
+                return -1, splits, last_lo
+            lo[count] = a
+            hi[count] = b
+            chart[count] = ch
+            count += 1
+            last_lo = a
+            top -= 1
+            continue
+        # split: the left part replaces the node, the right part goes on top of it. A
+        # one-root node that touches an excluded end is cut close to that end first
+        splits += 1
+        if splits > MAX_SPLITS:
+            return -1, splits, last_lo
+        first = 0.5
+        if kind == 1:
+            touch_hi = b == last_lo or (ch == 1 and b == 1.0)
+            touch_lo = ch == 1 and a == -1.0
+            if touch_hi and not touch_lo:
+                first = _EDGE_LAM
+            elif touch_lo and not touch_hi:
+                first = 1.0 - _EDGE_LAM
+        h = int(work[_HID + top])
+        if first == 0.5 and 0 < h < nleaf and bits + 1 <= MAX_BITS:
+            if grid[gbase + h, 14 * lanes + lane] != 0.0:   # the split point's sign is certain: children from the grid
+                m = a + 0.5 * (b - a)
+                _store_grid(work, o, a, m, bits + 1, grid, gbase + 2 * h, lanes, lane)
+                _store_grid(work, o + _STRIDE, m, b, bits + 1, grid, gbase + 2 * h + 1, lanes, lane)
+                work[_HID + top] = 2.0 * h
+                work[_HID + top + 1] = 2.0 * h + 1.0
+                top += 1
+                continue
+        done = False
+        for j in range(_LAM.shape[0] + 1):
+            if j == 0:
+                lam = first
+                r = 1 if first == 0.5 else _EDGE_BITS
+            else:
+                lam = _LAM[j - 1]
+                r = _LAM_BITS[j - 1]
+                if lam == first:
+                    continue
+            # exact split point a + lam (b - a): lam = num / 2**r with num < 16 needs
+            # bits + 4 <= MAX_BITS, lam = 1/2 needs bits + 1 <= MAX_BITS (see _LAM)
+            if bits + (1 if lam == 0.5 else 4) > MAX_BITS:
+                continue
+            lc, le, rc, re = _split(c, e, lam)
+            if _certain_sign(rc[0], re[0]) != 0:
+                m = a + lam * (b - a)
+                _store(work, o, a, m, bits + r, lc, le)
+                _store(work, o + _STRIDE, m, b, bits + r, rc, re)
+                work[_HID + top] = 0.0
+                work[_HID + top + 1] = 0.0
+                done = True
+                break
+        if not done:
+            return -1, splits, last_lo
+        top += 1
+    return count, splits, last_lo
+
+
+@njit(cache=True)
+def _store_grid(work, o, a, b, bits, grid, node, lanes, lane):
+    """Store node ``node`` of the block's row ``lane`` of the split grid in slot ``o``."""
+    work[o] = a
+    work[o + 1] = b
+    work[o + 2] = bits
+    for i in range(2 * (MAX_DEGREE + 1)):
+        work[o + 3 + i] = grid[node, i * lanes + lane]
 
 
 @njit(cache=True, parallel=True)

@@ -395,6 +395,11 @@ def exact_root_count(m, q):
     ------
     DegenerateDesignError
         The kinematic polynomial vanishes identically at ``q`` (a continuum of modes)."""
+    from ..core.quadratic_field import quadratic_field_count
+
+    fast = quadratic_field_count(m, q)     # constants in one Q(sqrt d): FLINT, no sympy per row
+    if fast is not None:
+        return fast, "arb"
     cert = exact_certificate(m, q)
     if not cert.certified:
         return -1, "uncertified"
