@@ -227,7 +227,7 @@ def count_distinct_real_roots(coeffs, d):
     import flint
 
     from .certify import flint_precision
-    from .transcendental import _decide, _discs
+    from .transcendental import real_root_intervals, isolating_boxes
 
     p = _trimmed(list(coeffs))
     if not p:
@@ -241,8 +241,8 @@ def count_distinct_real_roots(coeffs, d):
         with flint_precision(prec):
             root = flint.arb(d).sqrt()
             balls = [flint.arb(a) + flint.arb(b) * root for a, b in p]
-            discs = _discs(balls)
-        intervals = None if discs is None else _decide(discs)
+            discs = isolating_boxes(balls)
+        intervals = None if discs is None else real_root_intervals(discs)
         if intervals is not None:
             return len(intervals) + int(at_inf > 0), True
         if prec == PRECISIONS[1] and len(p) > 2 and _gcd_degree(p, d) > 0:

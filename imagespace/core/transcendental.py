@@ -641,7 +641,7 @@ def transcendental_elimination(quadrics, plan):
 # --------------------------------------------------------------------------- root isolation
 
 
-def _discs(balls):
+def isolating_boxes(balls):
     """Disjoint isolating boxes of the roots of the polynomial with arb coefficients ``balls``
     (``balls[k]`` multiplies ``t**k``; current working precision), or None."""
     import flint
@@ -659,7 +659,7 @@ def _discs(balls):
     return out
 
 
-def _decide(discs, others=()):
+def real_root_intervals(discs, others=()):
     """Real roots among disjoint boxes (see :func:`imagespace.core.certify._arb_path`); ``others``
     are boxes of other factors that must be disjoint from these. Returns the real intervals, or
     None when a box is undecided."""
@@ -696,7 +696,7 @@ def _refine(balls_at, intervals, bits):
             rlo, rhi = arb_bounds(r.real)
             ilo, ihi = arb_bounds(r.imag)
             boxes.append((rlo, rhi, ilo, ihi))
-    fine_iv = _decide(boxes)
+    fine_iv = real_root_intervals(boxes)
     if fine_iv is None or len(fine_iv) != len(intervals):
         return intervals
     out = []
@@ -821,8 +821,8 @@ def certify_transcendental(form, refine_bits=None):
 
     for prec in PRECISIONS:
         with flint_precision(prec):
-            discs = _discs(balls_at(prec))
-        intervals = None if discs is None else _decide(discs)
+            discs = isolating_boxes(balls_at(prec))
+        intervals = None if discs is None else real_root_intervals(discs)
         if intervals is not None:
             intervals = _refine(balls_at, intervals, bits)
             return _certificate(intervals, [1] * len(intervals), at_inf,
@@ -840,8 +840,8 @@ def certify_transcendental(form, refine_bits=None):
         with flint_precision(prec):
             for parts, mult in factors:
                 fb = [_eval_ball(c, vb) for c in parts]
-                discs = _discs(fb)
-                iv = None if discs is None else _decide(discs, all_discs)
+                discs = isolating_boxes(fb)
+                iv = None if discs is None else real_root_intervals(discs, all_discs)
                 if iv is None:
                     ok = False
                     break
