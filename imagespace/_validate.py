@@ -20,6 +20,7 @@ __all__ = [
     "as_count",
     "as_scalar",
     "as_sympy_entry",
+    "as_sympy_vector",
     "as_joint_vector",
     "as_box",
     "as_index",
@@ -77,6 +78,23 @@ def is_symbolic(value) -> bool:
     return False
 
 
+def _object_entries(value):
+    """The scalar entries of a (nested) sequence, object array or sympy matrix, in order."""
+    if isinstance(value, sp.MatrixBase):
+        yield from value
+    elif isinstance(value, np.ndarray):
+        if value.dtype == object:
+            for v in value.ravel():
+                yield from _object_entries(v)
+        else:
+            yield from value.ravel()
+    elif isinstance(value, (list, tuple)):
+        for v in value:
+            yield from _object_entries(v)
+    else:
+        yield value
+
+
 def _short(value) -> str:
     text = repr(value)
     return text if len(text) <= 80 else text[:77] + "..."
@@ -102,6 +120,12 @@ def as_float_array(value, name: str, last: int | None = None, allow_batch: bool 
     if isinstance(value, (str, bytes)) or value is None:
         raise TypeError(f"{name} must be numeric array_like, got {type(value).__name__} {_short(value)}")
     if is_symbolic(value):
+        # a string, bool or complex beside a sympy number would pass through float(): refuse it
+        for v in _object_entries(value):
+            if isinstance(v, (str, bytes, np.str_, np.bytes_)):
+                raise TypeError(f"{name} must hold numbers, got the string {_short(v)}; strings are never parsed")
+            if v is None or isinstance(v, (bool, np.bool_, complex, np.complexfloating)):
+                raise TypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
         try:
             value = np.array([float(v) for v in np.ravel(np.array(value, dtype=object))],
                              dtype=float).reshape(np.shape(np.array(value, dtype=object)))
@@ -263,6 +287,66 @@ def as_sympy_entry(value, name: str):
             raise InputError(f"{name} must be finite, got {v}")
         return sp.Float(v)
     raise TypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
+
+
+def as_sympy_vector(value, name: str, n: int) -> list:
+    """The ``n`` entries of a vector on a symbolic face as sympy objects; strings are never parsed.
+
+    ``value`` is a list, tuple, 1-d numpy array or a sympy row or column vector; each entry goes
+    through :func:`as_sympy_entry` (numbers become sympy numbers, sympy expressions pass, strings,
+    bytes, ``None``, bools, complex numbers, nested sequences and non-finite numbers are refused
+    with the entry's index in the message). This is the one way user input reaches sympy on the
+    symbolic faces: :func:`sympy.sympify` on a string evaluates it as Python code.
+
+    Parameters
+    ----------
+    value : sequence or sympy.Matrix
+        The user's vector.
+    name : str
+        The parameter name used in error messages.
+    n : int
+        The required number of entries.
+
+    Returns
+    -------
+    list of sympy.Expr
+
+    Raises
+    ------
+    TypeError
+        ``value`` is not a sequence (a string, a number, ``None``, a dict ...), or an entry is not a
+        real number or sympy expression.
+    InputError
+        A wrong number of entries, a matrix that is not a vector, a numpy array that is not 1-d,
+        or a non-finite entry.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace._validate import as_sympy_vector
+    >>> as_sympy_vector([sp.Symbol("a"), 0, 0.5], "t", 3)
+    [a, 0, 0.500000000000000]
+    >>> as_sympy_vector([sp.Symbol("a"), "1", 0], "t", 3)
+    Traceback (most recent call last):
+    ...
+    TypeError: t[1] must be a number or sympy expression, got the string '1'; strings are never parsed
+    """
+    if isinstance(value, sp.MatrixBase):
+        if 1 not in value.shape:
+            raise InputError(f"{name} must be a vector of {n} entries, got a {value.shape} matrix")
+        items = list(value)
+    elif isinstance(value, np.ndarray):
+        if value.ndim != 1:
+            raise InputError(f"{name} must have shape ({n},) on the symbolic face, got shape {value.shape}")
+        items = list(value)
+    elif isinstance(value, (list, tuple)):
+        items = list(value)
+    else:
+        raise TypeError(f"{name} must be a sequence of {n} numbers or sympy expressions, got "
+                        f"{type(value).__name__} {_short(value)}")
+    if len(items) != n:
+        raise InputError(f"{name} must have {n} entries, got {len(items)}: {_short(value)}")
+    return [as_sympy_entry(v, f"{name}[{i}]") for i, v in enumerate(items)]
 
 
 def as_scalar(value, name: str, finite: bool = True) -> float:
