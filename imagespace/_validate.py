@@ -21,6 +21,8 @@ __all__ = [
     "as_scalar",
     "as_sympy_entry",
     "as_sympy_vector",
+    "as_fraction",
+    "check_squares",
     "as_joint_vector",
     "as_box",
     "as_index",
@@ -347,6 +349,97 @@ def as_sympy_vector(value, name: str, n: int) -> list:
     if len(items) != n:
         raise InputError(f"{name} must have {n} entries, got {len(items)}: {_short(value)}")
     return [as_sympy_entry(v, f"{name}[{i}]") for i, v in enumerate(items)]
+
+
+def as_fraction(value, name: str):
+    """One real number as an exact :class:`fractions.Fraction` (a float is its binary rational).
+
+    Integers (python and numpy), fractions, sympy rationals and finite floats are accepted; strings
+    (``Fraction("1/3")`` would parse them), bytes, ``None``, bools, complex numbers, sequences and
+    non-finite floats are refused.
+
+    Parameters
+    ----------
+    value : int, float, Fraction or sympy.Rational
+    name : str
+        The parameter name used in error messages.
+
+    Returns
+    -------
+    fractions.Fraction
+
+    Raises
+    ------
+    TypeError
+        Not a real number.
+    InputError
+        NaN or infinity.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_fraction
+    >>> as_fraction(0.1, "length") == 3602879701896397 / 36028797018963968, as_fraction(3, "length")
+    (True, Fraction(3, 1))
+    """
+    from fractions import Fraction
+
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, (str, bytes, np.str_, np.bytes_)):
+        raise TypeError(f"{name} must be a number, got the string {_short(value)}; strings are never parsed")
+    if value is None or isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__} {_short(value)}")
+    if isinstance(value, sp.Rational):
+        return Fraction(int(value.p), int(value.q))
+    if isinstance(value, (numbers.Integral, np.integer)):
+        return Fraction(int(value))
+    if isinstance(value, numbers.Rational):
+        return Fraction(value.numerator, value.denominator)
+    if isinstance(value, (numbers.Real, np.floating)) and not isinstance(value, sp.Basic):
+        v = float(value)
+        if not np.isfinite(v):
+            raise InputError(f"{name} must be finite, got {v}")
+        return Fraction(v)
+    raise TypeError(f"{name} must be a real number (int, float, Fraction), got {type(value).__name__} "
+                    f"{_short(value)}")
+
+
+def check_squares(values, name: str) -> None:
+    """Refuse checked finite floats whose squares leave the float range: ``v * v`` overflows
+    (``|v|`` above about 1.3e154) or a non-zero ``v`` squares to zero (``|v|`` below about 1e-162).
+    Lengths enter the constraint quadrics squared; beyond these bounds the quadric would hold
+    infinity or lose the length without a trace.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        Finite floats (already checked, e.g. by :func:`as_float_array`).
+    name : str
+        The parameter name used in error messages.
+
+    Raises
+    ------
+    InputError
+        Naming the parameter, the first offending value and the bounds.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace._validate import check_squares
+    >>> check_squares(np.array([1.0, 2.0, 1e150]), "lengths")
+    >>> check_squares(np.array([1.0, 1e200]), "lengths")
+    Traceback (most recent call last):
+    ...
+    imagespace.exceptions.InputError: lengths must have squares within the float range (|value| between about 1e-162 and 1.3e154), got 1e+200
+    """
+    v = np.asarray(values, dtype=float)
+    with np.errstate(over="ignore", under="ignore"):
+        sq = v * v
+    bad = ~np.isfinite(sq) | ((sq == 0) & (v != 0))
+    if np.any(bad):
+        first = float(v[bad].ravel()[0])
+        raise InputError(f"{name} must have squares within the float range (|value| between about 1e-162 "
+                         f"and 1.3e154), got {first:g}")
 
 
 def as_scalar(value, name: str, finite: bool = True) -> float:

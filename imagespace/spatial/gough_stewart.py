@@ -36,12 +36,13 @@ from functools import cached_property
 
 import numpy as np
 
-from .._validate import as_tolerances
+from .._validate import as_tolerances, check_squares
 from ..exceptions import DegenerateDesignError
 from .certify import exact_matrix
 from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
 from .solver import QuadricFamily
+from .study import vector_norm
 
 __all__ = ["GoughStewart", "GOUGH_STEWART_BOUND", "PAIRED_BOUND"]
 
@@ -72,11 +73,14 @@ def _paired(P):
 
 
 def _collinear(P, tol):
-    """True when every point lies on one line (all coincident included), relative to the spread."""
-    c = P - P.mean(axis=0)
-    scale = max(float(np.abs(P).max()), 1.0)
-    sv = np.linalg.svd(c, compute_uv=False)
-    return sv[1] <= tol * scale
+    """True when every point lies on one line (all coincident included), relative to the size of the
+    coordinates (scaled first: the same answer in any unit, no overflow at any magnitude)."""
+    scale = float(np.abs(P).max())
+    if scale == 0.0:
+        return True
+    Ps = P / scale
+    sv = np.linalg.svd(Ps - Ps.mean(axis=0), compute_uv=False)
+    return sv[1] <= tol
 
 
 class GoughStewart(QuadricPlatform):
@@ -160,7 +164,7 @@ class GoughStewart(QuadricPlatform):
         >>> gs.inverse_kinematics([1, 0, 0, 0, 0, 0, 0, 0]).round(6)
         array([1.414214, 1.414214, 1.414214, 2.44949 , 2.44949 , 2.44949 ])
         """
-        return np.linalg.norm(self.leg_vectors(s), axis=-1)
+        return vector_norm(self.leg_vectors(s))
 
     def constraint_quadrics(self, lengths):
         """The seven quadrics of the direct kinematics: six legs, then Study's quadric.
@@ -187,6 +191,7 @@ class GoughStewart(QuadricPlatform):
         (7, 8, 8)
         """
         L = check_lengths(lengths)
+        check_squares(L, "lengths")
         return np.concatenate([sphere_quadric(self.base_points, self.platform_points, L),
                                study_quadric_matrix()[None]], axis=0)
 
@@ -256,10 +261,15 @@ class GoughStewart(QuadricPlatform):
         """
         tol = (self.tolerances if tolerances is None else as_tolerances(tolerances)).spatial_aspect
         J = np.array(self.jacobian(s), dtype=float)
-        J[..., 3:] /= float(np.max(np.linalg.norm(self.base_points, axis=1)))
-        norms = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-        d = np.linalg.det(J)
-        out = np.where(np.abs(d) > tol * norms, np.sign(d), 0).astype(np.int8)
+        amax = float(np.max(np.abs(self.base_points)))          # c = max |a_i|, without overflow
+        J[..., 3:] /= amax * float(np.max(np.linalg.norm(self.base_points / amax, axis=1)))
+        # |det J| / prod(row norms) is det of the rows scaled to unit length: no overflow or
+        # underflow at any magnitude (a far pose, a design in micrometres or light years)
+        m = np.abs(J).max(axis=-1, keepdims=True)
+        J = J / np.where(m > 0, m, 1.0)
+        n = np.linalg.norm(J, axis=-1, keepdims=True)
+        d = np.linalg.det(J / np.where(n > 0, n, 1.0))
+        out = np.where(np.abs(d) > tol, np.sign(d), 0).astype(np.int8)
         return int(out) if out.ndim == 0 else out
 
     @cached_property

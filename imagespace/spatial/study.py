@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from .._validate import as_float_array, as_tolerances, is_symbolic
+from .._validate import as_float_array, as_sympy_vector, as_tolerances, is_symbolic
 from ..exceptions import InputError
 
 __all__ = [
@@ -95,10 +95,57 @@ def _batch_shape(a, b, names):
 
 
 def _sym(value, n, name):
-    items = list(value)
-    if len(items) != n:
-        raise InputError(f"{name} must have {n} entries, got {len(items)}")
-    return np.array([sp.sympify(v) for v in items], dtype=object)
+    """A vector of ``n`` sympy entries as an object array (strings refused, never parsed)."""
+    return np.array(as_sympy_vector(value, name, n), dtype=object)
+
+
+def _max_abs(v):
+    """The largest absolute entry on the last axis (keepdims), 1 where a row is zero: dividing by it
+    brings any finite vector to entries in ``[-1, 1]`` without overflow or underflow."""
+    m = np.abs(v).max(axis=-1, keepdims=True)
+    return np.where(m > 0, m, 1.0)
+
+
+def vector_norm(v):
+    """Euclidean norms on the last axis without overflow or underflow (scaled by the largest entry
+    first): ``numpy.linalg.norm`` squares the entries, so a vector of ``1e200`` has norm ``inf``
+    there and one of ``1e-200`` norm 0.
+
+    Shared by the spatial modules (not public API: not in ``__all__``).
+
+    Parameters
+    ----------
+    v : (..., k) float
+        Finite entries.
+
+    Returns
+    -------
+    (...) float
+
+    Examples
+    --------
+    >>> from imagespace.spatial.study import vector_norm
+    >>> float(vector_norm(np.array([3e200, 4e200]))), float(vector_norm(np.array([3e-200, 4e-200])))
+    (5e+200, 5e-200)
+    """
+    m = _max_abs(v)
+    with np.errstate(over="ignore"):
+        return np.linalg.norm(v / m, axis=-1) * m[..., 0]
+
+
+def _not_finite(name, what):
+    return InputError(f"{name} is too large: {what} is outside the float range (about 1.8e308); "
+                      "expected magnitudes whose result a float can hold")
+
+
+def _scaled_study(z, name):
+    """``z / max|x|`` (the same displacement, ``max|x| = 1``); refuses a point whose translation
+    ``|y| / |x|`` overflows."""
+    with np.errstate(over="ignore"):
+        out = z / _max_abs(z[..., :4])
+    if not np.all(np.isfinite(out)):
+        raise _not_finite(name, "its translation (|y| / |x|)")
+    return out
 
 
 def _conj(q):
@@ -132,7 +179,16 @@ def quaternion_multiply(p, q):
         return sp.Matrix(list(_qmul(_sym(p, 4, "p"), _sym(q, 4, "q"))))
     p, q = as_float_array(p, "p", last=4), as_float_array(q, "q", last=4)
     _batch_shape(p, q, ("p", "q"))
-    return _qmul(p, q)
+    mp, mq = _max_abs(p), _max_abs(q)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        unit = _qmul(p / mp, q / mq)
+        out = unit * mp * mq                 # |p q| = |p| |q|: out of range only when it must be
+    if not np.all(np.isfinite(out)):
+        raise _not_finite("p or q", "the product p q")
+    if np.any(np.all(out == 0, axis=-1) & np.any(unit != 0, axis=-1)):
+        raise InputError("p or q is too small: the product p q of non-zero quaternions underflows to zero "
+                         "(below about 1e-308); expected magnitudes whose product a float can hold")
+    return out
 
 
 def quaternion_conjugate(q):
@@ -202,9 +258,9 @@ def matrix_from_quaternion(q):
         x = _sym(q, 4, "q")
         return sp.Matrix(3, 3, [sp.simplify(v) for v in _rotation_of(x).ravel()])
     x = as_float_array(q, "q", last=4)
-    if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
+    if np.any(np.all(x == 0.0, axis=-1)):
         raise InputError("q must be a non-zero quaternion, got zero")
-    return _rotation_of(x)
+    return _rotation_of(x / _max_abs(x))          # homogeneous of degree 0: scaled, never overflows
 
 
 def quaternion_from_matrix(R, tolerances=None):
@@ -312,11 +368,11 @@ def study_point(rotation, translation):
     array([1., 0., 0., 0., 0., 1., 0., 0.])
     """
     if is_symbolic(rotation) or is_symbolic(translation):
-        items = list(rotation)
-        if len(items) != 4:
+        if isinstance(rotation, (list, tuple, np.ndarray, sp.MatrixBase)) and np.size(rotation) != 4 \
+                and len(rotation) != 4:
             raise InputError("rotation must be a quaternion of 4 sympy entries on the symbolic face, "
-                             f"got {len(items)} entries")
-        x = _sym(items, 4, "rotation")
+                             f"got {len(rotation)} entries")
+        x = _sym(rotation, 4, "rotation")
         t = _sym(translation, 3, "translation")
         y = _qmul(np.concatenate([[sp.Integer(0)], t]), x) / 2
         return sp.Matrix([sp.expand(v) for v in np.concatenate([x, y])])
@@ -336,20 +392,25 @@ def study_point(rotation, translation):
                           "for a 4x4 homogeneous matrix use imagespace.spatial.pose_from_matrix(T)", UserWarning,
                           stacklevel=2)
         x = as_float_array(rotation, "rotation", last=4)
-        if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
+        if np.any(np.all(x == 0.0, axis=-1)):
             raise InputError("rotation must be a non-zero quaternion, got zero")
+        x = x / _max_abs(x)                     # projective: the same rotation, max |x_i| = 1
     t = as_float_array(translation, "translation", last=3)
     shape = _batch_shape(x, t, ("rotation", "translation"))
     x, t = np.broadcast_to(x, shape + (4,)), np.broadcast_to(t, shape + (3,))
-    tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t], axis=-1)
-    y = _qmul(tq, x) / 2
+    mt = _max_abs(t)
+    tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t / mt], axis=-1)
+    with np.errstate(over="ignore"):
+        y = _qmul(tq, x) * (mt / 2)
+    if not np.all(np.isfinite(y)):
+        raise _not_finite("translation", "the dual part y = t x / 2")
     return normalize_study(np.concatenate([np.broadcast_to(x, y.shape), y], axis=-1))
 
 
 def _check_study(s, name="s"):
     s = as_float_array(s, name, last=8)
     n = np.einsum("...i,...i->...", s[..., :4], s[..., :4])
-    if np.any(n == 0.0):
+    if np.any(np.all(s[..., :4] == 0.0, axis=-1)):
         raise InputError(f"{name} must have x = (x0, x1, x2, x3) != 0 (points with x = 0 are not "
                          "displacements), got x = 0")
     return s, n
@@ -382,7 +443,8 @@ def rotation_matrix(s):
         z = _sym(s, 8, "s")
         return sp.Matrix(3, 3, [sp.cancel(v) for v in _rotation_of(z[:4]).ravel()])
     z, _ = _check_study(s)
-    return _rotation_of(z[..., :4])
+    x = z[..., :4]
+    return _rotation_of(x / _max_abs(x))          # homogeneous of degree 0: scaled, never overflows
 
 
 def translation(s):
@@ -412,8 +474,15 @@ def translation(s):
         n = sum(v * v for v in z[:4])
         t = 2 * _qmul(z[4:], _conj(z[:4]))
         return sp.Matrix([sp.cancel(v / n) for v in t[1:]])
-    z, n = _check_study(s)
-    return 2 * _qmul(z[..., 4:], _conj(z[..., :4]))[..., 1:] / n[..., None]
+    z, _ = _check_study(s)
+    z = _scaled_study(z, "s")                       # max |x_i| = 1, so 1 <= x . x <= 4
+    x, y = z[..., :4], z[..., 4:]
+    my = _max_abs(y)
+    with np.errstate(over="ignore"):
+        t = 2 * _qmul(y / my, _conj(x))[..., 1:] * (my / np.einsum("...i,...i->...", x, x)[..., None])
+    if not np.all(np.isfinite(t)):
+        raise _not_finite("s", "its translation")
+    return t
 
 
 def transform_matrix(s):
@@ -470,7 +539,11 @@ def transform_points(s, points):
     """
     R, t = rotation_matrix(as_float_array(s, "s", last=8, allow_batch=False)), translation(s)
     p = as_float_array(points, "points", last=3)
-    return p @ R.T + t
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = p @ R.T + t
+    if not np.all(np.isfinite(out)):
+        raise _not_finite("points", "R p + t")
+    return out
 
 
 def study_condition(s):
@@ -498,7 +571,17 @@ def study_condition(s):
         z = _sym(s, 8, "s")
         return sp.expand(sum(z[i] * z[i + 4] for i in range(4)))
     z = as_float_array(s, "s", last=8)
-    return np.einsum("...i,...i->...", z[..., :4], z[..., 4:])
+    m = _max_abs(z)[..., 0]
+    zs = z / m[..., None]
+    with np.errstate(over="ignore", under="ignore"):
+        unit = np.einsum("...i,...i->...", zs[..., :4], zs[..., 4:])
+        out = unit * m * m
+    if not np.all(np.isfinite(out)):
+        raise _not_finite("s", "the value x . y of Study's quadric")
+    if np.any((out == 0) & (unit != 0)):
+        raise InputError("s is too small: the value x . y of Study's quadric underflows to zero (below "
+                         "about 1e-308) where it is not zero; pass normalised Study points (normalize_study)")
+    return out
 
 
 def normalize_study(s):
@@ -522,8 +605,15 @@ def normalize_study(s):
     >>> normalize_study([0, 0, 0, -2, 0, 0, 1, 0])
     array([ 0. ,  0. ,  0. ,  1. ,  0. ,  0. , -0.5,  0. ])
     """
-    z, n = _check_study(s)
-    return _normalise_sign(z / np.sqrt(n)[..., None]) + 0.0
+    z, _ = _check_study(s)
+    return _normalised(z, "s")
+
+
+def _normalised(z, name):
+    """The normalised representative of checked Study points ``z`` (no ``x = 0``)."""
+    z = _scaled_study(z, name)                      # max |x_i| = 1: |x| in [1, 2], no overflow
+    n = np.sqrt(np.einsum("...i,...i->...", z[..., :4], z[..., :4]))
+    return _normalise_sign(z / n[..., None]) + 0.0
 
 
 def _dual_mul(a, b):
@@ -561,7 +651,12 @@ def compose_study(a, b):
     za, _ = _check_study(a, "a")
     zb, _ = _check_study(b, "b")
     _batch_shape(za, zb, ("a", "b"))
-    return normalize_study(_dual_mul(za, zb))
+    za, zb = _scaled_study(za, "a"), _scaled_study(zb, "b")     # projective: the same displacements
+    with np.errstate(over="ignore", invalid="ignore"):
+        z = _dual_mul(za, zb)
+    if not np.all(np.isfinite(z)):
+        raise _not_finite("a or b", "the translation of the composition")
+    return _normalised(z, "a or b")
 
 
 def inverse_study(s):
@@ -590,7 +685,7 @@ def inverse_study(s):
     if is_symbolic(s):
         return sp.Matrix(list(_sym(s, 8, "s") * sign))
     z, _ = _check_study(s)
-    return normalize_study(z * sign)
+    return _normalised(z * sign, "s")
 
 
 def planar_to_study(image_point):
