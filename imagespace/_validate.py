@@ -171,10 +171,15 @@ def as_exact(value, name: str):
     Sympy expressions (including symbols) pass through unchanged.
     """
     if isinstance(value, sp.Basic):
+        if not isinstance(value, sp.Expr):
+            raise TypeError(f"{name} must be a real number or sympy expression, got the sympy "
+                            f"{type(value).__name__} {_short(value)}")
         if isinstance(value, sp.Float):
             return sp.Rational(value)
         if value.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
             raise InputError(f"{name} must be finite, got {value}")
+        if value.has(sp.I) and not value.free_symbols:
+            raise TypeError(f"{name} must be real, got the complex number {_short(value)}")
         return value
     if isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be a number, got the boolean {value}")

@@ -260,9 +260,13 @@ class GoughStewart(QuadricPlatform):
         True
         """
         tol = (self.tolerances if tolerances is None else as_tolerances(tolerances)).spatial_aspect
-        J = np.array(self.jacobian(s), dtype=float)
-        amax = float(np.max(np.abs(self.base_points)))          # c = max |a_i|, without overflow
-        J[..., 3:] /= amax * float(np.max(np.linalg.norm(self.base_points / amax, axis=1)))
+        # the rows (s_i, a_i x s_i / c) divided by c: lengths of order 1 at any size of the design
+        # (det scaled by c^-6 > 0, the Hadamard ratio unchanged); the products never see the
+        # square of a tiny or huge coordinate
+        amax = float(np.max(np.abs(self.base_points)))
+        c = amax * float(np.max(vector_norm(self.base_points / amax)))      # max |a_i|
+        V = self.leg_vectors(s) / c
+        J = np.concatenate([V, np.cross(self.base_points / c, V)], axis=-1)
         # |det J| / prod(row norms) is det of the rows scaled to unit length: no overflow or
         # underflow at any magnitude (a far pose, a design in micrometres or light years)
         m = np.abs(J).max(axis=-1, keepdims=True)

@@ -279,8 +279,10 @@ def sphere_quadric_exact(base_point, platform_point, length):
 
     vals = []
     for name, v in (("base_point", base_point), ("platform_point", platform_point)):
-        if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or len(v) != 3 or np.ndim(v) != 1:
-            raise InputError(f"{name} must be 3 numbers, got {v!r:.80}")
+        if not isinstance(v, (list, tuple, np.ndarray)) or (isinstance(v, np.ndarray) and v.ndim != 1):
+            raise TypeError(f"{name} must be a sequence of 3 numbers, got {type(v).__name__} {v!r:.80}")
+        if len(v) != 3:
+            raise InputError(f"{name} must have 3 entries, got {len(v)}")
         vals += [as_fraction(c, f"{name}[{i}]") for i, c in enumerate(v)]
     vals.append(as_fraction(length, "length"))
     if vals[6] < 0:

@@ -697,7 +697,8 @@ class TranslationalFiveR:
             C = P - self.c * E[i]
             d = self.d(i, th[i])
             r = C - A
-            L = np.linalg.norm(r)
+            with np.errstate(over="ignore"):
+                L = np.linalg.norm(r)                  # inf far out of reach: refused just below
             if L > self.l1 + self.l2 or L < abs(self.l1 - self.l2) or L == 0:
                 raise InputError(f"P = {P.tolist()} is out of reach of leg {i}")
             # elbow in the leg's plane (normal d): along r and the in-plane normal n = d x r / L

@@ -326,6 +326,10 @@ def _exact_rotation(rotation, tolerances):
     if rot.shape != (3, 3):
         raise InputError(f"rotation must be a (3, 3) rotation matrix or a (4,) quaternion, got shape {rot.shape}")
     tol = tolerances.rotation_matrix
+    if np.any(np.abs(rot) > 1.0 + tol):                 # before R^T R, which could overflow
+        raise InputError(f"rotation must be a rotation matrix (orthogonal, det +1, to "
+                         f"Tolerances.rotation_matrix = {tol:g}), got an entry {float(np.abs(rot).max()):.3g} "
+                         "(a rotation's entries lie in [-1, 1])")
     err = float(np.abs(rot.T @ rot - np.eye(3)).max())
     if err > tol or abs(np.linalg.det(rot) - 1.0) > tol:
         raise InputError(f"rotation must be a rotation matrix (orthogonal, det +1, to "

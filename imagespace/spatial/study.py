@@ -300,6 +300,9 @@ def _quaternion_from_matrix(R, tolerances, name):
         raise InputError(f"{name} must have shape (3, 3) or (n, 3, 3), got shape {R.shape}")
     if not np.all(np.isfinite(R)):
         raise InputError(f"{name} must be finite, got NaN or inf entries")
+    if np.any(np.abs(R) > 1.0 + tol):                   # before R^T R, which could overflow
+        raise InputError(f"{name} must be a rotation matrix (orthogonal, det +1, to {tol:g}), got an "
+                         f"entry {float(np.max(np.abs(R))):.3g} (a rotation's entries lie in [-1, 1])")
     err = np.abs(np.einsum("...ji,...jk->...ik", R, R) - np.eye(3)).max(axis=(-2, -1))
     det_err = np.abs(np.linalg.det(R) - 1.0)
     if np.any(err > tol) or np.any(det_err > tol):
@@ -368,10 +371,11 @@ def study_point(rotation, translation):
     array([1., 0., 0., 0., 0., 1., 0., 0.])
     """
     if is_symbolic(rotation) or is_symbolic(translation):
-        if isinstance(rotation, (list, tuple, np.ndarray, sp.MatrixBase)) and np.size(rotation) != 4 \
-                and len(rotation) != 4:
-            raise InputError("rotation must be a quaternion of 4 sympy entries on the symbolic face, "
-                             f"got {len(rotation)} entries")
+        if isinstance(rotation, (list, tuple, np.ndarray, sp.MatrixBase)):
+            count = rotation.size if isinstance(rotation, np.ndarray) else len(rotation)
+            if count != 4:
+                raise InputError("rotation must be a quaternion of 4 sympy entries on the symbolic face, "
+                                 f"got {count} entries")
         x = _sym(rotation, 4, "rotation")
         t = _sym(translation, 3, "translation")
         y = _qmul(np.concatenate([[sp.Integer(0)], t]), x) / 2

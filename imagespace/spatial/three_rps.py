@@ -108,7 +108,7 @@ class ThreeRPS(QuadricPlatform):
             self.base_axes.setflags(write=False)
         else:
             self.base_axes = anchor_points(base_axes, "base_axes", 3)
-            if np.any(np.linalg.norm(self.base_axes, axis=1) == 0):
+            if np.any(np.all(self.base_axes == 0, axis=1)):
                 raise InputError("base_axes must be non-zero vectors, got a zero row")
 
     def __repr__(self):
