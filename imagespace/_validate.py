@@ -399,7 +399,7 @@ def as_fraction(value, name: str):
     if isinstance(value, (numbers.Integral, np.integer)):
         return Fraction(int(value))
     if isinstance(value, numbers.Rational):
-        return Fraction(value.numerator, value.denominator)
+        return Fraction(int(value.numerator), int(value.denominator))
     if isinstance(value, (numbers.Real, np.floating)) and not isinstance(value, sp.Basic):
         v = float(value)
         if not np.isfinite(v):

@@ -36,7 +36,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .._validate import as_tolerances, check_squares
+from .._validate import as_float_array, as_tolerances, check_squares
 from ..exceptions import DegenerateDesignError
 from .certify import exact_matrix
 from .platform import QuadricPlatform, anchor_points, check_lengths
@@ -63,6 +63,12 @@ GOUGH_STEWART_BOUND = 40
 #: 6-3 platform for the inverse motion (``(x, y) -> (x~, y~)``, a linear map of ``P^7`` keeping
 #: ``x . x``), so the bound is the same.
 PAIRED_BOUND = 16
+
+
+def _study_points(s):
+    """The numeric face's Study points: a float ``(8,)`` or ``(n, 8)`` array (sympy numbers become
+    floats, symbols and strings are refused); the Study-map functions check ``x != 0``."""
+    return as_float_array(s, "s", last=8)
 
 
 def _paired(P):
@@ -164,7 +170,7 @@ class GoughStewart(QuadricPlatform):
         >>> gs.inverse_kinematics([1, 0, 0, 0, 0, 0, 0, 0]).round(6)
         array([1.414214, 1.414214, 1.414214, 2.44949 , 2.44949 , 2.44949 ])
         """
-        return vector_norm(self.leg_vectors(s))
+        return vector_norm(self.leg_vectors(_study_points(s)))
 
     def constraint_quadrics(self, lengths):
         """The seven quadrics of the direct kinematics: six legs, then Study's quadric.
@@ -221,7 +227,7 @@ class GoughStewart(QuadricPlatform):
         >>> gs.jacobian([1, 0, 0, 0, 0, 0, 0, 0]).shape
         (6, 6)
         """
-        V = self.leg_vectors(s)
+        V = self.leg_vectors(_study_points(s))
         return np.concatenate([V, np.cross(self.base_points, V)], axis=-1)
 
     def aspects(self, s, tolerances=None):
@@ -265,7 +271,7 @@ class GoughStewart(QuadricPlatform):
         # square of a tiny or huge coordinate
         amax = float(np.max(np.abs(self.base_points)))
         c = amax * float(np.max(vector_norm(self.base_points / amax)))      # max |a_i|
-        V = self.leg_vectors(s) / c
+        V = self.leg_vectors(_study_points(s)) / c
         J = np.concatenate([V, np.cross(self.base_points / c, V)], axis=-1)
         # |det J| / prod(row norms) is det of the rows scaled to unit length: no overflow or
         # underflow at any magnitude (a far pose, a design in micrometres or light years)

@@ -631,6 +631,10 @@ class TranslationalFiveR:
         InputError
             For ``theta`` not of shape ``(3,)`` or ``(n, 3)``.
 
+        Notes
+        -----
+        A row with a NaN or infinite angle gives NaN (the other rows of a batch are kept).
+
         Examples
         --------
         >>> import numpy as np
@@ -639,7 +643,8 @@ class TranslationalFiveR:
         [-1.0]
         """
         t = np.atleast_2d(as_float_array(theta, "theta", last=3, finite=False))
-        s, c = np.sin(t), np.cos(t)
+        with np.errstate(invalid="ignore"):                 # sin(inf) is NaN: that row's answer
+            s, c = np.sin(t), np.cos(t)
         return s[:, 0] * s[:, 1] * s[:, 2] - c[:, 0] * c[:, 1] * c[:, 2]
 
     def thetas(self, P, branch=0):
@@ -840,7 +845,7 @@ def planar_leg_wrenches(manipulator, pose):
         c, s = np.cos(p[2]), np.sin(p[2])
         Pw = p[:2] + np.array([[c, -s], [s, c]]) @ np.array(g["platform"], float)
         u = Pw - A
-        L = np.linalg.norm(u)
+        L = float(np.hypot(u[0], u[1]))             # no overflow for a far pose
         if L == 0:
             raise InputError(f"leg {i} has zero length at pose {p.tolist()}: its line is undefined")
         u = u / L

@@ -34,7 +34,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .._validate import as_tolerances, check_squares
+from .._validate import as_float_array, as_tolerances, check_squares
 from ..exceptions import DegenerateDesignError, InputError
 from .certify import exact_matrix
 from .platform import QuadricPlatform, anchor_points, check_lengths
@@ -139,7 +139,7 @@ class ThreeRPS(QuadricPlatform):
         >>> m.inverse_kinematics([1, 0, 0, 0, 0, 0, 0, 0]).round(3)
         array([0.5, 0.5, 0.5])
         """
-        V = self.leg_vectors(s)
+        V = self.leg_vectors(as_float_array(s, "s", last=8))     # numeric face: symbols refused
         # the cosine of the angle between axis and leg, from unit vectors (no overflow at any size)
         norms = vector_norm(V)
         u = self.base_axes / vector_norm(self.base_axes)[:, None]

@@ -37,6 +37,8 @@ LOCUS = singularities.constant_orientation_singularity(GS, np.eye(3))
 S_OK = study.study_point([1.0, 0.0, 0.0, 0.0], [0.1, 0.2, 1.0])
 I3 = np.eye(3)
 TWIST = np.array([0.0, 0, 1, 0, -1, 0])
+LEGS = screws.TranslationalFiveR().leg_twists([0.0, 0.1, 0.0])
+RPR3 = isp.examples.general_3rpr()
 
 
 def _good(n):
@@ -110,10 +112,25 @@ TARGETS = [
     ("reciprocal_product.twist", "twist", lambda v: screws.reciprocal_product(v, TWIST), (6,)),
     ("reciprocal_product.wrench", "wrench", lambda v: screws.reciprocal_product(TWIST, v), (6,)),
     ("TranslationalFiveR.leg_twists", "P", lambda v: screws.TranslationalFiveR().leg_twists(v), (3,)),
+    ("TranslationalFiveR.thetas", "P", lambda v: screws.TranslationalFiveR().thetas(v), (3,)),
+    ("TranslationalFiveR.couple_condition", "theta", screws.TranslationalFiveR.couple_condition, (3,)),
+    ("GoughStewart.platform_points", "platform_points", lambda v: GoughStewart(BASE, v), (6, 3)),
+    ("ThreeRPS.base_points", "base_points", lambda v: ThreeRPS(v, 0.5 * np.eye(3)), (3, 3), np.eye(3)),
+    ("helical.point", "point", lambda v: screws.helical([0, 0, 1], v, 0.5), (3,)),
+    ("reciprocal_system", "twists", screws.reciprocal_system, (2, 6), [TWIST, [0, 0, 0, 1.0, 0, 0]]),
+    ("constraint_analysis.legs[1]", "legs[1]",
+     lambda v: screws.constraint_analysis([LEGS[0], v, LEGS[2]], 3), (5, 6), None),
+    ("constraint_analysis.intended", "intended",
+     lambda v: screws.constraint_analysis(LEGS, 3, intended=v), (3, 6), np.eye(6)[3:]),
+    ("planar_leg_wrenches", "pose", lambda v: screws.planar_leg_wrenches(RPR3, v), (3,), [0.5, 1.0, 0.2]),
+    ("mesh_constant_orientation_singularity", "rotation",
+     lambda v: isp.spatial_surfaces.mesh_constant_orientation_singularity(GS, v, [(-2, 2)] * 3, resolution=8),
+     (4,)),
 ]
 TARGETS = [t if len(t) == 5 else t + (None,) for t in TARGETS]
 IDS = [t[0] for t in TARGETS]
-OPTIONAL = {"base_axes"}                # None means "the default" for these
+OPTIONAL = {"base_axes", "intended"}    # None means "the default" for these
+NAN_ROWS = {"theta"}                     # documented: a non-finite row gives NaN, the batch goes on
 
 
 def _valid(shape, override=None):
@@ -128,6 +145,8 @@ def _valid(shape, override=None):
         return quadrics.study_quadric_matrix()
     if shape == (4, 4):
         return np.eye(4)
+    if shape == (5, 6):
+        return LEGS[1].copy()
     return np.array(_good(shape[0]), dtype=float)
 
 
@@ -222,6 +241,11 @@ def test_non_finite_entries_are_input_errors_naming_the_parameter(target, bad):
     _, name, call, shape, ok = target
     value = _valid(shape, ok).copy()
     value.reshape(-1)[1] = bad
+    if name in NAN_ROWS:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            assert np.all(np.isnan(call(value)))
+        return
     with pytest.raises(isp.InputError) as excinfo:
         call(value)
     _named(excinfo, name)
@@ -399,6 +423,30 @@ def test_symbolic_faces_still_accept_sympy_and_numbers():
         quadrics.point_on_plane_quadric([0, 0, 0], [0, 0, a], [0, 0, 0])
     with pytest.raises(isp.InputError, match="length must be >= 0"):
         quadrics.sphere_quadric([a, 0, 0], [0, 0, 0], sp.Integer(-2))
+
+
+def test_platform_methods_are_numeric_faces():
+    """Sympy numbers are numbers there (the same answer as floats); a symbol is refused by name
+    (it used to crash inside with "too many values to unpack")."""
+    exact = [ONE, 0, 0, 0, 0, sp.Rational(1, 20), sp.Rational(1, 10), sp.Rational(1, 2)]
+    floats = np.array([float(v) for v in exact])
+    assert np.allclose(GS.inverse_kinematics(exact), np.linalg.norm(PLAT + [0.1, 0.2, 1.0] - BASE, axis=1))
+    assert np.array_equal(GS.jacobian(exact), GS.jacobian(floats))
+    assert GS.aspects(exact) == GS.aspects(floats)
+    for call in (GS.inverse_kinematics, GS.jacobian, GS.aspects, RPS.inverse_kinematics):
+        with pytest.raises(TypeError, match="s must be numeric, got the symbolic value"):
+            call([sp.Symbol("a"), 0, 0, 0, 0, 0, 0, 0])
+
+
+def test_exact_study_points_refuse_a_planted_string(tmp_path):
+    """Refused before msolve runs: the string is never sympified."""
+    from imagespace.spatial.exact import exact_real_study_points
+
+    path, code = _plant(tmp_path, "polys")
+    for polys in ([study.study_symbols()[0], code], code, [code]):
+        with pytest.raises(TypeError, match="polys"):
+            exact_real_study_points(polys)
+        assert not path.exists()
 
 
 def test_form_matrix_and_exact_sphere_refuse_strings(tmp_path):
