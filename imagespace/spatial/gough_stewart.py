@@ -275,9 +275,7 @@ class GoughStewart(QuadricPlatform):
         J = np.concatenate([V, np.cross(self.base_points / c, V)], axis=-1)
         # |det J| / prod(row norms) is det of the rows scaled to unit length: no overflow or
         # underflow at any magnitude (a far pose, a design in micrometres or light years)
-        m = np.abs(J).max(axis=-1, keepdims=True)
-        J = J / np.where(m > 0, m, 1.0)
-        n = np.linalg.norm(J, axis=-1, keepdims=True)
+        n = vector_norm(J)[..., None]
         d = np.linalg.det(J / np.where(n > 0, n, 1.0))
         out = np.where(np.abs(d) > tol, np.sign(d), 0).astype(np.int8)
         return int(out) if out.ndim == 0 else out

@@ -106,6 +106,24 @@ def _max_abs(v):
     return np.where(m > 0, m, 1.0)
 
 
+# squared norms inside (_SAFE_LO, _SAFE_HI): products of two entries of such vectors neither
+# overflow nor lose digits to underflow, so the plain formulas are exact to rounding there (the
+# fast path); outside, the same formulas run on copies scaled to max |entry| = 1
+_SAFE_LO, _SAFE_HI = 1e-150, 1e150
+
+
+def _safe(sq, zero_ok=False):
+    """True when every squared norm in ``sq`` lies in the fast path's range (or is 0, if allowed)."""
+    ok = (sq > _SAFE_LO) & (sq < _SAFE_HI)
+    if zero_ok:
+        ok |= sq == 0
+    return bool(np.all(ok))
+
+
+def _sq(v):
+    return np.einsum("...i,...i->...", v, v)
+
+
 def vector_norm(v):
     """Euclidean norms on the last axis without overflow or underflow (scaled by the largest entry
     first): ``numpy.linalg.norm`` squares the entries, so a vector of ``1e200`` has norm ``inf``
@@ -128,6 +146,9 @@ def vector_norm(v):
     >>> float(vector_norm(np.array([3e200, 4e200]))), float(vector_norm(np.array([3e-200, 4e-200])))
     (5e+200, 5e-200)
     """
+    sq = _sq(v)
+    if _safe(sq, zero_ok=True) and not np.any((sq == 0) & np.any(v != 0, axis=-1)):
+        return np.sqrt(sq)
     m = _max_abs(v)
     with np.errstate(over="ignore"):
         return np.linalg.norm(v / m, axis=-1) * m[..., 0]
@@ -179,6 +200,8 @@ def quaternion_multiply(p, q):
         return sp.Matrix(list(_qmul(_sym(p, 4, "p"), _sym(q, 4, "q"))))
     p, q = as_float_array(p, "p", last=4), as_float_array(q, "q", last=4)
     _batch_shape(p, q, ("p", "q"))
+    if _safe(_sq(p)) and _safe(_sq(q)):
+        return _qmul(p, q)
     mp, mq = _max_abs(p), _max_abs(q)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         unit = _qmul(p / mp, q / mq)
@@ -260,6 +283,8 @@ def matrix_from_quaternion(q):
     x = as_float_array(q, "q", last=4)
     if np.any(np.all(x == 0.0, axis=-1)):
         raise InputError("q must be a non-zero quaternion, got zero")
+    if _safe(_sq(x)):
+        return _rotation_of(x)
     return _rotation_of(x / _max_abs(x))          # homogeneous of degree 0: scaled, never overflows
 
 
@@ -398,10 +423,13 @@ def study_point(rotation, translation):
         x = as_float_array(rotation, "rotation", last=4)
         if np.any(np.all(x == 0.0, axis=-1)):
             raise InputError("rotation must be a non-zero quaternion, got zero")
-        x = x / _max_abs(x)                     # projective: the same rotation, max |x_i| = 1
     t = as_float_array(translation, "translation", last=3)
     shape = _batch_shape(x, t, ("rotation", "translation"))
     x, t = np.broadcast_to(x, shape + (4,)), np.broadcast_to(t, shape + (3,))
+    tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t], axis=-1)
+    if _safe(_sq(x)) and _safe(_sq(t), zero_ok=True):
+        return normalize_study(np.concatenate([x, _qmul(tq, x) / 2], axis=-1))
+    x = x / _max_abs(x)                         # projective: the same rotation, max |x_i| = 1
     mt = _max_abs(t)
     tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t / mt], axis=-1)
     with np.errstate(over="ignore"):
@@ -414,7 +442,7 @@ def study_point(rotation, translation):
 def _check_study(s, name="s"):
     s = as_float_array(s, name, last=8)
     n = np.einsum("...i,...i->...", s[..., :4], s[..., :4])
-    if np.any(np.all(s[..., :4] == 0.0, axis=-1)):
+    if np.any(n == 0.0) and np.any(np.all(s[..., :4] == 0.0, axis=-1)):      # n == 0 also by underflow
         raise InputError(f"{name} must have x = (x0, x1, x2, x3) != 0 (points with x = 0 are not "
                          "displacements), got x = 0")
     return s, n
@@ -446,8 +474,10 @@ def rotation_matrix(s):
     if is_symbolic(s):
         z = _sym(s, 8, "s")
         return sp.Matrix(3, 3, [sp.cancel(v) for v in _rotation_of(z[:4]).ravel()])
-    z, _ = _check_study(s)
+    z, n = _check_study(s)
     x = z[..., :4]
+    if _safe(n):
+        return _rotation_of(x)
     return _rotation_of(x / _max_abs(x))          # homogeneous of degree 0: scaled, never overflows
 
 
@@ -478,7 +508,9 @@ def translation(s):
         n = sum(v * v for v in z[:4])
         t = 2 * _qmul(z[4:], _conj(z[:4]))
         return sp.Matrix([sp.cancel(v / n) for v in t[1:]])
-    z, _ = _check_study(s)
+    z, n = _check_study(s)
+    if _safe(n) and _safe(_sq(z[..., 4:]), zero_ok=True):
+        return 2 * _qmul(z[..., 4:], _conj(z[..., :4]))[..., 1:] / n[..., None]
     z = _scaled_study(z, "s")                       # max |x_i| = 1, so 1 <= x . x <= 4
     x, y = z[..., :4], z[..., 4:]
     my = _max_abs(y)
@@ -615,6 +647,9 @@ def normalize_study(s):
 
 def _normalised(z, name):
     """The normalised representative of checked Study points ``z`` (no ``x = 0``)."""
+    n = _sq(z[..., :4])
+    if _safe(n) and _safe(_sq(z[..., 4:]), zero_ok=True):
+        return _normalise_sign(z / np.sqrt(n)[..., None]) + 0.0
     z = _scaled_study(z, name)                      # max |x_i| = 1: |x| in [1, 2], no overflow
     n = np.sqrt(np.einsum("...i,...i->...", z[..., :4], z[..., :4]))
     return _normalise_sign(z / n[..., None]) + 0.0
@@ -655,6 +690,8 @@ def compose_study(a, b):
     za, _ = _check_study(a, "a")
     zb, _ = _check_study(b, "b")
     _batch_shape(za, zb, ("a", "b"))
+    if _safe(_sq(za)) and _safe(_sq(zb)):
+        return _normalised(_dual_mul(za, zb), "a or b")
     za, zb = _scaled_study(za, "a"), _scaled_study(zb, "b")     # projective: the same displacements
     with np.errstate(over="ignore", invalid="ignore"):
         z = _dual_mul(za, zb)
