@@ -641,13 +641,14 @@ def normalize_study(s):
     >>> normalize_study([0, 0, 0, -2, 0, 0, 1, 0])
     array([ 0. ,  0. ,  0. ,  1. ,  0. ,  0. , -0.5,  0. ])
     """
-    z, _ = _check_study(s)
-    return _normalised(z, "s")
+    z, n = _check_study(s)
+    return _normalised(z, "s", n)
 
 
-def _normalised(z, name):
-    """The normalised representative of checked Study points ``z`` (no ``x = 0``)."""
-    n = _sq(z[..., :4])
+def _normalised(z, name, n=None):
+    """The normalised representative of checked Study points ``z`` (no ``x = 0``); ``n`` is
+    ``x . x`` if known."""
+    n = _sq(z[..., :4]) if n is None else n
     if _safe(n) and _safe(_sq(z[..., 4:]), zero_ok=True):
         return _normalise_sign(z / np.sqrt(n)[..., None]) + 0.0
     z = _scaled_study(z, name)                      # max |x_i| = 1: |x| in [1, 2], no overflow
