@@ -20,6 +20,9 @@ __all__ = [
     "as_count",
     "as_scalar",
     "as_sympy_entry",
+    "as_sympy_vector",
+    "as_fraction",
+    "check_squares",
     "as_joint_vector",
     "as_box",
     "as_index",
@@ -77,6 +80,23 @@ def is_symbolic(value) -> bool:
     return False
 
 
+def _object_entries(value):
+    """The scalar entries of a (nested) sequence, object array or sympy matrix, in order."""
+    if isinstance(value, sp.MatrixBase):
+        yield from value
+    elif isinstance(value, np.ndarray):
+        if value.dtype == object:
+            for v in value.ravel():
+                yield from _object_entries(v)
+        else:
+            yield from value.ravel()
+    elif isinstance(value, (list, tuple)):
+        for v in value:
+            yield from _object_entries(v)
+    else:
+        yield value
+
+
 def _short(value) -> str:
     text = repr(value)
     return text if len(text) <= 80 else text[:77] + "..."
@@ -102,6 +122,12 @@ def as_float_array(value, name: str, last: int | None = None, allow_batch: bool 
     if isinstance(value, (str, bytes)) or value is None:
         raise TypeError(f"{name} must be numeric array_like, got {type(value).__name__} {_short(value)}")
     if is_symbolic(value):
+        # a string, bool or complex beside a sympy number would pass through float(): refuse it
+        for v in _object_entries(value):
+            if isinstance(v, (str, bytes, np.str_, np.bytes_)):
+                raise TypeError(f"{name} must hold numbers, got the string {_short(v)}; strings are never parsed")
+            if v is None or isinstance(v, (bool, np.bool_, complex, np.complexfloating)):
+                raise TypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
         try:
             value = np.array([float(v) for v in np.ravel(np.array(value, dtype=object))],
                              dtype=float).reshape(np.shape(np.array(value, dtype=object)))
@@ -145,10 +171,15 @@ def as_exact(value, name: str):
     Sympy expressions (including symbols) pass through unchanged.
     """
     if isinstance(value, sp.Basic):
+        if not isinstance(value, sp.Expr):
+            raise TypeError(f"{name} must be a real number or sympy expression, got the sympy "
+                            f"{type(value).__name__} {_short(value)}")
         if isinstance(value, sp.Float):
             return sp.Rational(value)
         if value.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
             raise InputError(f"{name} must be finite, got {value}")
+        if value.has(sp.I) and not value.free_symbols:
+            raise TypeError(f"{name} must be real, got the complex number {_short(value)}")
         return value
     if isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be a number, got the boolean {value}")
@@ -263,6 +294,157 @@ def as_sympy_entry(value, name: str):
             raise InputError(f"{name} must be finite, got {v}")
         return sp.Float(v)
     raise TypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
+
+
+def as_sympy_vector(value, name: str, n: int) -> list:
+    """The ``n`` entries of a vector on a symbolic face as sympy objects; strings are never parsed.
+
+    ``value`` is a list, tuple, 1-d numpy array or a sympy row or column vector; each entry goes
+    through :func:`as_sympy_entry` (numbers become sympy numbers, sympy expressions pass, strings,
+    bytes, ``None``, bools, complex numbers, nested sequences and non-finite numbers are refused
+    with the entry's index in the message). This is the one way user input reaches sympy on the
+    symbolic faces: :func:`sympy.sympify` on a string evaluates it as Python code.
+
+    Parameters
+    ----------
+    value : sequence or sympy.Matrix
+        The user's vector.
+    name : str
+        The parameter name used in error messages.
+    n : int
+        The required number of entries.
+
+    Returns
+    -------
+    list of sympy.Expr
+
+    Raises
+    ------
+    TypeError
+        ``value`` is not a sequence (a string, a number, ``None``, a dict ...), or an entry is not a
+        real number or sympy expression.
+    InputError
+        A wrong number of entries, a matrix that is not a vector, a numpy array that is not 1-d,
+        or a non-finite entry.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace._validate import as_sympy_vector
+    >>> as_sympy_vector([sp.Symbol("a"), 0, 0.5], "t", 3)
+    [a, 0, 0.500000000000000]
+    >>> as_sympy_vector([sp.Symbol("a"), "1", 0], "t", 3)
+    Traceback (most recent call last):
+    ...
+    TypeError: t[1] must be a number or sympy expression, got the string '1'; strings are never parsed
+    """
+    if isinstance(value, sp.MatrixBase):
+        if 1 not in value.shape:
+            raise InputError(f"{name} must be a vector of {n} entries, got a {value.shape} matrix")
+        items = list(value)
+    elif isinstance(value, np.ndarray):
+        if value.ndim != 1:
+            raise InputError(f"{name} must have shape ({n},) on the symbolic face, got shape {value.shape}")
+        items = list(value)
+    elif isinstance(value, (list, tuple)):
+        items = list(value)
+    else:
+        raise TypeError(f"{name} must be a sequence of {n} numbers or sympy expressions, got "
+                        f"{type(value).__name__} {_short(value)}")
+    if len(items) != n:
+        raise InputError(f"{name} must have {n} entries, got {len(items)}: {_short(value)}")
+    return [as_sympy_entry(v, f"{name}[{i}]") for i, v in enumerate(items)]
+
+
+def as_fraction(value, name: str):
+    """One real number as an exact :class:`fractions.Fraction` (a float is its binary rational).
+
+    Integers (python and numpy), fractions, sympy rationals and finite floats are accepted; strings
+    (``Fraction("1/3")`` would parse them), bytes, ``None``, bools, complex numbers, sequences and
+    non-finite floats are refused.
+
+    Parameters
+    ----------
+    value : int, float, Fraction or sympy.Rational
+    name : str
+        The parameter name used in error messages.
+
+    Returns
+    -------
+    fractions.Fraction
+
+    Raises
+    ------
+    TypeError
+        Not a real number.
+    InputError
+        NaN or infinity.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_fraction
+    >>> as_fraction(0.1, "length") == 3602879701896397 / 36028797018963968, as_fraction(3, "length")
+    (True, Fraction(3, 1))
+    """
+    from fractions import Fraction
+
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, (str, bytes, np.str_, np.bytes_)):
+        raise TypeError(f"{name} must be a number, got the string {_short(value)}; strings are never parsed")
+    if value is None or isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__} {_short(value)}")
+    if isinstance(value, sp.Rational):
+        return Fraction(int(value.p), int(value.q))
+    if isinstance(value, (numbers.Integral, np.integer)):
+        return Fraction(int(value))
+    if isinstance(value, numbers.Rational):
+        return Fraction(int(value.numerator), int(value.denominator))
+    if isinstance(value, (numbers.Real, np.floating)) and not isinstance(value, sp.Basic):
+        v = float(value)
+        if not np.isfinite(v):
+            raise InputError(f"{name} must be finite, got {v}")
+        return Fraction(v)
+    raise TypeError(f"{name} must be a real number (int, float, Fraction), got {type(value).__name__} "
+                    f"{_short(value)}")
+
+
+def check_squares(values, name: str) -> None:
+    """Refuse checked finite floats whose squares leave the float range: ``v * v`` overflows
+    (``|v|`` above about 1.3e154) or a non-zero ``v`` squares to zero (``|v|`` below about 1e-162).
+    Lengths enter the constraint quadrics squared; beyond these bounds the quadric would hold
+    infinity or lose the length without a trace.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        Finite floats (already checked, e.g. by :func:`as_float_array`).
+    name : str
+        The parameter name used in error messages.
+
+    Raises
+    ------
+    InputError
+        Naming the parameter, the first offending value and the bounds.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace._validate import check_squares
+    >>> check_squares(np.array([1.0, 2.0, 1e150]), "lengths")
+    >>> check_squares(np.array([1.0, 1e200]), "lengths")
+    Traceback (most recent call last):
+    ...
+    imagespace.exceptions.InputError: lengths must have squares within the float range (|value| between about 1e-162 and 1.3e154), got 1e+200
+    """
+    v = np.asarray(values, dtype=float)
+    with np.errstate(over="ignore", under="ignore"):
+        sq = v * v
+    bad = ~np.isfinite(sq) | ((sq == 0) & (v != 0))
+    if np.any(bad):
+        first = float(v[bad].ravel()[0])
+        raise InputError(f"{name} must have squares within the float range (|value| between about 1e-162 "
+                         f"and 1.3e154), got {first:g}")
 
 
 def as_scalar(value, name: str, finite: bool = True) -> float:

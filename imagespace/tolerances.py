@@ -242,9 +242,11 @@ class Tolerances:
         ``GoughStewart.aspects``: the sign of ``det J`` is 0 when ``|det J|`` is at most this times
         Hadamard's bound (the product of the row norms).
     spatial_collinear : float
-        :class:`imagespace.spatial.GoughStewart`: the base (or platform) anchors lie on one line,
-        a degenerate design, when the second singular value of the centred anchors is at most this
-        times ``max(1, max |coordinate|)``.
+        :class:`imagespace.spatial.GoughStewart` and :class:`imagespace.spatial.ThreeRPS`: the
+        base (or platform) anchors lie on one line, a degenerate design, when the second singular
+        value of the centred anchors (for the 3-RPS: the norm of the cross product of two sides,
+        over the squared size) is at most this times ``max |coordinate|``: relative to the design's
+        size, so the same design in any unit gets the same answer.
 
     far_reach_ratio : float
         A row whose prismatic joint values exceed this times the design's size (its largest

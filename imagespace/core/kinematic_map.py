@@ -30,7 +30,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from .._validate import as_float_array, as_sympy_entry, is_symbolic
+from .._validate import as_float_array, as_sympy_vector, is_symbolic
 from ..exceptions import InputError
 
 __all__ = [
@@ -54,20 +54,7 @@ NumericInput = Union[npt.NDArray[np.floating], npt.NDArray[np.integer], Sequence
 
 def _sym_vector(value, n, name):
     """The ``n`` entries of a symbolic input as sympy objects; strings are refused, never parsed."""
-    if isinstance(value, sp.MatrixBase):
-        if 1 not in value.shape:
-            raise InputError(f"{name} must be a vector of {n} entries, got a {value.shape} matrix")
-        items = list(value)
-    elif isinstance(value, (list, tuple, np.ndarray)):
-        items = list(np.ravel(np.asarray(value, dtype=object))) if isinstance(value, np.ndarray) else list(value)
-        if isinstance(value, np.ndarray) and value.ndim != 1:
-            raise InputError(f"{name} must have shape ({n},) in the symbolic face, got shape {value.shape}")
-    else:
-        raise TypeError(f"{name} must be a sequence of {n} numbers or sympy expressions, "
-                        f"got {type(value).__name__} {value!r:.80}")
-    if len(items) != n:
-        raise InputError(f"{name} must have {n} entries, got {len(items)}")
-    return [as_sympy_entry(v, f"{name}[{i}]") for i, v in enumerate(items)]
+    return as_sympy_vector(value, name, n)
 
 
 def _exact_zero(x):

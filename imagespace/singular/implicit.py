@@ -521,7 +521,7 @@ def _joint_evaluator(table, q, coefficient_rel):
 
 
 def _build_implicit(surface, chart):
-    from .surface import image_chart_point, pose_chart_point
+    from .pointwise import image_chart_point, pose_chart_point
 
     to_X = image_chart_point if chart == "image" else pose_chart_point
     if surface.kind == "given-joints":

@@ -12,7 +12,7 @@ from .._validate import as_float_array, as_scalar
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
-from .surface import constraint_values, pose_chart_point
+from .pointwise import constraint_values, pose_chart_point
 from .._html import dataclass_html, dataclass_repr
 
 __all__ = ["PoseJacobians", "jacobians", "symbolic_jacobians"]

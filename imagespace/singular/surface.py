@@ -17,6 +17,11 @@ the Jacobian of the three constraint quadrics and ``x0**2 + x1**2 - 1`` with res
 * :class:`ConicSection` - the surface at a fixed orientation ``phi``: a conic in the workspace
   ``(x, y)`` (Sefrioui & Gosselin's quadratic nature), with its type.
 
+Beside it: the chart points and the compiled constraint quadrics in
+:mod:`imagespace.singular.pointwise` (:func:`pose_chart_point` and :func:`image_chart_point` are
+importable here too), the conic classification in :mod:`imagespace.singular.conics`, the
+Jacobians in :mod:`imagespace.singular.jacobians`.
+
 Identity used by the tests: at a pose and joint values that satisfy the constraints,
 ``S(image_point(pose)) = -16 det Jx(pose)``, because the map
 ``(x, y, phi) -> (cos(phi/2), sin(phi/2), ...)`` completed by the image point itself has
@@ -42,7 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .._validate import _short, as_exact, as_flag, as_float_array, as_joint_vector, is_symbolic, as_scalar
+from .._validate import _short, as_flag, as_float_array, as_scalar, as_sympy_entry, is_symbolic
 from ..core.codegen import compile_exprs
 from ..core.quadrics import image_symbols
 from ..exceptions import InputError
@@ -50,173 +55,14 @@ from ..core.kinematic_map import pose_of
 from ..core.mechanism import check_mechanism
 from .._html import latex_collected
 from .charts import UnsupportedShape, chart_substitution, grid_coefficients, joint_table
+from .conics import conic_type, exact_sign, float_sign_fn
+from .pointwise import (check_joint_values, constraint_values, image_chart_point, pose_chart_point,
+                        require_numeric)
 
 __all__ = ["SingularitySurface", "ConicSection", "singularity_surface", "singularity_surfaces",
            "pose_chart_point", "image_chart_point"]
 
 _KINDS = ("joint-free", "given-joints", "working-mode")
-
-
-# -- charts -----------------------------------------------------------------------------------
-def pose_chart_point(P):
-    """Normalised image points of poses and their derivative with respect to ``(x, y, phi)``.
-
-    Parameters
-    ----------
-    P : (n, 3) float
-
-    Returns
-    -------
-    X : (n, 4) float
-        ``(cos(phi/2), sin(phi/2), (x1 x - x0 y)/2, (x0 x + x1 y)/2)``.
-    dX : (n, 4, 3) float
-        ``dX[:, :, k]`` is the derivative along ``x``, ``y``, ``phi``.
-
-    Raises
-    ------
-    TypeError
-        ``P`` not numeric.
-    InputError
-        ``P`` not ``(3,)`` or ``(n, 3)`` (NaN and infinity pass through).
-
-    Examples
-    --------
-    >>> from imagespace.singular.surface import pose_chart_point
-    >>> X, dX = pose_chart_point([[2.0, 0.0, 0.0]])
-    >>> X.tolist(), dX[0, :, 0].tolist()
-    ([[1.0, 0.0, 0.0, 1.0]], [0.0, 0.0, 0.0, 0.5])
-    """
-    P = np.atleast_2d(as_float_array(P, "P", last=3, finite=False))
-    x, y, phi = P[:, 0], P[:, 1], P[:, 2]
-    c, s = np.cos(phi / 2), np.sin(phi / 2)
-    X = np.stack([c, s, (s * x - c * y) / 2, (c * x + s * y) / 2], axis=-1)
-    z = np.zeros_like(c)
-    dX = np.stack([np.stack([z, z, s / 2, c / 2], -1),
-                   np.stack([z, z, -c / 2, s / 2], -1),
-                   np.stack([-s / 2, c / 2, X[:, 3] / 2, -X[:, 2] / 2], -1)], axis=-1)
-    return X, dX
-
-
-def image_chart_point(U):
-    """Image points of the affine chart ``(x2/x0, x3/x0, x1/x0)`` (seed 002, Abb. 2) and its derivative.
-
-    Parameters
-    ----------
-    U : (n, 3) float
-        Chart coordinates ``(u, v, w) = (x2/x0, x3/x0, x1/x0)``.
-
-    Returns
-    -------
-    X : (n, 4) float
-        ``(1, w, u, v)``.
-    dX : (n, 4, 3) float
-
-    Raises
-    ------
-    TypeError
-        ``U`` not numeric.
-    InputError
-        ``U`` not ``(3,)`` or ``(n, 3)`` (NaN and infinity pass through).
-
-    Examples
-    --------
-    >>> from imagespace.singular.surface import image_chart_point
-    >>> image_chart_point([[1.0, 2.0, 3.0]])[0].tolist()
-    [[1.0, 3.0, 1.0, 2.0]]
-    """
-    U = np.atleast_2d(as_float_array(U, "U", last=3, finite=False))
-    X = np.stack([np.ones(len(U)), U[:, 2], U[:, 0], U[:, 1]], axis=-1)
-    dX = np.zeros((len(U), 4, 3))
-    dX[:, 2, 0] = dX[:, 3, 1] = dX[:, 1, 2] = 1.0
-    return X, dX
-
-
-# -- input checks shared by the analysis modules ------------------------------------------------
-
-
-def _check_joint_values(manipulator, q, name="q"):
-    """One set of joint values ``(3,)``: exact sympy numbers/expressions or checked floats."""
-    if is_symbolic(q):
-        if not isinstance(q, (list, tuple, np.ndarray, sp.MatrixBase)):
-            raise TypeError(f"{name} must be a sequence of three joint values, got {_short(q)}")
-        items = list(q)
-        if len(items) != 3:
-            raise InputError(f"{name} must have shape (3,), got {len(items)} entries: {_short(q)}")
-        return tuple(as_exact(v, f"{name}[{i}]") for i, v in enumerate(items))
-    qa = manipulator.check_q(as_joint_vector(q, name), name)
-    return tuple(as_exact(float(v), f"{name}[{i}]") for i, v in enumerate(qa))
-
-
-# -- compiled constraint functions ----------------------------------------------------------------
-def _constraint_functions(m):
-    """Compiled ``[Q_i, dQ_i/dx (4), dQ_i/dq_i]`` for the three legs, arguments ``(x0..x3, q1..q3)``."""
-    return m.cached("constraint_functions", lambda: _build_constraint_functions(m))
-
-
-def _build_constraint_functions(m):
-    _require_numeric(m)
-    x = image_symbols()
-    qs = m.joint_symbols
-    exprs = []
-    for leg, qi in zip(m.legs, qs):
-        Q = sp.expand(leg.dyad(qi).expr())
-        if any(not c.is_Rational for c in sp.Poly(Q, *x).coeffs() if c.is_number):
-            Q = sp.expand(sp.N(Q, 20))          # exact trig/radical constants: evaluate once
-        P = sp.Poly(Q, *x)
-        exprs += [Q] + [P.diff(v).as_expr() for v in x] + [sp.diff(Q, qi)]
-    return compile_exprs(exprs, list(x) + list(qs))
-
-
-def _require_numeric(m):
-    free = m.design_symbols
-    if free:
-        raise InputError(f"numeric evaluation needs a numeric design; the design has the symbols "
-                         f"{sorted(map(str, free))} (substitute numbers first)")
-
-
-def constraint_values(m, X, Q):
-    """The three constraint quadrics, their gradients and joint derivatives at image points and joints.
-
-    Shared with :mod:`imagespace.singular.jacobians` (not public API: not in ``__all__``); the
-    compiled functions are cached on the design (``m.cached("constraint_functions", ...)``).
-
-    Parameters
-    ----------
-    m : PlanarParallel
-        A numeric design.
-    X : (n, 4) float
-        Image points.
-    Q : (n, 3) float
-        Joint values, one row per image point.
-
-    Returns
-    -------
-    vals : (n, 3) float
-        ``Q_i(X; q_i)``.
-    grad : (n, 3, 4) float
-        ``dQ_i/dX``.
-    dq : (n, 3) float
-        ``dQ_i/dq_i``.
-
-    Raises
-    ------
-    InputError
-        If the design has free symbols (numeric evaluation needs numbers).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> import imagespace as isp
-    >>> from imagespace.singular.surface import constraint_values
-    >>> m = isp.examples.stigger_husty()
-    >>> X = m.direct_kinematics(m.q_example)[0].image_point[None]
-    >>> vals, grad, dq = constraint_values(m, X, m.q_example_float[None])
-    >>> vals.shape, grad.shape, dq.shape, bool(np.all(np.abs(vals) < 1e-6 * np.abs(grad).max()))
-    ((1, 3), (1, 3, 4), (1, 3), True)
-    """
-    out = _constraint_functions(m)(*X.T, *Q.T)
-    out = out.reshape(len(X), 3, 6)
-    return out[:, :, 0], out[:, :, 1:5], out[:, :, 5]
 
 
 # -- the surface --------------------------------------------------------------------------------
@@ -315,7 +161,7 @@ class SingularitySurface:
 
     def _compiled(self, what):
         if what not in self._cache:
-            _require_numeric(self.manipulator)
+            require_numeric(self.manipulator)
             e = self.expr()
             args = self._args()
             if what == "value":
@@ -483,9 +329,12 @@ class SingularitySurface:
 
         Raises
         ------
+        TypeError
+            ``phi`` not one real number or sympy expression (strings, sequences, bools and
+            complex numbers are refused; a string is never parsed).
         InputError
             For a ``"working-mode"`` surface (not polynomial in ``x, y``; take the surface for
-            given joint values instead).
+            given joint values instead); a non-finite ``phi`` or one with free symbols.
 
         Examples
         --------
@@ -686,7 +535,7 @@ def singularity_surface(manipulator, q=None, working_modes=None):
     if q is not None and working_modes is not None:
         raise InputError("give either q (the surface at given joint values) or working_modes (the "
                          "joint values eliminated through the leg inverse kinematics), not both")
-    qs = None if q is None else _check_joint_values(manipulator, q)
+    qs = None if q is None else check_joint_values(manipulator, q)
     wm = None if working_modes is None else manipulator.check_working_modes(working_modes)
     P = manipulator.singularity_polynomial()
     joint_syms = manipulator.joint_symbols
@@ -740,11 +589,6 @@ def singularity_surfaces(manipulator):
 
 
 # -- fixed-orientation sections -----------------------------------------------------------------
-_CONIC_NAMES = ("ellipse", "imaginary ellipse", "parabola", "hyperbola", "intersecting lines",
-                "parallel lines", "coincident lines", "imaginary parallel lines", "point", "line",
-                "empty", "plane")
-
-
 @dataclass(frozen=True)
 class ConicSection:
     """The singularity surface at a fixed orientation: ``A x² + B xy + C y² + D x + E y + F = 0``.
@@ -805,7 +649,7 @@ class ConicSection:
         e = surface.expr()
         exact = is_symbolic(phi)
         if exact:
-            phi_s = sp.sympify(phi)
+            phi_s = as_sympy_entry(phi, "phi")        # one sympy number; a string is refused, never parsed
             if phi_s.free_symbols:
                 raise InputError(f"phi must be a number or an exact sympy number, got {phi!r}")
             half = sp.simplify(sp.tan(phi_s / 2))
@@ -822,11 +666,11 @@ class ConicSection:
         co = [poly.coeff_monomial(mm) for mm in mons]
         if exact:
             co = [sp.radsimp(c) for c in co]
-            kind = _conic_type(co, _exact_sign)
+            kind = conic_type(co, exact_sign)
             return cls(float(sp.N(phi_s)), tuple(co), kind, True)
         cf = np.array([float(c) for c in co])
         tol = surface.manipulator.tolerances.singular
-        kind = _conic_type(list(cf), _float_sign_fn(cf, tol))
+        kind = conic_type(list(cf), float_sign_fn(cf, tol))
         return cls(phi_f, tuple(float(c) for c in cf), kind, False)
 
     @property
@@ -863,52 +707,3 @@ class ConicSection:
         return A * x * x + B * x * y + C * y * y + D * x + E * y + F
 
 
-def _exact_sign(a, degree=1):
-    a = sp.sympify(a)
-    if a.is_zero:
-        return 0
-    if a.is_positive:
-        return 1
-    if a.is_negative:
-        return -1
-    z = sp.simplify(a)
-    if z.is_zero:
-        return 0
-    v = sp.N(z, 50)
-    if v == 0:
-        raise InputError(f"could not decide the sign of {a} exactly")
-    return 1 if v > 0 else -1
-
-
-def _float_sign_fn(cf, tol):
-    scale = float(np.max(np.abs(cf))) if np.any(cf) else 0.0
-
-    def sign(a, degree=1):
-        a = float(a)
-        return 0 if abs(a) <= tol * scale ** degree else (1 if a > 0 else -1)
-    return sign
-
-
-def _conic_type(co, sign):
-    """Classify a conic from the signs of its invariants; ``sign(value, degree)`` decides a sign
-    (``degree``: how many coefficients multiply in ``value``, for a float tolerance)."""
-    A, B, C, D, E, F = co
-    if all(sign(c, 1) == 0 for c in (A, B, C)):
-        if sign(D, 1) == 0 and sign(E, 1) == 0:
-            return "plane" if sign(F, 1) == 0 else "empty"
-        return "line"
-    delta = sign(4 * A * C - B * B, 2)
-    Delta = sign(4 * A * C * F - A * E * E - B * B * F + B * D * E - C * D * D, 3)   # 4 det M
-    if Delta != 0:
-        if delta > 0:
-            return "imaginary ellipse" if sign(A + C, 1) * Delta > 0 else "ellipse"
-        return "parabola" if delta == 0 else "hyperbola"
-    if delta < 0:
-        return "intersecting lines"
-    if delta > 0:
-        return "point"
-    # the quadratic part is a square: parallel, coincident or imaginary parallel lines
-    cof = sign((4 * A * F - D * D) + (4 * C * F - E * E), 2)
-    if cof < 0:
-        return "parallel lines"
-    return "coincident lines" if cof == 0 else "imaginary parallel lines"

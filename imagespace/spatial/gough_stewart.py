@@ -36,13 +36,13 @@ from functools import cached_property
 
 import numpy as np
 
-from .._validate import as_tolerances
+from .._validate import as_float_array, as_tolerances, check_squares
 from ..exceptions import DegenerateDesignError
 from .certify import exact_matrix
 from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
 from .solver import QuadricFamily
-from .study import rotation_entries
+from .study import rotation_entries, vector_norm
 
 __all__ = ["GoughStewart", "GOUGH_STEWART_BOUND", "PAIRED_BOUND"]
 
@@ -65,6 +65,12 @@ GOUGH_STEWART_BOUND = 40
 PAIRED_BOUND = 16
 
 
+def _study_points(s):
+    """The numeric face's Study points: a float ``(8,)`` or ``(n, 8)`` array (sympy numbers become
+    floats, symbols and strings are refused); the Study-map functions check ``x != 0``."""
+    return as_float_array(s, "s", last=8)
+
+
 def _paired(P):
     """True when the six points are three distinct points, each taken exactly twice."""
     rows = [tuple(float(v) for v in p) for p in P]
@@ -73,11 +79,14 @@ def _paired(P):
 
 
 def _collinear(P, tol):
-    """True when every point lies on one line (all coincident included), relative to the spread."""
-    c = P - P.mean(axis=0)
-    scale = max(float(np.abs(P).max()), 1.0)
-    sv = np.linalg.svd(c, compute_uv=False)
-    return sv[1] <= tol * scale
+    """True when every point lies on one line (all coincident included), relative to the size of the
+    coordinates (scaled first: the same answer in any unit, no overflow at any magnitude)."""
+    scale = float(np.abs(P).max())
+    if scale == 0.0:
+        return True
+    Ps = P / scale
+    sv = np.linalg.svd(Ps - Ps.mean(axis=0), compute_uv=False)
+    return sv[1] <= tol
 
 
 class GoughStewart(QuadricPlatform):
@@ -161,7 +170,7 @@ class GoughStewart(QuadricPlatform):
         >>> gs.inverse_kinematics([1, 0, 0, 0, 0, 0, 0, 0]).round(6)
         array([1.414214, 1.414214, 1.414214, 2.44949 , 2.44949 , 2.44949 ])
         """
-        return np.linalg.norm(self.leg_vectors(s), axis=-1)
+        return vector_norm(self.leg_vectors(_study_points(s)))
 
     def constraint_quadrics(self, lengths):
         """The seven quadrics of the direct kinematics: six legs, then Study's quadric.
@@ -188,6 +197,7 @@ class GoughStewart(QuadricPlatform):
         (7, 8, 8)
         """
         L = check_lengths(lengths)
+        check_squares(L, "lengths")
         return np.concatenate([sphere_quadric(self.base_points, self.platform_points, L),
                                study_quadric_matrix()[None]], axis=0)
 
@@ -217,7 +227,7 @@ class GoughStewart(QuadricPlatform):
         >>> gs.jacobian([1, 0, 0, 0, 0, 0, 0, 0]).shape
         (6, 6)
         """
-        V = self.leg_vectors(s)
+        V = self.leg_vectors(_study_points(s))
         return np.concatenate([V, np.cross(self.base_points, V)], axis=-1)
 
     def aspects(self, s, tolerances=None):
@@ -256,11 +266,18 @@ class GoughStewart(QuadricPlatform):
         True
         """
         tol = (self.tolerances if tolerances is None else as_tolerances(tolerances)).spatial_aspect
-        J = np.array(self.jacobian(s), dtype=float)
-        J[..., 3:] /= float(np.max(np.linalg.norm(self.base_points, axis=1)))
-        norms = np.prod(np.linalg.norm(J, axis=-1), axis=-1)
-        d = np.linalg.det(J)
-        out = np.where(np.abs(d) > tol * norms, np.sign(d), 0).astype(np.int8)
+        # the rows (s_i, a_i x s_i / c) divided by c: lengths of order 1 at any size of the design
+        # (det scaled by c^-6 > 0, the Hadamard ratio unchanged); the products never see the
+        # square of a tiny or huge coordinate
+        amax = float(np.max(np.abs(self.base_points)))
+        c = amax * float(np.max(vector_norm(self.base_points / amax)))      # max |a_i|
+        V = self.leg_vectors(_study_points(s)) / c
+        J = np.concatenate([V, np.cross(self.base_points / c, V)], axis=-1)
+        # |det J| / prod(row norms) is det of the rows scaled to unit length: no overflow or
+        # underflow at any magnitude (a far pose, a design in micrometres or light years)
+        n = vector_norm(J)[..., None]
+        d = np.linalg.det(J / np.where(n > 0, n, 1.0))
+        out = np.where(np.abs(d) > tol, np.sign(d), 0).astype(np.int8)
         return int(out) if out.ndim == 0 else out
 
     @cached_property

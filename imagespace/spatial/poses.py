@@ -11,7 +11,7 @@ import numpy as np
 
 from .._validate import as_flag, as_float_array, as_tolerances
 from ..exceptions import InputError
-from .study import quaternion_multiply, study_point
+from .study import quaternion_from_matrix, quaternion_multiply, study_point
 
 __all__ = ["pose_from_rotation", "pose_from_quaternion", "pose_from_rpy", "pose_from_matrix", "CONSTRUCTORS"]
 
@@ -76,7 +76,7 @@ def pose_from_rotation(R, t):
     R = as_float_array(R, "R", finite=False)
     if R.ndim not in (2, 3) or R.shape[-2:] != (3, 3):
         raise _shape_error("R", "(3, 3) or (n, 3, 3)", R.shape)
-    return study_point(R, _translation(t))
+    return study_point(quaternion_from_matrix(R), _translation(t))     # checks R under its own name
 
 
 def pose_from_quaternion(q, t):
@@ -111,6 +111,10 @@ def pose_from_quaternion(q, t):
     x = as_float_array(q, "q", finite=False)
     if x.ndim not in (1, 2) or x.shape[-1] != 4:
         raise _shape_error("q", "(4,) or (n, 4)", x.shape)
+    if not np.all(np.isfinite(x)):
+        raise InputError("q must be finite, got NaN or inf entries")
+    if np.any(np.all(x == 0, axis=-1)):
+        raise InputError("q must be a non-zero quaternion, got zero")
     return study_point(x, _translation(t))
 
 

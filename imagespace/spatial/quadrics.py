@@ -41,7 +41,8 @@ from functools import lru_cache
 import numpy as np
 import sympy as sp
 
-from .._validate import as_float_array, is_symbolic
+from .._validate import (as_float_array, as_fraction, as_sympy_entry, as_sympy_vector, check_squares,
+                         is_symbolic)
 from ..exceptions import InputError
 from .study import quaternion_multiply, quaternion_conjugate, study_symbols
 
@@ -83,7 +84,13 @@ def form_matrix(expr):
     1/2
     """
     z = study_symbols()
-    P = sp.Poly(sp.expand(expr), *z)
+    if isinstance(expr, sp.Poly):
+        expr = expr.as_expr()
+    expr = as_sympy_entry(expr, "expr")        # a string is refused, never sympified
+    try:
+        P = sp.Poly(sp.expand(expr), *z)
+    except sp.PolynomialError:
+        raise InputError(f"expr must be a quadratic form in {z}, got {expr}") from None
     if not P.is_homogeneous or P.total_degree() != 2 and not P.is_zero:
         raise InputError(f"expr must be a quadratic form in {z}, got degree {P.total_degree()}")
     Q = sp.zeros(8, 8)
@@ -144,16 +151,31 @@ def quadric_value(Q, s):
     >>> quadric_value(study_quadric_matrix(), [1, 0, 0, 0, 0, 1, 0, 0])
     0.0
     """
-    Q = np.asarray(Q, dtype=float)
-    if Q.shape[-2:] != (8, 8) or Q.ndim > 3:
+    Q = as_float_array(Q, "Q", allow_batch=True)
+    if Q.ndim not in (2, 3) or Q.shape[-2:] != (8, 8):
         raise InputError(f"Q must have shape (8, 8) or (k, 8, 8), got {Q.shape}")
     z = as_float_array(s, "s", last=8)
-    out = np.einsum("...i,kij,...j->...k", z, Q.reshape(-1, 8, 8), z).reshape(z.shape[:-1] + Q.shape[:-2])
+    # a form of degree 2 in z and 1 in Q: evaluated on scaled copies, the scales multiplied back
+    mz = np.abs(z).max(axis=-1, keepdims=True)
+    mz = np.where(mz > 0, mz, 1.0)
+    mq = float(np.abs(Q).max()) or 1.0
+    zs = z / mz
+    with np.errstate(over="ignore", under="ignore"):
+        unit = np.einsum("...i,kij,...j->...k", zs, Q.reshape(-1, 8, 8) / mq, zs)
+        out = unit * mz * mz * mq
+    out, unit = out.reshape(z.shape[:-1] + Q.shape[:-2]), unit.reshape(z.shape[:-1] + Q.shape[:-2])
+    if not np.all(np.isfinite(out)):
+        raise InputError("s or Q is too large: z^T Q z is outside the float range (about 1.8e308); "
+                         "pass normalised Study points (normalize_study)")
+    if np.any((out == 0) & (unit != 0)):
+        raise InputError("s or Q is too small: z^T Q z underflows to zero (below about 1e-308) where it "
+                         "is not zero; pass normalised Study points (normalize_study)")
     return float(out) if out.ndim == 0 else out
 
 
-def _pure(v):
-    return np.array([sp.Integer(0)] + [sp.sympify(c) for c in v], dtype=object)
+def _pure(v, name="point"):
+    """A 3-vector as the pure quaternion ``(0, v)`` of sympy entries (strings refused, never parsed)."""
+    return np.array([sp.Integer(0)] + as_sympy_vector(v, name, 3), dtype=object)
 
 
 def _dot(p, q):
@@ -255,7 +277,16 @@ def sphere_quadric_exact(base_point, platform_point, length):
     """
     from fractions import Fraction
 
-    vals = [Fraction(v) for v in list(base_point) + list(platform_point) + [length]]
+    vals = []
+    for name, v in (("base_point", base_point), ("platform_point", platform_point)):
+        if not isinstance(v, (list, tuple, np.ndarray)) or (isinstance(v, np.ndarray) and v.ndim != 1):
+            raise TypeError(f"{name} must be a sequence of 3 numbers, got {type(v).__name__} {v!r:.80}")
+        if len(v) != 3:
+            raise InputError(f"{name} must have 3 entries, got {len(v)}")
+        vals += [as_fraction(c, f"{name}[{i}]") for i, c in enumerate(v)]
+    vals.append(as_fraction(length, "length"))
+    if vals[6] < 0:
+        raise InputError(f"length must be >= 0, got {length!r}")
     twice = _sphere_exact_compiled()(*vals)
     return np.array([Fraction(v) / 2 for v in twice], dtype=object).reshape(8, 8)
 
@@ -294,9 +325,10 @@ def sphere_quadric(base_point, platform_point, length):
     """
     if is_symbolic(base_point) or is_symbolic(platform_point) or is_symbolic(length):
         Q, syms = sphere_quadric_symbolic()
-        vals = [sp.sympify(v) for v in list(base_point) + list(platform_point)] + [sp.sympify(length)]
-        if len(vals) != 7:
-            raise InputError("base_point and platform_point must have 3 entries each")
+        vals = (as_sympy_vector(base_point, "base_point", 3) + as_sympy_vector(platform_point, "platform_point", 3)
+                + [as_sympy_entry(length, "length")])
+        if vals[6].is_number and vals[6].is_negative:
+            raise InputError(f"length must be >= 0, got {vals[6]}")
         return Q.subs(dict(zip(syms, vals)))
     a = as_float_array(base_point, "base_point", last=3)
     b = as_float_array(platform_point, "platform_point", last=3)
@@ -305,6 +337,7 @@ def sphere_quadric(base_point, platform_point, length):
         raise InputError(f"length must be a number or of shape (n,), got shape {L.shape}")
     if np.any(L < 0):
         raise InputError(f"length must be >= 0, got {float(np.min(L))}")
+    check_squares(L, "length")
     try:
         shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1], L.shape)
     except ValueError:
@@ -312,7 +345,25 @@ def sphere_quadric(base_point, platform_point, length):
                          f"{a.shape[:-1]}, {b.shape[:-1]} and {L.shape}") from None
     args = [np.broadcast_to(a[..., i], shape) for i in range(3)] + \
            [np.broadcast_to(b[..., i], shape) for i in range(3)] + [np.broadcast_to(L, shape)]
-    return _sphere_compiled()(*args).reshape(shape + (8, 8))
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = _sphere_compiled()(*args).reshape(shape + (8, 8))
+    if not np.all(np.isfinite(out)):
+        raise _too_large("base_point, platform_point or length",
+                         "the quadric's entries (squares and products of the coordinates)")
+    return out
+
+
+def _too_large(names, what):
+    return InputError(f"{names} is too large: {what} are outside the float range (about 1.8e308); "
+                      "expected coordinates whose squares a float can hold (below about 1e154)")
+
+
+def _as_float_matrix(Q, names):
+    """An exact sympy matrix rounded to float; refuses entries beyond the float range."""
+    out = np.array(Q.tolist(), dtype=float)
+    if not np.all(np.isfinite(out)):
+        raise _too_large(names, "the quadric's entries")
+    return out
 
 
 def _exact_or_float(v):
@@ -358,12 +409,16 @@ def point_on_plane_quadric(platform_point, plane_point, plane_normal):
             raise InputError("plane_normal must be non-zero, got (0, 0, 0)")
         b, c, n = (_exact_or_float(v) for v in (b, c, n))
     else:
-        b, c, n = ([sp.sympify(v) for v in w] for w in (platform_point, plane_point, plane_normal))
+        b = as_sympy_vector(platform_point, "platform_point", 3)
+        c = as_sympy_vector(plane_point, "plane_point", 3)
+        n = as_sympy_vector(plane_normal, "plane_normal", 3)
+        if all(v == 0 for v in n):
+            raise InputError("plane_normal must be non-zero, got (0, 0, 0)")
     z = study_symbols()
     X = landed_point_times_n(b)
     N = _dot(z[:4], z[:4])
     Q = form_matrix(sum(ni * Xi for ni, Xi in zip(n, X[1:])) - _dot(n, c) * N)
-    return Q if symbolic else np.array(Q.tolist(), dtype=float)
+    return Q if symbolic else _as_float_matrix(Q, "platform_point, plane_point or plane_normal")
 
 
 def point_on_line_quadrics(platform_point, line_point, line_direction):
@@ -405,11 +460,16 @@ def point_on_line_quadrics(platform_point, line_point, line_direction):
             raise InputError("line_direction must be non-zero, got (0, 0, 0)")
         b, c, d = (_exact_or_float(v) for v in (b, c, d))
     else:
-        b, c, d = ([sp.sympify(v) for v in w] for w in (platform_point, line_point, line_direction))
+        b = as_sympy_vector(platform_point, "platform_point", 3)
+        c = as_sympy_vector(line_point, "line_point", 3)
+        d = as_sympy_vector(line_direction, "line_direction", 3)
+        if all(v == 0 for v in d):
+            raise InputError("line_direction must be non-zero, got (0, 0, 0)")
     z = study_symbols()
     N = _dot(z[:4], z[:4])
     X = landed_point_times_n(b)
     V = [X[1 + i] - c[i] * N for i in range(3)]
     cross = [V[1] * d[2] - V[2] * d[1], V[2] * d[0] - V[0] * d[2], V[0] * d[1] - V[1] * d[0]]
     Qs = [form_matrix(e) for e in cross]
-    return Qs if symbolic else np.array([np.array(Q.tolist(), dtype=float) for Q in Qs])
+    return Qs if symbolic else np.array([_as_float_matrix(Q, "platform_point, line_point or line_direction")
+                                         for Q in Qs])

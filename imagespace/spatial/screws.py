@@ -72,10 +72,19 @@ def _unit(u, name):
         if n == 0:
             raise InputError(f"{name} must not be the zero vector")
         return u / n
-    n = np.linalg.norm(u, axis=-1, keepdims=True)
-    if np.any(n == 0):
+    m = np.abs(u).max(axis=-1, keepdims=True)
+    if np.any(m == 0):
         raise InputError(f"{name} must not be the zero vector, got {np.asarray(u).tolist()}")
-    return u / n
+    us = u / m                                      # scaled first: no overflow or underflow in the norm
+    return us / np.linalg.norm(us, axis=-1, keepdims=True)
+
+
+def _in_range(out, names, what):
+    """``out`` if finite, else an InputError: the result left the float range."""
+    if isinstance(out, np.ndarray) and not np.all(np.isfinite(out)):
+        raise InputError(f"{names} is too large: {what} is outside the float range (about 1.8e308); "
+                         "expected coordinates of the size of the mechanism")
+    return out
 
 
 def _cross(a, b):
@@ -120,7 +129,8 @@ def revolute(axis, point):
     u = _unit(_vec3(axis, "axis"), "axis")
     p = _vec3(point, "point")
     _same_batch(u, p, "axis", "point")
-    return _join(u, _cross(p, u))
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _in_range(_join(u, _cross(p, u)), "point", "the moment p x u")
 
 
 def prismatic(axis):
@@ -171,7 +181,8 @@ def helical(axis, point, pitch):
         return _join(u, _cross(p, u) + as_exact(pitch, "pitch") * u)
     h = as_float_array(pitch, "pitch")
     try:
-        return _join(u, _cross(p, u) + h[..., None] * u)
+        with np.errstate(over="ignore", invalid="ignore"):
+            return _in_range(_join(u, _cross(p, u) + h[..., None] * u), "point or pitch", "the moment p x u + h u")
     except ValueError:
         raise InputError(f"pitch must be a number or one per axis, got shape {h.shape} for axes of shape "
                          f"{u.shape}") from None
@@ -223,7 +234,9 @@ def transfer(screw, point, kind="twist"):
         a, b = s[:3, 0], s[3:, 0]
         return _join(a, b - _cross(r, a))
     a, b = s[..., :3], s[..., 3:]
-    return np.concatenate([a, b - np.cross(r, a)], axis=-1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _in_range(np.concatenate([a, b - np.cross(r, a)], axis=-1), "screw or point",
+                         "the transferred moment")
 
 
 def reciprocal_product(twist, wrench):
@@ -248,7 +261,17 @@ def reciprocal_product(twist, wrench):
     if isinstance(t, sp.MatrixBase) or isinstance(w, sp.MatrixBase):
         t, w = sp.Matrix(t), sp.Matrix(w)
         return sp.simplify(t[:3, 0].dot(w[3:, 0]) + t[3:, 0].dot(w[:3, 0]))
-    return np.einsum("...i,...i->...", t[..., :3], w[..., 3:]) + np.einsum("...i,...i->...", t[..., 3:], w[..., :3])
+    # a bilinear form: evaluated on scaled copies, the scales multiplied back (out of range only when
+    # the value is; an underflow to zero would read as "reciprocal", so it is refused too)
+    mt, mw = np.abs(t).max(axis=-1), np.abs(w).max(axis=-1)
+    ts, ws = t / mt[..., None], w / mw[..., None]
+    unit = np.einsum("...i,...i->...", ts[..., :3], ws[..., 3:]) + np.einsum("...i,...i->...", ts[..., 3:], ws[..., :3])
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        out = unit * mt * mw
+    if not np.all(np.isfinite(out)) or np.any((out == 0) & (unit != 0)):
+        raise InputError("twist or wrench is out of range: their reciprocal product is outside the float "
+                         "range (about 1e-308 .. 1.8e308); expected screws of the size of the mechanism")
+    return out
 
 
 _SWAP = np.block([[np.zeros((3, 3)), np.eye(3)], [np.eye(3), np.zeros((3, 3))]])
@@ -608,6 +631,10 @@ class TranslationalFiveR:
         InputError
             For ``theta`` not of shape ``(3,)`` or ``(n, 3)``.
 
+        Notes
+        -----
+        A row with a NaN or infinite angle gives NaN (the other rows of a batch are kept).
+
         Examples
         --------
         >>> import numpy as np
@@ -616,7 +643,8 @@ class TranslationalFiveR:
         [-1.0]
         """
         t = np.atleast_2d(as_float_array(theta, "theta", last=3, finite=False))
-        s, c = np.sin(t), np.cos(t)
+        with np.errstate(invalid="ignore"):                 # sin(inf) is NaN: that row's answer
+            s, c = np.sin(t), np.cos(t)
         return s[:, 0] * s[:, 1] * s[:, 2] - c[:, 0] * c[:, 1] * c[:, 2]
 
     def thetas(self, P, branch=0):
@@ -674,7 +702,8 @@ class TranslationalFiveR:
             C = P - self.c * E[i]
             d = self.d(i, th[i])
             r = C - A
-            L = np.linalg.norm(r)
+            with np.errstate(over="ignore"):
+                L = np.linalg.norm(r)                  # inf far out of reach: refused just below
             if L > self.l1 + self.l2 or L < abs(self.l1 - self.l2) or L == 0:
                 raise InputError(f"P = {P.tolist()} is out of reach of leg {i}")
             # elbow in the leg's plane (normal d): along r and the in-plane normal n = d x r / L
@@ -816,7 +845,7 @@ def planar_leg_wrenches(manipulator, pose):
         c, s = np.cos(p[2]), np.sin(p[2])
         Pw = p[:2] + np.array([[c, -s], [s, c]]) @ np.array(g["platform"], float)
         u = Pw - A
-        L = np.linalg.norm(u)
+        L = float(np.hypot(u[0], u[1]))             # no overflow for a far pose
         if L == 0:
             raise InputError(f"leg {i} has zero length at pose {p.tolist()}: its line is undefined")
         u = u / L

@@ -72,7 +72,7 @@ def _check_study_points(s, name="s"):
     z = as_float_array(s, name, last=8)
     if z.ndim > 2:
         raise InputError(f"{name} must have shape (8,) or (n, 8), got {z.shape}")
-    if np.any(np.einsum("...i,...i->...", z[..., :4], z[..., :4]) == 0.0):
+    if np.any(np.all(z[..., :4] == 0.0, axis=-1)):
         raise InputError(f"{name} must have x = (x0, x1, x2, x3) != 0 (points with x = 0 are not "
                          "displacements), got x = 0")
     return z
@@ -255,8 +255,19 @@ def jacobian_determinant(gs, s):
     """
     Q = leg_line_forms(gs)
     z = _check_study_points(s)
-    F = np.einsum("...a,ikab,...b->...ik", z, Q, z)
-    d = np.linalg.det(F)
+    # a form of degree 12: evaluated at z / m (entries in [-1, 1]) and multiplied by m^12 one
+    # factor at a time, so it leaves the float range only when its value does
+    m = np.abs(z).max(axis=-1)
+    zs = z / m[..., None]
+    unit = np.linalg.det(np.einsum("...a,ikab,...b->...ik", zs, Q, zs))
+    d = unit
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        for _ in range(12):
+            d = d * m
+    if not np.all(np.isfinite(d)) or np.any((d == 0) & (unit != 0)):
+        raise InputError("s is out of range: the degree-12 form N^6 det J at s is outside the float range "
+                         "(about 1e-308 .. 1.8e308); pass normalised Study points (normalize_study), "
+                         "where it is det J")
     return float(d) if d.ndim == 0 else d
 
 
@@ -315,6 +326,10 @@ def _exact_rotation(rotation, tolerances):
     if rot.shape != (3, 3):
         raise InputError(f"rotation must be a (3, 3) rotation matrix or a (4,) quaternion, got shape {rot.shape}")
     tol = tolerances.rotation_matrix
+    if np.any(np.abs(rot) > 1.0 + tol):                 # before R^T R, which could overflow
+        raise InputError(f"rotation must be a rotation matrix (orthogonal, det +1, to "
+                         f"Tolerances.rotation_matrix = {tol:g}), got an entry {float(np.abs(rot).max()):.3g} "
+                         "(a rotation's entries lie in [-1, 1])")
     err = float(np.abs(rot.T @ rot - np.eye(3)).max())
     if err > tol or abs(np.linalg.det(rot) - 1.0) > tol:
         raise InputError(f"rotation must be a rotation matrix (orthogonal, det +1, to "
@@ -405,8 +420,12 @@ class ConstantOrientationSingularity:
         True
         """
         P = as_float_array(points, "points", last=3)
-        pw = np.prod(P[..., None, :] ** self._exponents, axis=-1)      # (..., terms)
-        out = pw @ self._coefficients
+        with np.errstate(over="ignore", invalid="ignore"):
+            pw = np.prod(P[..., None, :] ** self._exponents, axis=-1)      # (..., terms)
+            out = pw @ self._coefficients
+        if not np.all(np.isfinite(out)):
+            raise InputError(f"points is too large: the polynomial of degree {self.degree} is outside the "
+                             "float range (about 1.8e308) there; expected positions of the size of the design")
         return float(out) if np.ndim(out) == 0 else out
 
     def __call__(self, points):

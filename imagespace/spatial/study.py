@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from .._validate import as_float_array, as_tolerances, is_symbolic
+from .._validate import as_float_array, as_sympy_vector, as_tolerances, is_symbolic
 from ..exceptions import InputError
 
 __all__ = [
@@ -95,10 +95,78 @@ def _batch_shape(a, b, names):
 
 
 def _sym(value, n, name):
-    items = list(value)
-    if len(items) != n:
-        raise InputError(f"{name} must have {n} entries, got {len(items)}")
-    return np.array([sp.sympify(v) for v in items], dtype=object)
+    """A vector of ``n`` sympy entries as an object array (strings refused, never parsed)."""
+    return np.array(as_sympy_vector(value, name, n), dtype=object)
+
+
+def _max_abs(v):
+    """The largest absolute entry on the last axis (keepdims), 1 where a row is zero: dividing by it
+    brings any finite vector to entries in ``[-1, 1]`` without overflow or underflow."""
+    m = np.abs(v).max(axis=-1, keepdims=True)
+    return np.where(m > 0, m, 1.0)
+
+
+# squared norms inside (_SAFE_LO, _SAFE_HI): products of two entries of such vectors neither
+# overflow nor lose digits to underflow, so the plain formulas are exact to rounding there (the
+# fast path); outside, the same formulas run on copies scaled to max |entry| = 1
+_SAFE_LO, _SAFE_HI = 1e-150, 1e150
+
+
+def _safe(sq, zero_ok=False):
+    """True when every squared norm in ``sq`` lies in the fast path's range (or is 0, if allowed)."""
+    ok = (sq > _SAFE_LO) & (sq < _SAFE_HI)
+    if zero_ok:
+        ok |= sq == 0
+    return bool(np.all(ok))
+
+
+def _sq(v):
+    return np.einsum("...i,...i->...", v, v)
+
+
+def vector_norm(v):
+    """Euclidean norms on the last axis without overflow or underflow (scaled by the largest entry
+    first): ``numpy.linalg.norm`` squares the entries, so a vector of ``1e200`` has norm ``inf``
+    there and one of ``1e-200`` norm 0.
+
+    Shared by the spatial modules (not public API: not in ``__all__``).
+
+    Parameters
+    ----------
+    v : (..., k) float
+        Finite entries.
+
+    Returns
+    -------
+    (...) float
+
+    Examples
+    --------
+    >>> from imagespace.spatial.study import vector_norm
+    >>> float(vector_norm(np.array([3e200, 4e200]))), float(vector_norm(np.array([3e-200, 4e-200])))
+    (5e+200, 5e-200)
+    """
+    sq = _sq(v)
+    if _safe(sq, zero_ok=True) and not np.any((sq == 0) & np.any(v != 0, axis=-1)):
+        return np.sqrt(sq)
+    m = _max_abs(v)
+    with np.errstate(over="ignore"):
+        return np.linalg.norm(v / m, axis=-1) * m[..., 0]
+
+
+def _not_finite(name, what):
+    return InputError(f"{name} is too large: {what} is outside the float range (about 1.8e308); "
+                      "expected magnitudes whose result a float can hold")
+
+
+def _scaled_study(z, name):
+    """``z / max|x|`` (the same displacement, ``max|x| = 1``); refuses a point whose translation
+    ``|y| / |x|`` overflows."""
+    with np.errstate(over="ignore"):
+        out = z / _max_abs(z[..., :4])
+    if not np.all(np.isfinite(out)):
+        raise _not_finite(name, "its translation (|y| / |x|)")
+    return out
 
 
 def _conj(q):
@@ -132,7 +200,18 @@ def quaternion_multiply(p, q):
         return sp.Matrix(list(_qmul(_sym(p, 4, "p"), _sym(q, 4, "q"))))
     p, q = as_float_array(p, "p", last=4), as_float_array(q, "q", last=4)
     _batch_shape(p, q, ("p", "q"))
-    return _qmul(p, q)
+    if _safe(_sq(p)) and _safe(_sq(q)):
+        return _qmul(p, q)
+    mp, mq = _max_abs(p), _max_abs(q)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        unit = _qmul(p / mp, q / mq)
+        out = unit * mp * mq                 # |p q| = |p| |q|: out of range only when it must be
+    if not np.all(np.isfinite(out)):
+        raise _not_finite("p or q", "the product p q")
+    if np.any(np.all(out == 0, axis=-1) & np.any(unit != 0, axis=-1)):
+        raise InputError("p or q is too small: the product p q of non-zero quaternions underflows to zero "
+                         "(below about 1e-308); expected magnitudes whose product a float can hold")
+    return out
 
 
 def quaternion_conjugate(q):
@@ -217,9 +296,11 @@ def matrix_from_quaternion(q):
         x = _sym(q, 4, "q")
         return sp.Matrix(3, 3, [sp.simplify(v) for v in _rotation_of(x).ravel()])
     x = as_float_array(q, "q", last=4)
-    if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
+    if np.any(np.all(x == 0.0, axis=-1)):
         raise InputError("q must be a non-zero quaternion, got zero")
-    return _rotation_of(x)
+    if _safe(_sq(x)):
+        return _rotation_of(x)
+    return _rotation_of(x / _max_abs(x))          # homogeneous of degree 0: scaled, never overflows
 
 
 def quaternion_from_matrix(R, tolerances=None):
@@ -259,6 +340,9 @@ def _quaternion_from_matrix(R, tolerances, name):
         raise InputError(f"{name} must have shape (3, 3) or (n, 3, 3), got shape {R.shape}")
     if not np.all(np.isfinite(R)):
         raise InputError(f"{name} must be finite, got NaN or inf entries")
+    if np.any(np.abs(R) > 1.0 + tol):                   # before R^T R, which could overflow
+        raise InputError(f"{name} must be a rotation matrix (orthogonal, det +1, to {tol:g}), got an "
+                         f"entry {float(np.max(np.abs(R))):.3g} (a rotation's entries lie in [-1, 1])")
     err = np.abs(np.einsum("...ji,...jk->...ik", R, R) - np.eye(3)).max(axis=(-2, -1))
     det_err = np.abs(np.linalg.det(R) - 1.0)
     if np.any(err > tol) or np.any(det_err > tol):
@@ -327,11 +411,12 @@ def study_point(rotation, translation):
     array([1., 0., 0., 0., 0., 1., 0., 0.])
     """
     if is_symbolic(rotation) or is_symbolic(translation):
-        items = list(rotation)
-        if len(items) != 4:
-            raise InputError("rotation must be a quaternion of 4 sympy entries on the symbolic face, "
-                             f"got {len(items)} entries")
-        x = _sym(items, 4, "rotation")
+        if isinstance(rotation, (list, tuple, np.ndarray, sp.MatrixBase)):
+            count = rotation.size if isinstance(rotation, np.ndarray) else len(rotation)
+            if count != 4:
+                raise InputError("rotation must be a quaternion of 4 sympy entries on the symbolic face, "
+                                 f"got {count} entries")
+        x = _sym(rotation, 4, "rotation")
         t = _sym(translation, 3, "translation")
         y = _qmul(np.concatenate([[sp.Integer(0)], t]), x) / 2
         return sp.Matrix([sp.expand(v) for v in np.concatenate([x, y])])
@@ -351,20 +436,28 @@ def study_point(rotation, translation):
                           "for a 4x4 homogeneous matrix use imagespace.spatial.pose_from_matrix(T)", UserWarning,
                           stacklevel=2)
         x = as_float_array(rotation, "rotation", last=4)
-        if np.any(np.einsum("...i,...i->...", x, x) == 0.0):
+        if np.any(np.all(x == 0.0, axis=-1)):
             raise InputError("rotation must be a non-zero quaternion, got zero")
     t = as_float_array(translation, "translation", last=3)
     shape = _batch_shape(x, t, ("rotation", "translation"))
     x, t = np.broadcast_to(x, shape + (4,)), np.broadcast_to(t, shape + (3,))
     tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t], axis=-1)
-    y = _qmul(tq, x) / 2
+    if _safe(_sq(x)) and _safe(_sq(t), zero_ok=True):
+        return normalize_study(np.concatenate([x, _qmul(tq, x) / 2], axis=-1))
+    x = x / _max_abs(x)                         # projective: the same rotation, max |x_i| = 1
+    mt = _max_abs(t)
+    tq = np.concatenate([np.zeros(t.shape[:-1] + (1,)), t / mt], axis=-1)
+    with np.errstate(over="ignore"):
+        y = _qmul(tq, x) * (mt / 2)
+    if not np.all(np.isfinite(y)):
+        raise _not_finite("translation", "the dual part y = t x / 2")
     return normalize_study(np.concatenate([np.broadcast_to(x, y.shape), y], axis=-1))
 
 
 def _check_study(s, name="s"):
     s = as_float_array(s, name, last=8)
     n = np.einsum("...i,...i->...", s[..., :4], s[..., :4])
-    if np.any(n == 0.0):
+    if np.any(n == 0.0) and np.any(np.all(s[..., :4] == 0.0, axis=-1)):      # n == 0 also by underflow
         raise InputError(f"{name} must have x = (x0, x1, x2, x3) != 0 (points with x = 0 are not "
                          "displacements), got x = 0")
     return s, n
@@ -396,8 +489,11 @@ def rotation_matrix(s):
     if is_symbolic(s):
         z = _sym(s, 8, "s")
         return sp.Matrix(3, 3, [sp.cancel(v) for v in _rotation_of(z[:4]).ravel()])
-    z, _ = _check_study(s)
-    return _rotation_of(z[..., :4])
+    z, n = _check_study(s)
+    x = z[..., :4]
+    if _safe(n):
+        return _rotation_of(x)
+    return _rotation_of(x / _max_abs(x))          # homogeneous of degree 0: scaled, never overflows
 
 
 def translation(s):
@@ -428,7 +524,16 @@ def translation(s):
         t = 2 * _qmul(z[4:], _conj(z[:4]))
         return sp.Matrix([sp.cancel(v / n) for v in t[1:]])
     z, n = _check_study(s)
-    return 2 * _qmul(z[..., 4:], _conj(z[..., :4]))[..., 1:] / n[..., None]
+    if _safe(n) and _safe(_sq(z[..., 4:]), zero_ok=True):
+        return 2 * _qmul(z[..., 4:], _conj(z[..., :4]))[..., 1:] / n[..., None]
+    z = _scaled_study(z, "s")                       # max |x_i| = 1, so 1 <= x . x <= 4
+    x, y = z[..., :4], z[..., 4:]
+    my = _max_abs(y)
+    with np.errstate(over="ignore"):
+        t = 2 * _qmul(y / my, _conj(x))[..., 1:] * (my / np.einsum("...i,...i->...", x, x)[..., None])
+    if not np.all(np.isfinite(t)):
+        raise _not_finite("s", "its translation")
+    return t
 
 
 def transform_matrix(s):
@@ -485,7 +590,11 @@ def transform_points(s, points):
     """
     R, t = rotation_matrix(as_float_array(s, "s", last=8, allow_batch=False)), translation(s)
     p = as_float_array(points, "points", last=3)
-    return p @ R.T + t
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = p @ R.T + t
+    if not np.all(np.isfinite(out)):
+        raise _not_finite("points", "R p + t")
+    return out
 
 
 def study_condition(s):
@@ -513,7 +622,17 @@ def study_condition(s):
         z = _sym(s, 8, "s")
         return sp.expand(sum(z[i] * z[i + 4] for i in range(4)))
     z = as_float_array(s, "s", last=8)
-    return np.einsum("...i,...i->...", z[..., :4], z[..., 4:])
+    m = _max_abs(z)[..., 0]
+    zs = z / m[..., None]
+    with np.errstate(over="ignore", under="ignore"):
+        unit = np.einsum("...i,...i->...", zs[..., :4], zs[..., 4:])
+        out = unit * m * m
+    if not np.all(np.isfinite(out)):
+        raise _not_finite("s", "the value x . y of Study's quadric")
+    if np.any((out == 0) & (unit != 0)):
+        raise InputError("s is too small: the value x . y of Study's quadric underflows to zero (below "
+                         "about 1e-308) where it is not zero; pass normalised Study points (normalize_study)")
+    return out
 
 
 def normalize_study(s):
@@ -538,7 +657,18 @@ def normalize_study(s):
     array([ 0. ,  0. ,  0. ,  1. ,  0. ,  0. , -0.5,  0. ])
     """
     z, n = _check_study(s)
-    return _normalise_sign(z / np.sqrt(n)[..., None]) + 0.0
+    return _normalised(z, "s", n)
+
+
+def _normalised(z, name, n=None):
+    """The normalised representative of checked Study points ``z`` (no ``x = 0``); ``n`` is
+    ``x . x`` if known."""
+    n = _sq(z[..., :4]) if n is None else n
+    if _safe(n) and _safe(_sq(z[..., 4:]), zero_ok=True):
+        return _normalise_sign(z / np.sqrt(n)[..., None]) + 0.0
+    z = _scaled_study(z, name)                      # max |x_i| = 1: |x| in [1, 2], no overflow
+    n = np.sqrt(np.einsum("...i,...i->...", z[..., :4], z[..., :4]))
+    return _normalise_sign(z / n[..., None]) + 0.0
 
 
 def _dual_mul(a, b):
@@ -576,7 +706,14 @@ def compose_study(a, b):
     za, _ = _check_study(a, "a")
     zb, _ = _check_study(b, "b")
     _batch_shape(za, zb, ("a", "b"))
-    return normalize_study(_dual_mul(za, zb))
+    if _safe(_sq(za)) and _safe(_sq(zb)):
+        return _normalised(_dual_mul(za, zb), "a or b")
+    za, zb = _scaled_study(za, "a"), _scaled_study(zb, "b")     # projective: the same displacements
+    with np.errstate(over="ignore", invalid="ignore"):
+        z = _dual_mul(za, zb)
+    if not np.all(np.isfinite(z)):
+        raise _not_finite("a or b", "the translation of the composition")
+    return _normalised(z, "a or b")
 
 
 def inverse_study(s):
@@ -605,7 +742,7 @@ def inverse_study(s):
     if is_symbolic(s):
         return sp.Matrix(list(_sym(s, 8, "s") * sign))
     z, _ = _check_study(s)
-    return normalize_study(z * sign)
+    return _normalised(z * sign, "s")
 
 
 def planar_to_study(image_point):

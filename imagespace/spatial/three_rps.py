@@ -34,13 +34,14 @@ from functools import cached_property
 
 import numpy as np
 
-from .._validate import as_tolerances
+from .._validate import as_float_array, as_tolerances, check_squares
 from ..exceptions import DegenerateDesignError, InputError
 from .certify import exact_matrix
 from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import (point_on_plane_quadric, sphere_quadric, sphere_quadric_exact,
                        study_quadric_matrix)
 from .solver import QuadricFamily, study_jacobian_signs
+from .study import vector_norm
 
 __all__ = ["ThreeRPS", "THREE_RPS_BOUND"]
 
@@ -51,11 +52,14 @@ THREE_RPS_BOUND = 16
 
 
 def _tangent_axes(a):
-    """Axes tangent to the base triangle's circumcircle (the classic 3-RPS), in its plane."""
+    """Axes tangent to the base triangle's circumcircle (the classic 3-RPS), in its plane (computed
+    on the scaled triangle, then scaled back: no overflow or underflow at any size)."""
+    scale = float(np.abs(a).max())
+    a = a / scale
     n = np.cross(a[1] - a[0], a[2] - a[0])
     n = n / np.linalg.norm(n)
     c = a.mean(axis=0)
-    return np.cross(n, a - c)
+    return np.cross(n, a - c) * scale
 
 
 class ThreeRPS(QuadricPlatform):
@@ -95,8 +99,8 @@ class ThreeRPS(QuadricPlatform):
         self.platform_points = anchor_points(platform_points, "platform_points", 3)
         tol = self.tolerances.spatial_collinear
         for name, P in (("base_points", self.base_points), ("platform_points", self.platform_points)):
-            scale = max(float(np.abs(P).max()), 1.0)
-            if np.linalg.norm(np.cross(P[1] - P[0], P[2] - P[0])) <= tol * scale ** 2:
+            Ps = P / max(float(np.abs(P).max()), np.finfo(float).tiny)    # unit-free, no overflow
+            if np.linalg.norm(np.cross(Ps[1] - Ps[0], Ps[2] - Ps[0])) <= tol:
                 raise DegenerateDesignError(f"{name} are collinear: the platform can turn about their "
                                             "line; expected a triangle")
         if base_axes is None:
@@ -104,7 +108,7 @@ class ThreeRPS(QuadricPlatform):
             self.base_axes.setflags(write=False)
         else:
             self.base_axes = anchor_points(base_axes, "base_axes", 3)
-            if np.any(np.linalg.norm(self.base_axes, axis=1) == 0):
+            if np.any(np.all(self.base_axes == 0, axis=1)):
                 raise InputError("base_axes must be non-zero vectors, got a zero row")
 
     def __repr__(self):
@@ -135,13 +139,17 @@ class ThreeRPS(QuadricPlatform):
         >>> m.inverse_kinematics([1, 0, 0, 0, 0, 0, 0, 0]).round(3)
         array([0.5, 0.5, 0.5])
         """
-        V = self.leg_vectors(s)
-        off = np.abs(np.einsum("ki,...ki->...k", self.base_axes, V))
-        lim = self.tolerances.spatial_plane * np.linalg.norm(self.base_axes, axis=1) * np.linalg.norm(V, axis=-1)
-        if np.any(off > lim):
+        V = self.leg_vectors(as_float_array(s, "s", last=8))     # numeric face: symbols refused
+        # the cosine of the angle between axis and leg, from unit vectors (no overflow at any size)
+        norms = vector_norm(V)
+        u = self.base_axes / vector_norm(self.base_axes)[:, None]
+        with np.errstate(invalid="ignore"):
+            cos = np.abs(np.einsum("ki,...ki->...k", u, V / np.where(norms > 0, norms, 1.0)[..., None]))
+        if np.any(cos > self.tolerances.spatial_plane):
+            off = np.abs(np.einsum("ki,...ki->...k", u, V))
             raise InputError("s must keep every leg in the plane of its revolute joint, got a pose "
-                             f"{float(np.max(off)):.3g} off it")
-        return np.linalg.norm(V, axis=-1)
+                             f"{float(np.max(off)):.3g} off it (|u_i . leg| / |leg| up to {float(np.max(cos)):.3g})")
+        return norms
 
     def constraint_quadrics(self, lengths):
         """Seven quadrics: three spheres, three planes, Study's quadric.
@@ -165,6 +173,7 @@ class ThreeRPS(QuadricPlatform):
         (7, 8, 8)
         """
         L = check_lengths(lengths, count=3)
+        check_squares(L, "lengths")
         return np.concatenate([sphere_quadric(self.base_points, self.platform_points, L),
                                self._planes(1.0), study_quadric_matrix()[None]], axis=0)
 

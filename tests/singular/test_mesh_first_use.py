@@ -19,6 +19,7 @@ import sympy as sp
 import imagespace as isp
 import imagespace.singular.charts as charts_mod
 import imagespace.singular.implicit as implicit_mod
+import imagespace.singular.pointwise as pointwise_mod
 import imagespace.singular.proven_sign as proven_sign_mod
 import imagespace.singular.surface as surface_mod
 from imagespace.core.quadrics import image_symbols
@@ -225,6 +226,7 @@ def test_new_q_does_no_symbolic_work(rng, monkeypatch):
 
     for mod, name in ((surface_mod, "chart_substitution"), (charts_mod, "chart_substitution"),
                       (surface_mod, "compile_exprs"), (implicit_mod, "compile_exprs"),
+                      (pointwise_mod, "compile_exprs"),
                       (charts_mod, "chart_terms"), (proven_sign_mod, "chart_terms")):
         monkeypatch.setattr(mod, name, refuse)
     S2 = m.singularity_surface(q=q2)

@@ -280,7 +280,7 @@ def test_conic_types_of_the_collinear_3rpr_follow_seed_003():
 
 
 def test_conic_classifier_on_textbook_conics():
-    from imagespace.singular.surface import _conic_type, _exact_sign
+    from imagespace.singular.conics import conic_type, exact_sign
     cases = {"ellipse": (1, 0, 2, 0, 0, -1), "imaginary ellipse": (1, 0, 1, 0, 0, 1),
              "parabola": (1, 0, 0, 0, -1, 0), "hyperbola": (1, 0, -1, 0, 0, -1),
              "intersecting lines": (1, 0, -1, 0, 0, 0), "parallel lines": (1, 0, 0, 0, 0, -1),
@@ -289,4 +289,4 @@ def test_conic_classifier_on_textbook_conics():
              "plane": (0, 0, 0, 0, 0, 0)}
     for name, co in cases.items():
         # a rotated, shifted, scaled copy has the same type
-        assert _conic_type([sp.Integer(c) for c in co], _exact_sign) == name
+        assert conic_type([sp.Integer(c) for c in co], exact_sign) == name
