@@ -152,7 +152,10 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
     if include_complex and be.complex_modes is None:
         raise InputError(f"include_complex=True is not offered by {type(m).__name__} (its result "
                          "reports the number of complex solutions instead)")
-    obstruction = be.reach(m, q if certify else qf) if be.reach is not None else None
+    # a reach bound answers first, except where the caller asked for the exact solver itself
+    # (its complex count is part of that answer)
+    obstruction = (be.reach(m, q if certify else qf)
+                   if be.reach is not None and method not in be.exact_methods else None)
     if obstruction is not None:
         out = be.empty(m, obstruction, certify)
     elif certify or method in be.exact_methods or (be.far is not None and be.far(m, qf[None])[0]):
@@ -231,7 +234,7 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
         idx = [int(i) for i in np.flatnonzero(alone)]
         results = []
         for i in idx:
-            ob = be.reach(m, Q[i]) if be.reach is not None else None
+            ob = be.reach(m, Q[i]) if be.reach is not None and method not in be.exact_methods else None
             if ob is not None:
                 results.append(be.empty(m, ob, True))
                 continue

@@ -193,6 +193,7 @@ class QuadricPlatform(Mechanism):
         >>> gs.leg_vectors([1, 0, 0, 0, 0, 0, 0, 0]).shape
         (6, 3)
         """
+        s = as_float_array(s, "s", last=8)
         R, t = rotation_matrix(s), translation(s)
         return np.einsum("...ij,kj->...ki", R, self.platform_points) + t[..., None, :] - self.base_points
 
@@ -236,7 +237,7 @@ class QuadricPlatform(Mechanism):
         >>> [o is None for o in ob], far.tolist(), beyond.tolist()
         ([True, False, True], [False, False, True], [False, False, True])
         """
-        L = np.atleast_2d(np.asarray(lengths, dtype=float))
+        L = np.atleast_2d(as_float_array(lengths, "lengths", last=self.leg_count, finite=False))
         obstruction = [point_pairs_obstruction(self.base_points, self.platform_points, row)
                        for row in L]
         top = L.max(axis=1) if L.size else np.zeros(L.shape[0])
