@@ -37,7 +37,7 @@ def test_counts_equal_the_general_certified_path_next_to_the_discriminant(seed00
     rows: the Q(sqrt 181) count equals the count of the general certified path (sympy numbers,
     arb isolation) on every one."""
     from imagespace.solve.certified import exact_certificate
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     rng = np.random.default_rng(0)
     n = 40000

@@ -114,7 +114,7 @@ def test_lockstep_elimination_contains_the_exact_forms():
 def test_lockstep_kernel_equals_the_row_kernel_exactly(name):
     """Every output of the lockstep loop (modes, poses, residuals, aspects, counts, flags; the
     certified counts and their intervals) equals the row-at-a-time loop's, bit for bit."""
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     m = design(name)
     k = batch_kernel(m)
