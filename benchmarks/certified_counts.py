@@ -23,7 +23,7 @@ def certified_counts_baseline(m, Q):
     """``certified_root_counts`` as it was before issue [18] target 4: the row-at-a-time kernel's
     proof, then every undecided row through the general certified path (sympy numbers, arb)."""
     from imagespace.solve.certified import exact_certificate
-    from imagespace.solve.dispatch import batch_kernel
+    from imagespace.solve.proof import batch_kernel
 
     c = batch_kernel(m).certified_counts(Q, lockstep=False)[0].astype(int)
     for i in np.flatnonzero(c < 0):

@@ -28,9 +28,7 @@ def test_defaults_and_other_fields_do_not_warn():
 
 
 def test_no_computation_reads_a_deprecated_tolerance():
-    # TEMPORARY: solve/kernel.py still packs both into kernel_tolerances' array (never indexed);
-    # the kernel split of issue [15] removes them there, then this allowance goes
-    allowed = {"tolerances.py", "solve/kernel.py"}
+    allowed = {"tolerances.py"}
     readers = sorted(p.relative_to(ROOT).as_posix() for p in ROOT.rglob("*.py")
                      if p.relative_to(ROOT).as_posix() not in allowed
                      and any(name in p.read_text() for name in DEPRECATED))

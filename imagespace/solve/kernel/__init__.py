@@ -23,8 +23,7 @@ kernel then
    the elimination bounded), so the number of isolated roots is the proven number of distinct
    real roots of the exact kinematic form at the binary-rational input, and a row whose bounds
    cannot separate its roots is flagged (``suspect``) rather than guessed; each root is then
-   refined by Newton kept inside its isolating interval. No eigenvalues, no complex
-   arithmetic (the derivative cascade of earlier versions stays as :func:`real_roots_cascade`),
+   refined by Newton kept inside its isolating interval. No eigenvalues, no complex arithmetic,
 4. back-substitutes ``x2 = X2/D, x3 = X3/D``, polishes ``(x0..x3)`` by Newton on
    ``[Q1, Q2, Q3, x0**2 + x1**2 - 1]`` (4x4 Gaussian elimination with partial pivoting) unless the
    residual is at rounding level already, and checks every mode: relative constraint residual
@@ -38,11 +37,11 @@ row-at-a-time functions (:mod:`.row`, :func:`design_row`, ``eliminate_row``,
 ``count_real_roots_row``), so both loops give the same answers bit for bit; the row-at-a-time
 loop stays as the benchmarks' baseline (``kernel(Q, lockstep=False)``).
 
-Package layout: :mod:`.tables` (design tables, :func:`design_row`), :mod:`.cascade` (the
-derivative cascade and the bracketed Newton iteration), :mod:`.row` (the per-row stages),
-:mod:`.lockstep`, :mod:`.block_layout` and :mod:`.block_isolate` (the block stages),
-:mod:`.loops` (the generated generic loops and their on-disk cache), :mod:`.batch`
-(:class:`BatchKernel`, :func:`build_kernel`).
+Package layout: :mod:`.tables` (design tables, :func:`design_row`), :mod:`.newton` (the
+bracketed Newton iteration that refines each isolated root), :mod:`.row` (the per-row stages),
+:mod:`.lockstep`, :mod:`.block_layout` and :mod:`.block_isolate` (the block stages), :mod:`.loops`
+(the generated generic loops and their on-disk cache), :mod:`.batch` (:class:`BatchKernel`,
+:func:`build_kernel`).
 
 A row is flagged instead of guessed when a float computation cannot decide it: roots the
 isolation cannot separate (a double root, or a complex pair within rounding of the axis:
@@ -71,18 +70,16 @@ writable place the loops are compiled in memory.
 
 from __future__ import annotations
 
-from __future__ import annotations
-
 from ...core._numba import HAVE_NUMBA
 from ...core.codegen import KernelCacheWarning
 from ...core.elimination import ELIMINATION_ROW_SIZE, ELIMINATION_WORK_SIZE, ROW_F  # noqa: F401
 from ...core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row  # noqa: F401
 from .batch import BatchKernel, build_kernel
-from .cascade import _abs_horner, _horner, _monotone_root, real_roots_cascade  # noqa: F401
 from .loops import _compile, _generic_loop, _SOURCE  # noqa: F401
+from .newton import _horner, _monotone_root  # noqa: F401
 from .row import (_MAX, _WORK_SIZE, _bf, _det4, _solve4, _solve_row, _system,  # noqa: F401
                   eliminate_row, kernel_tolerances)
 from .tables import MAX_MONOMIALS, DesignTables, design_row, design_tables
 
 __all__ = ["BatchKernel", "DesignTables", "KernelCacheWarning", "build_kernel", "design_tables", "design_row",
-           "real_roots_cascade", "HAVE_NUMBA", "MAX_MONOMIALS"]
+           "HAVE_NUMBA", "MAX_MONOMIALS"]

@@ -22,7 +22,7 @@ row, so the same floats bit for bit; ``tests/solve/test_lockstep.py`` holds them
    :mod:`.block_isolate`). Rows whose coefficients need scaling (beyond ``2**+-300``) take
    :func:`count_real_roots_row` itself (the slow lane);
 4. :func:`modes_block` -- the rest of :func:`.row._solve_row`: each isolated root refined by the
-   safeguarded Newton iteration of :func:`.cascade._monotone_root`, run for all roots of the block
+   safeguarded Newton iteration of :func:`.newton._monotone_root`, run for all roots of the block
    at once (:func:`refine_roots`; roots of a row whose form lost its leading coefficients take
    the scalar routine), then back-substitution, the residual test of the point, Newton on the
    4x4 system for the few points it does not prove accurate (the slow lane), checks, and the
@@ -55,7 +55,7 @@ from .block_isolate import isolate_block
 from .block_layout import (GRID_LEVELS, LOCKSTEP_ROWS, S_SIZE, _S_ACC8, _S_BERN, _S_C, _S_CE, _S_CS, _S_DC,  # noqa: F401
                            _S_E, _S_EACC, _S_EE, _S_EL, _S_ELE, _S_FN, _S_LIN, _S_LINE, _S_MONO, _S_Q, _S_TRIG,
                            grid_rows)
-from .cascade import _BISECT_WIDTH, _HORNER_ZERO, _bracketed_newton, _horner, _monotone_root
+from .newton import _BISECT_WIDTH, _HORNER_ZERO, _bracketed_newton, _horner, _monotone_root
 from .row import _duplicate_modes, _insert_mode, _mode_finish, _mode_start, _root_point
 from .tables import _GAMMA_SUM, _INFLATE, _TINY, _U
 
@@ -345,7 +345,7 @@ _M_MAX = MAX_DEGREE * LOCKSTEP_ROWS    # columns of MD (the most roots of a bloc
 _MI_LANE, _MI_CHART, _MI_DEG, _MI_DONE = range(4)
 _MI_SIZE = 4
 #: Steps of the safeguarded Newton iteration all roots of a block take together; roots that need
-#: more finish one by one (:func:`.cascade._bracketed_newton`). A speed knob, not a decision.
+#: more finish one by one (:func:`.newton._bracketed_newton`). A speed knob, not a decision.
 LOCKSTEP_NEWTON_STEPS = 12
 # per row of the block (_R_SIZE floats each): Cs, the scaled derivatives, D X2 X3 F (the row
 # kernel's buf layout from 24 on)
@@ -354,9 +354,8 @@ _R_SIZE = 48 + ELIMINATION_ROW_SIZE
 
 @njit(cache=True, error_model="numpy")
 def refine_roots(MD, MI, nm, deg):
-    """:func:`.cascade._monotone_root` (no flat ends, not coarse) for the roots ``0 .. nm - 1`` of
-    ``MD``, each in its bracket ``[A, B]`` with values ``FA, FB`` of opposite signs: the result in
-    ``MD[_M_T]``. Roots of degree ``deg`` take the first :data:`LOCKSTEP_NEWTON_STEPS` steps together
+    """:func:`.newton._monotone_root` for the roots ``0 .. nm - 1`` of ``MD``, each in its bracket
+    ``[A, B]`` with values ``FA, FB`` of opposite signs: the result in ``MD[_M_T]``. Roots of degree ``deg`` take the first :data:`LOCKSTEP_NEWTON_STEPS` steps together
     (Horner's rule for all of them at once, then each root's decision), operation for operation
     the scalar iteration's; the rest of their steps, and roots of another degree, go through the
     scalar routine itself."""
@@ -384,7 +383,7 @@ def refine_roots(MD, MI, nm, deg):
             W[j] = b - a
             done[j] = 0
         else:
-            T[j] = _monotone_root(MD[_M_P:_M_P + MAX_DEGREE + 1, j], deg_of[j], a, b, fa, fb, False, False, False)
+            T[j] = _monotone_root(MD[_M_P:_M_P + MAX_DEGREE + 1, j], deg_of[j], a, b, fa, fb)
             done[j] = 1
     hz = _HORNER_ZERO * deg
     # Horner's rule for every root at once, on the flat columns (the rows at constant distances
@@ -444,7 +443,7 @@ def refine_roots(MD, MI, nm, deg):
     for j in range(nm):
         if done[j] == 0:
             T[j] = _bracketed_newton(MD[_M_P:_M_P + MAX_DEGREE + 1, j], deg, A[j], B[j], FA[j], FB[j], T[j], W[j],
-                                     LOCKSTEP_NEWTON_STEPS, False)
+                                     LOCKSTEP_NEWTON_STEPS)
 
 
 @njit(cache=True, error_model="numpy")

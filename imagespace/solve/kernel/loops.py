@@ -177,7 +177,7 @@ def _warm(mod, name):
     return getattr(mod, name)
 
 
-_INLINED_MODULES = ("imagespace.solve.kernel", "imagespace.solve.kernel.cascade", "imagespace.solve.kernel.row",
+_INLINED_MODULES = ("imagespace.solve.kernel", "imagespace.solve.kernel.newton", "imagespace.solve.kernel.row",
                     "imagespace.solve.kernel.tables", "imagespace.solve.kernel.loops",
                     "imagespace.solve.kernel.lockstep", "imagespace.solve.kernel.block_layout",
                     "imagespace.solve.kernel.block_isolate",

@@ -15,7 +15,7 @@ from ...core._numba import njit
 from ...core.elimination import eliminate_row as _eliminate_row_py
 from ...core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row
 from ...core.quadrics import dk_system_row
-from .cascade import _horner, _monotone_root
+from .newton import _horner, _monotone_root
 
 _MAX = 6
 _POLISHED = 1e-14            # a back-substituted mode with a relative residual below this and a
@@ -24,17 +24,16 @@ _CONDITIONED = 1e-2          # |det J| above this times Hadamard's bound is not 
                              # residual check and the joint residual still decide)
 
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
-# into constants): the cascade's 7x7 table W, its points/values/new roots/roots, the scaled
-# polynomial p, up to 12 chart candidates, the scaled quadrics Cs and Newton's val, dx, X, J.
-_WORK_SIZES = (49, 8, 8, 7, 6, 7, 48, 24, 4, 4, 4, 16, ISOLATE_WORK_SIZE, 6, 6, 6)
-(_W_W, _W_PTS, _W_VALS, _W_NEW, _W_RTS, _W_P, _W_CAND, _W_CS, _W_VAL, _W_DX, _W_X,
- _W_J, _W_ISO, _W_ILO, _W_IHI, _W_ICH) = (0, *itertools.accumulate(_WORK_SIZES[:-1]))
+# into constants): the scaled polynomial p of a chart, up to 12 chart candidates, the scaled
+# quadrics Cs, Newton's val, dx, X, J, and the isolation's work and its intervals (lo, hi, chart).
+_WORK_SIZES = (7, 48, 24, 4, 4, 4, 16, ISOLATE_WORK_SIZE, 6, 6, 6)
+(_W_P, _W_CAND, _W_CS, _W_VAL, _W_DX, _W_X, _W_J, _W_ISO, _W_ILO, _W_IHI,
+ _W_ICH) = (0, *itertools.accumulate(_WORK_SIZES[:-1]))
 _WORK_SIZE = sum(_WORK_SIZES)
 
 # The kernel's decision thresholds arrive as one float array (from the design's Tolerances, see
 # kernel_tolerances); these name its entries.
-(_T_CRAMER_SMALL, _T_PIVOT, _T_CHART_DUPLICATE, _T_NEWTON_STOP, _T_RESIDUAL, _T_DUPLICATE,
- _T_CHART_OVERLAP) = range(7)
+(_T_CRAMER_SMALL, _T_PIVOT, _T_NEWTON_STOP, _T_RESIDUAL, _T_DUPLICATE) = range(5)
 
 
 def kernel_tolerances(tol):
@@ -46,11 +45,10 @@ def kernel_tolerances(tol):
     >>> import imagespace as isp
     >>> from imagespace.solve.kernel import kernel_tolerances
     >>> kernel_tolerances(isp.TOLERANCES).tolist()
-    [1e-07, 1e-14, 1e-10, 1e-09, 1e-09, 1e-09, 1e-12]
+    [1e-07, 1e-14, 1e-09, 1e-09, 1e-09]
     """
-    return np.array([tol.cramer_small, tol.newton_stop, tol.kernel_chart_duplicate,
-                     tol.kernel_newton_stop, tol.kernel_residual, tol.kernel_duplicate,
-                     tol.kernel_chart_overlap], dtype=float)
+    return np.array([tol.cramer_small, tol.newton_stop, tol.kernel_newton_stop, tol.kernel_residual,
+                     tol.kernel_duplicate], dtype=float)
 
 
 @njit(cache=True)
@@ -254,9 +252,6 @@ def _solve_row(buf, Ef, layout, tol, out_X, out_P, out_res, out_asp, work):
     ``work``: ``_WORK_SIZE`` floats of scratch (named slices ``_W_*``)."""
     dD, dX, dF = layout[0], layout[1], layout[2]
     oD, oX2, oX3, oF = 48, 48 + dD + 1, 48 + dD + dX + 2, 48 + dD + 2 * dX + 3
-    W = work[_W_W:_W_W + 49].reshape((7, 7))
-    pts, vals = work[_W_PTS:_W_PTS + 8], work[_W_VALS:_W_VALS + 8]
-    new, rts = work[_W_NEW:_W_NEW + 7], work[_W_RTS:_W_RTS + 6]
     p = work[_W_P:_W_P + 7]
     cand = work[_W_CAND:_W_CAND + 48].reshape((12, 4))
     Cs = work[_W_CS:_W_CS + 24]
@@ -309,7 +304,7 @@ def _solve_row(buf, Ef, layout, tol, out_X, out_P, out_res, out_asp, work):
         fb = _horner(p, deg, b)
         if deg == 0 or not (fa * fb < 0.0):
             return 0, 1          # rounding hid the sign change the isolation proved: careful path
-        t = _monotone_root(p, deg, a, b, fa, fb, False, False, False)
+        t = _monotone_root(p, deg, a, b, fa, fb)
         x0, x1 = _root_point(t, chart)
         cand[ncand, 0] = x0
         cand[ncand, 1] = x1
