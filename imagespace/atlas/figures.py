@@ -14,7 +14,8 @@ from .._validate import _short, as_float_array
 from ..exceptions import InputError
 from ..solve import front
 
-__all__ = ["plot_atlas", "atlas_figure", "atlas_traces", "plot_atlas_section", "LEVEL_COLOURS"]
+__all__ = ["plot_atlas", "atlas_figure", "atlas_traces", "plot_atlas_section", "atlas_sheets", "cusp_polyline",
+           "box_edges", "q_marker_text", "LEVEL_COLOURS", "COUNT_COLOURS"]
 
 LEVEL_COLOURS = {1.0: "#4C72B0", 3.0: "#DD8452", 5.0: "#55A868", 2.0: "#8172B3", 4.0: "#C44E52"}
 """Colour of the sheet separating ``k - 1`` from ``k + 1`` modes, by level ``k`` (layout only)."""
@@ -34,7 +35,15 @@ def _check_atlas(atlas):
                         f"{type(atlas).__name__} {_short(atlas)}")
 
 
-def _level_name(level):
+def _level_name(level, counts=None):
+    """``"2 | 4 modes"``: the two counts a sheet at ``level`` separates, i.e. the consecutive counts
+    present in ``counts`` (the atlas's grid) whose midpoint the level is (a jump ``2 | 6`` has level
+    4); without ``counts``, the odd level's neighbours."""
+    if counts is not None:
+        present = np.unique(counts[counts >= 0])
+        below, above = present[present < level], present[present > level]
+        if len(below) and len(above):
+            return f"{int(below[-1])} | {int(above[0])} modes"
     lo, hi = int(np.floor(level)), int(np.ceil(level))
     if lo == hi:
         lo, hi = lo - 1, lo + 1
@@ -114,7 +123,7 @@ def plot_atlas(atlas, q=None, ax=None, manipulator=None, max_faces=40000, alpha=
         colour = LEVEL_COLOURS.get(float(level), "#999999")
         coll = Poly3DCollection(atlas.vertices[F], facecolor=colour, edgecolor="none", alpha=alpha)
         ax.add_collection3d(coll)
-        handles.append(plt.Line2D([], [], color=colour, lw=6, alpha=0.6, label=_level_name(level)))
+        handles.append(plt.Line2D([], [], color=colour, lw=6, alpha=0.6, label=_level_name(level, atlas.counts)))
     for k, c in enumerate(atlas.cusp_curves):
         ax.plot(c[:, 0], c[:, 1], c[:, 2], color="crimson", lw=2.2)
     if atlas.cusp_curves:
@@ -208,8 +217,154 @@ def plot_atlas_section(atlas, axis=2, index=None, ax=None, q=None):
     return fig
 
 
+def atlas_sheets(atlas, max_faces=60000):
+    """The atlas surface split into its sheets, one per count threshold, each with its own vertices.
+
+    The data behind the plotly traces of :func:`atlas_traces` and of the explorer's atlas panel
+    (plain arrays, no plotly import).
+
+    Parameters
+    ----------
+    atlas : JointAtlas
+    max_faces : int
+        Faces per sheet at most (an even subsample beyond; layout only).
+
+    Returns
+    -------
+    list of dict
+        One per level, lowest first: ``level`` (float), ``name`` (``"2 | 4 modes"``), ``colour``,
+        ``vertices`` ``(k, 3)`` float (the sheet's own, in joint space), ``faces`` ``(f, 3)`` int32
+        (indices into ``vertices``).
+
+    Raises
+    ------
+    TypeError
+        ``atlas`` not a JointAtlas, ``max_faces`` not a whole number.
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.atlas import joint_atlas, atlas_sheets
+    >>> a = joint_atlas(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)], 12, cusps=False)
+    >>> [s["name"] for s in atlas_sheets(a)]
+    ['0 | 2 modes', '2 | 4 modes', '4 | 6 modes']
+    """
+    from .._validate import as_count
+
+    _check_atlas(atlas)
+    max_faces = as_count(max_faces, "max_faces")
+    sheets = []
+    for level in np.unique(atlas.vertex_level):
+        vmask = atlas.vertex_level == level
+        F = atlas.faces[vmask[atlas.faces].all(axis=1)]
+        if len(F) > max_faces:
+            F = F[np.linspace(0, len(F) - 1, max_faces).astype(int)]
+        used = np.unique(F)
+        index = np.full(len(atlas.vertices), -1, dtype=np.int64)
+        index[used] = np.arange(len(used))
+        sheets.append({"level": float(level), "name": _level_name(level, atlas.counts),
+                       "colour": LEVEL_COLOURS.get(float(level), "#999999"),
+                       "vertices": np.asarray(atlas.vertices[used], dtype=float),
+                       "faces": index[F].astype(np.int32).reshape(-1, 3)})
+    return sheets
+
+
+def cusp_polyline(atlas):
+    """The atlas's cusp curves as one ``(n, 3)`` polyline with NaN rows between the curves.
+
+    Parameters
+    ----------
+    atlas : JointAtlas
+
+    Returns
+    -------
+    (n, 3) float
+
+    Examples
+    --------
+    >>> import imagespace as isp
+    >>> from imagespace.atlas import joint_atlas, cusp_polyline
+    >>> a = joint_atlas(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)], 12, cusps=False)
+    >>> cusp_polyline(a).shape
+    (0, 3)
+    """
+    _check_atlas(atlas)
+    if not atlas.cusp_curves:
+        return np.zeros((0, 3))
+    gap = np.full((1, 3), np.nan)
+    return np.concatenate([part for c in atlas.cusp_curves for part in (np.asarray(c, dtype=float), gap)])[:-1]
+
+
+def box_edges(box):
+    """The twelve edges of a ``(3, 2)`` box as one ``(36, 3)`` polyline (NaN rows between edges).
+
+    Parameters
+    ----------
+    box : (3, 2) float
+
+    Returns
+    -------
+    (36, 3) float
+
+    Raises
+    ------
+    TypeError
+        Non-numeric ``box``.
+    InputError
+        Not a ``(3, 2)`` box with ``low <= high``.
+
+    Examples
+    --------
+    >>> from imagespace.atlas import box_edges
+    >>> box_edges([(0, 1), (0, 2), (0, 3)]).shape
+    (36, 3)
+    """
+    from .._validate import as_box
+
+    b = as_box(as_float_array(box, "box"), "box", dim=3)
+    rows = []
+    for axis in range(3):
+        others = [k for k in range(3) if k != axis]
+        for u in b[others[0]]:
+            for v in b[others[1]]:
+                for t in b[axis]:
+                    p = np.empty(3)
+                    p[axis], p[others[0]], p[others[1]] = t, u, v
+                    rows.append(p)
+                rows.append(np.full(3, np.nan))
+    return np.array(rows)
+
+
+def q_marker_text(q, count, how):
+    """Legend name and hover text of the marker at ``q``: ``("q: 6 modes (certified at q)", ...)``.
+
+    Parameters
+    ----------
+    q : (3,) float
+    count : int or None
+        The number of real modes at ``q`` (None: not known).
+    how : str
+        Where the count comes from (``"certified at q"``, ``"nearest grid node"``, ...).
+
+    Returns
+    -------
+    (str, str)
+
+    Examples
+    --------
+    >>> from imagespace.atlas import q_marker_text
+    >>> q_marker_text([10, 15.2315, 13.25], 6, "certified at q")[0]
+    'q: 6 modes (certified at q)'
+    """
+    q = np.asarray(q, dtype=float).reshape(-1)
+    shown = "?" if count is None else str(int(count))
+    where = ", ".join(f"{v:.4g}" for v in q)
+    return f"q: {shown} modes ({how})", f"q = ({where})<br>{shown} real modes ({how})"
+
+
 def atlas_traces(atlas, q=None, manipulator=None, max_faces=60000):
-    """Plotly traces of the atlas: one ``Mesh3d`` per sheet, ``Scatter3d`` cusp curves, and ``q``.
+    """Plotly traces of the atlas: one ``Mesh3d`` per sheet, ``Scatter3d`` cusp curves, the joint box
+    and ``q``.
 
     Parameters
     ----------
@@ -244,28 +399,24 @@ def atlas_traces(atlas, q=None, manipulator=None, max_faces=60000):
     _check_atlas(atlas)
     q = _check_q(atlas, q)
     traces = []
-    for level in np.unique(atlas.vertex_level):
-        vmask = atlas.vertex_level == level
-        fmask = vmask[atlas.faces].all(axis=1)
-        F = atlas.faces[fmask]
-        if len(F) > max_faces:
-            F = F[np.linspace(0, len(F) - 1, max_faces).astype(int)]
-        V = atlas.vertices
+    for sheet in atlas_sheets(atlas, max_faces):
+        V, F = sheet["vertices"], sheet["faces"]
         traces.append(go.Mesh3d(x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
-                                color=LEVEL_COLOURS.get(float(level), "#999999"), opacity=0.45,
-                                name=_level_name(level), showlegend=True, hoverinfo="name",
-                                flatshading=True))
+                                color=sheet["colour"], opacity=0.45, name=sheet["name"], showlegend=True,
+                                hoverinfo="name", flatshading=True))
     for k, c in enumerate(atlas.cusp_curves):
         traces.append(go.Scatter3d(x=c[:, 0], y=c[:, 1], z=c[:, 2], mode="lines",
                                    line=dict(color="crimson", width=6), name="cusp curves",
                                    legendgroup="cusps", showlegend=k == 0))
+    E = box_edges(atlas.box)
+    traces.append(go.Scatter3d(x=E[:, 0], y=E[:, 1], z=E[:, 2], mode="lines", name="joint box",
+                               line=dict(color="#555555", width=2), hoverinfo="skip"))
     if q is not None:
         count, how = _q_count(atlas, q, manipulator)
+        name, hover = q_marker_text(q, count, how)
         traces.append(go.Scatter3d(x=[q[0]], y=[q[1]], z=[q[2]], mode="markers",
                                    marker=dict(size=7, color="black", symbol="diamond"),
-                                   name=f"q: {count} modes ({how})",
-                                   hovertext=f"q = {np.round(q, 4).tolist()}: {count} real modes ({how})",
-                                   hoverinfo="text"))
+                                   name=name, hovertext=hover, hoverinfo="text"))
     return traces
 
 

@@ -22,7 +22,7 @@ __all__ = ["explore", "Explorer", "SpatialExplorer", "joint_ranges", "parse_join
            "DRAG_RESOLUTION", "REST_RESOLUTION", "SECTION_GRID", "SLIDER_STEPS", "FRAME_RATE"]
 
 
-def explore(manipulator, q=None, box=None, resolution=REST_RESOLUTION):
+def explore(manipulator, q=None, box=None, resolution=REST_RESOLUTION, atlas=None):
     """Open the interactive explorer on a manipulator.
 
     Parameters
@@ -38,6 +38,14 @@ def explore(manipulator, q=None, box=None, resolution=REST_RESOLUTION):
         singularity section around the chosen mode.
     resolution : int
         Grid points per axis of the planar surface mesh at rest (planar designs).
+    atlas : JointAtlas or bool, optional
+        Planar designs: add the joint-space atlas panel (the count-change surface, cusp curves and
+        joint box in 3D, a marker at ``q`` that follows the sliders with the certified count at
+        ``q``, the atlas region in the status line). A :class:`~imagespace.atlas.JointAtlas` of
+        the design (:func:`imagespace.atlas.joint_atlas`), or True to compute one in the background
+        (:func:`~imagespace.widgets.planar_atlas.default_atlas_box` around ``q``,
+        :data:`~imagespace.widgets.planar_atlas.ATLAS_RESOLUTION` nodes per axis). None or False
+        (default): no atlas panel, and no cost.
 
     Returns
     -------
@@ -47,9 +55,11 @@ def explore(manipulator, q=None, box=None, resolution=REST_RESOLUTION):
     Raises
     ------
     InputError
-        No ``q`` given for a design without an example; a bad ``q``, ``box`` or ``resolution``.
+        No ``q`` given for a design without an example; a bad ``q``, ``box`` or ``resolution``; an
+        ``atlas`` of another design, or one asked for a Gough-Stewart platform.
     TypeError
-        A design that is neither planar nor a Gough-Stewart platform.
+        A design that is neither planar nor a Gough-Stewart platform; ``atlas`` neither a
+        JointAtlas nor True/False/None.
 
     Examples
     --------
@@ -60,15 +70,21 @@ def explore(manipulator, q=None, box=None, resolution=REST_RESOLUTION):
     """
     import sys
 
+    from ..exceptions import InputError
+
     # a GoughStewart exists only if its module is loaded: planar designs do not import the spatial side
     gough_stewart = sys.modules.get("imagespace.spatial.gough_stewart")
     if gough_stewart is not None and isinstance(manipulator, gough_stewart.GoughStewart):
         from .spatial import SpatialExplorer
 
+        if atlas is not None and atlas is not False:
+            raise InputError(f"atlas is for planar designs (the joint-space atlas of three actuated "
+                             f"joints); a Gough-Stewart platform has six legs, got atlas={atlas!r:.60}")
+
         return SpatialExplorer(manipulator, L=q, box=box)
     from .planar import explore_planar
 
-    return explore_planar(manipulator, q=q, box=box, resolution=resolution)
+    return explore_planar(manipulator, q=q, box=box, resolution=resolution, atlas=atlas)
 
 
 def __getattr__(name):

@@ -23,7 +23,12 @@
 - "change mode": two modes of equal aspect are joined by a certified singularity-free path
   (:func:`imagespace.paths.modechange.plan_mode_change`); the path is sent to the browser once and
   played there (pose view, image space and joint loop); for opposite aspects the reason no such
-  path exists is shown.
+  path exists is shown;
+- with ``atlas=`` (a :class:`~imagespace.atlas.JointAtlas`, or True to compute one in the
+  background), an **atlas panel**: the joint-space atlas in 3D (the count-change surface, one colour
+  per pair of counts it separates, the cusp curves, the joint box) with a marker at ``q`` that
+  follows the sliders and carries the certified count at ``q``; the status line names the atlas
+  region (:mod:`~imagespace.widgets.planar_atlas`). A mode change's joint loop is drawn there too.
 
 The panels are plotly figures drawn by one small widget (:mod:`imagespace.widgets.view`): each
 update sends only the changed traces' data. :meth:`Explorer.save_html` writes a standalone page of
@@ -72,9 +77,9 @@ _LABEL_MERGE = 0.04              # mode labels closer than this fraction of the 
 _LABEL_MERGE_3D = 0.08           # the same in the image-space view's unit cube
 
 
-def explore_planar(manipulator, q=None, box=None, resolution=REST_RESOLUTION):
+def explore_planar(manipulator, q=None, box=None, resolution=REST_RESOLUTION, atlas=None):
     """The planar explorer (see :func:`imagespace.widgets.explore`)."""
-    return Explorer(manipulator, q=q, box=box, resolution=resolution)
+    return Explorer(manipulator, q=q, box=box, resolution=resolution, atlas=atlas)
 
 
 class Explorer(W.VBox):
@@ -93,16 +98,23 @@ class Explorer(W.VBox):
         ``count`` (real modes), ``certified`` (bool), ``near_singular`` (bool), ``exact`` (the
         count was certified on exact joint values typed in), ``seconds`` (the kernel's time for the
         last update: solving and drawing), ``error`` (a message, or None), ``events`` (modes that
-        merged or appeared in the last update, or "").
+        merged or appeared in the last update, or ""), ``atlas`` (None without the atlas panel, else
+        a dict: ``state`` ("computing", "ready", "failed: ..."), ``inside`` (q in the atlas box),
+        ``count`` (the certified count at q shown on the marker, None if not certified),
+        ``certified``, ``region`` and ``region_count`` (the atlas region of the grid node nearest
+        to q and that node's count)).
     plan : ModeChangePlan or None
         The last mode change planned.
     view : PanelView
-        The four panels (pose, image space, section, joint loop); :meth:`trace` finds a trace.
+        The four panels (pose, image space, section, joint loop), and the atlas panel when asked
+        for; :meth:`trace` finds a trace.
+    atlas : JointAtlas or None
+        The atlas shown (None without the panel, or while it is computed).
     sliders : list of ipywidgets.FloatSlider
     exact_boxes : list of ipywidgets.Text
     """
 
-    def __init__(self, manipulator, q=None, box=None, resolution=REST_RESOLUTION):
+    def __init__(self, manipulator, q=None, box=None, resolution=REST_RESOLUTION, atlas=None):
         check_mechanism(manipulator)
         if q is None:
             if manipulator.q_example_float is None:
@@ -114,12 +126,23 @@ class Explorer(W.VBox):
         self.resolution = as_count(resolution, "resolution", minimum=8)
         if box is not None:
             box = as_box(box, dim=3)
+        self._atlas_panel = None
+        self._atlas_thread = None
+        self._closed = False
+        if atlas is not None:
+            from .planar_atlas import AtlasPanel, check_atlas_option, default_atlas_box
+
+            given, compute = check_atlas_option(atlas, manipulator)
+            if given is not None:
+                self._atlas_panel = AtlasPanel(manipulator, given.box, given)
+            elif compute:
+                self._atlas_panel = AtlasPanel(manipulator, default_atlas_box(manipulator, self.q))
         self.modes = []
         self.mode_numbers = []
         self.tracker = ModeTracker()
         self.plan = None
         self.status = {"count": 0, "certified": False, "near_singular": False, "exact": False,
-                       "seconds": 0.0, "error": None, "events": ""}
+                       "seconds": 0.0, "error": None, "events": "", "atlas": None}
         self._surface = None
         self._surface_q = None
         self._timer = None
@@ -169,16 +192,29 @@ class Explorer(W.VBox):
         self.change_button.on_click(lambda b: self.change_mode())
         self.plan_message = W.HTML()
 
-        self.view = PanelView(planar_panels(), order=["pose", "space", "section", "loop"], columns=[540, 610],
-                              urgent=["pose"], controls="loop")
+        panels, order = planar_panels(), ["pose", "space", "section", "loop"]
+        if self._atlas_panel is not None:
+            from .planar_atlas import atlas_panel
+
+            panels["atlas"] = atlas_panel(manipulator, self._atlas_panel.box)
+            order.append("atlas")
+        self.view = PanelView(panels, order=order, columns=[540, 610], urgent=["pose"], controls="loop")
         with self.view.quiet():                # the first state goes out once, as the widget's state
             self._solve(self.q, first=True)
             self._box = box if box is not None else self._initial_box()
             self.view.relayout("space", "scene", {**self.view.layout("space")["scene"], **self._scene()})
             self._title("space", "image space (meshing the singularity surface ...)")
+            if self._atlas_panel is not None:
+                if self._atlas_panel.atlas is not None:
+                    self._atlas_panel.show_atlas(self.view, self._atlas_panel.atlas)
+                else:
+                    self._title("atlas", "joint-space atlas (computing in the background ...)")
             self._draw_all()
         # the surface is meshed in the background: the panels show first (wait() blocks until it is in)
         self._queue(self.resolution)
+        if self._atlas_panel is not None and self._atlas_panel.atlas is None:
+            self._atlas_thread = threading.Thread(target=self._compute_atlas, daemon=True)
+            self._atlas_thread.start()
         controls = W.HBox([self.section_mode, self.mode_a, self.mode_b, self.change_button])
         super().__init__([W.VBox(rows), self.status_line, controls, self.plan_message, self.view])
 
@@ -189,7 +225,10 @@ class Explorer(W.VBox):
         Names: ``guides``, ``last drawing``, ``legs+1``, ``legs-1``, ``platform+1``, ``platform-1``,
         ``base``, ``numbers``, ``moving`` (pose view); ``surface``, ``points+1``, ``points-1``,
         ``path``, ``position`` (image space); ``regions`` (the conic and its aspect regions),
-        ``section+1``, ``section-1`` (section view); ``loop1``..``loop3``, ``now`` (joint loop).
+        ``section+1``, ``section-1`` (section view); ``loop1``..``loop3``, ``now`` (joint loop);
+        with the atlas panel ``atlas sheet 0``..``atlas sheet 5`` (the count-change surface, one
+        sheet per pair of counts), ``atlas cusps``, ``atlas box``, ``atlas q`` (the marker at q),
+        ``atlas loop`` and ``atlas position`` (a mode change's joint loop).
 
         Raises
         ------
@@ -206,8 +245,8 @@ class Explorer(W.VBox):
         return self.view.trace(name)
 
     def figures(self):
-        """The four panels as ``plotly.graph_objects.Figure`` objects, by panel name (``pose``,
-        ``space``, ``section``, ``loop``).
+        """The panels as ``plotly.graph_objects.Figure`` objects, by panel name (``pose``,
+        ``space``, ``section``, ``loop``, and ``atlas`` with the atlas panel).
 
         Examples
         --------
@@ -268,7 +307,7 @@ class Explorer(W.VBox):
         self.mode_numbers = [numbers[k] for k in order]
         self.status = {"count": len(modes), "certified": certified and err is None, "near_singular": near,
                        "exact": exact is not None, "seconds": time.perf_counter() - t0, "error": err,
-                       "events": self.tracker.message}
+                       "events": self.tracker.message, "atlas": self.status.get("atlas")}
 
     def _mesh_for(self, q, resolution, quiet=True):
         """``(surface, mesh)`` at joint values ``q``; raises ImageSpaceError (the caller reports it).
@@ -319,7 +358,40 @@ class Explorer(W.VBox):
             self._draw_pose()
             self._draw_space()
             self._draw_section()
+            self._draw_atlas()
         self._draw_status()
+
+    def _draw_atlas(self):
+        """The atlas marker at q with the count just certified (only the marker's trace changes)."""
+        if self._atlas_panel is not None:
+            self.status["atlas"] = dict(self._atlas_panel.marker(self.view, self.q, self.status))
+
+    def _compute_atlas(self):
+        """The atlas of ``atlas=True``, in the background (the panels show first)."""
+        from ..atlas import joint_atlas
+        from .planar_atlas import ATLAS_RESOLUTION
+
+        panel = self._atlas_panel
+        try:
+            atlas = joint_atlas(self.manipulator, panel.box, ATLAS_RESOLUTION)
+        except Exception as e:                 # noqa: BLE001  (shown in the status line)
+            with self._draw:
+                panel.failed(self.view, str(e))
+                self.status["error"] = self.status["error"] or f"computing the atlas failed: {e}"
+                self._draw_atlas()
+                self._draw_status()
+            return
+        if self._closed:
+            return
+        with self._draw:
+            with self.view.batch():
+                panel.show_atlas(self.view, atlas)
+                self._draw_atlas()
+            self._draw_status()
+
+    @property
+    def atlas(self):
+        return None if self._atlas_panel is None else self._atlas_panel.atlas
 
     def _update_dropdowns(self):
         options = list(zip(self._labels(), range(len(self.modes))))
@@ -462,6 +534,8 @@ class Explorer(W.VBox):
                          'cannot be assembled (the last drawing is shown greyed)</span>')
         if st.get("events"):
             body += f' &middot; <span class="isp-events">{html.escape(st["events"])}</span>'
+        if self._atlas_panel is not None:
+            body += " &middot; " + self._atlas_panel.status_html()
         q = ",".join(repr(float(v)) for v in self.q)
         modes = json.dumps([[int(n), int(mm.aspect)] + [float(v) for v in mm.pose]
                             for n, mm in zip(self.mode_numbers, self.modes)])
@@ -569,6 +643,7 @@ class Explorer(W.VBox):
                 self._draw_pose()
                 self._draw_space()
                 self._draw_section()
+                self._draw_atlas()
             self.status["seconds"] += time.perf_counter() - t0
             self._draw_status()
 
@@ -630,7 +705,8 @@ class Explorer(W.VBox):
                 self._queue(self._want[1])
 
     def wait(self, timeout=60.0):
-        """Wait until background re-meshing (joint-dependent surfaces, after dragging) is done.
+        """Wait until background work (re-meshing the surface, computing the atlas of
+        ``atlas=True``) is done.
 
         Parameters
         ----------
@@ -654,6 +730,8 @@ class Explorer(W.VBox):
             with self._lock:
                 timer_pending = self._timer is not None and self._timer.is_alive()
                 idle = not self._working and self._want is None
+                if self._atlas_thread is not None and self._atlas_thread.is_alive():
+                    idle = False
             if idle and not timer_pending:
                 return True
             time.sleep(0.02)
@@ -685,6 +763,8 @@ class Explorer(W.VBox):
                 self.view.set(name, x=np.zeros(0), y=np.zeros(0), z=np.zeros(0))
             self.view.set("surface", opacity=0.15 if self._stale else 0.5)
             self._title("loop", "joint loop")
+            if self._atlas_panel is not None:
+                self._atlas_panel.hide_loop(self.view)
 
     # -- mode change ----------------------------------------------------------------------------
     def change_mode(self, a=None, b=None):
@@ -750,6 +830,8 @@ class Explorer(W.VBox):
             self.view.set("surface", opacity=0.3)
             for i in range(3):
                 self.view.set(f"loop{i + 1}", x=np.arange(n, dtype=float), y=J[:, i])
+            if self._atlas_panel is not None:
+                self._atlas_panel.show_loop(self.view, plan.joint_loop)
             self._title("loop", f"joint loop of the mode change {na} -> {nb} (starts and ends at q)")
         self.view.set_frames(self._frames(plan, C, J), interval=1.0 / FRAME_RATE)
         self.show_frame(0)
@@ -766,9 +848,12 @@ class Explorer(W.VBox):
         for k, xy in enumerate(moving):
             mx[k, :len(xy)], my[k, :len(xy)] = xy[:, 0], xy[:, 1]
         n = len(plan.poses)
-        return {"moving": {"x": mx, "y": my},
-                "position": {"x": C[:, :1], "y": C[:, 1:2], "z": C[:, 2:3]},
-                "now": {"x": np.repeat(np.arange(n, dtype=float)[:, None], 3, axis=1), "y": J}}
+        frames = {"moving": {"x": mx, "y": my},
+                  "position": {"x": C[:, :1], "y": C[:, 1:2], "z": C[:, 2:3]},
+                  "now": {"x": np.repeat(np.arange(n, dtype=float)[:, None], 3, axis=1), "y": J}}
+        if self._atlas_panel is not None:
+            frames.update(self._atlas_panel.frames(plan.joint_loop))
+        return frames
 
     def show_frame(self, k):
         """Show sample ``k`` of the planned mode change (as the browser's play control does).
@@ -795,6 +880,7 @@ class Explorer(W.VBox):
         >>> ex = isp.widgets.explore(isp.examples.collinear_3rpr(), resolution=16); ex.close(); ex.wait()
         True
         """
+        self._closed = True                     # an atlas still being computed is dropped
         lock = getattr(self, "_lock", None)     # also called by __del__ when __init__ refused its input
         if lock is not None:
             with lock:
