@@ -40,6 +40,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Optional
 
 import numpy as np
 
@@ -83,7 +84,7 @@ class KrawczykResult:
     real: np.ndarray
     disjoint: bool
     chart: np.ndarray
-    displacement: np.ndarray = None
+    displacement: Optional[np.ndarray] = None
 
     @property
     def distinct_certified(self):

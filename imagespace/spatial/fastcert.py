@@ -146,7 +146,7 @@ class FamilyEnclosure:
     ok: bool
 
 
-_ENCLOSURES = weakref.WeakKeyDictionary()
+_ENCLOSURES: weakref.WeakKeyDictionary[object, FamilyEnclosure] = weakref.WeakKeyDictionary()
 
 
 def _up(x):
