@@ -31,8 +31,10 @@ Engineering and Science, World Scientific, 2005, Theorem 7.1.1 (coefficient-para
 from __future__ import annotations
 
 from functools import cached_property
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from .._validate import as_tolerances
 from ..exceptions import DegenerateDesignError, InputError
@@ -41,6 +43,10 @@ from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import (point_on_plane_quadric, sphere_quadric, sphere_quadric_exact,
                        study_quadric_matrix)
 from .solver import QuadricFamily, study_jacobian_signs
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
+    from ..tolerances import Tolerances
 
 __all__ = ["ThreeRPS", "THREE_RPS_BOUND"]
 
@@ -89,7 +95,8 @@ class ThreeRPS(QuadricPlatform):
 
     leg_count = 3
 
-    def __init__(self, base_points, platform_points, base_axes=None, tolerances=None):
+    def __init__(self, base_points: npt.ArrayLike, platform_points: npt.ArrayLike,
+                 base_axes: Optional[npt.ArrayLike] = None, tolerances: Optional[Tolerances] = None) -> None:
         self.tolerances = as_tolerances(tolerances)
         self.base_points = anchor_points(base_points, "base_points", 3)
         self.platform_points = anchor_points(platform_points, "platform_points", 3)
@@ -111,7 +118,7 @@ class ThreeRPS(QuadricPlatform):
         return (f"ThreeRPS(base_points={self.base_points.tolist()}, "
                 f"platform_points={self.platform_points.tolist()}, base_axes={self.base_axes.tolist()})")
 
-    def inverse_kinematics(self, s):
+    def inverse_kinematics(self, s: npt.ArrayLike) -> FloatArray:
         """Leg lengths ``|R b_i + t - a_i|``; the pose must keep each leg in its plane.
 
         Parameters
@@ -143,7 +150,7 @@ class ThreeRPS(QuadricPlatform):
                              f"{float(np.max(off)):.3g} off it")
         return np.linalg.norm(V, axis=-1)
 
-    def constraint_quadrics(self, lengths):
+    def constraint_quadrics(self, lengths: npt.ArrayLike) -> FloatArray:
         """Seven quadrics: three spheres, three planes, Study's quadric.
 
         Parameters
@@ -204,7 +211,7 @@ class ThreeRPS(QuadricPlatform):
                             lambda pts: study_jacobian_signs(fam, pts), sc)
         return fam
 
-    def family(self):
+    def family(self) -> QuadricFamily:
         """The direct kinematics as a :class:`~imagespace.spatial.solver.QuadricFamily`.
 
         Returns
