@@ -9,14 +9,6 @@ import types as _types
 
 import lazy_loader as _lazy
 
-# Nothing is imported until it is used (PEP 562, through scientific-python's lazy_loader):
-# ``import imagespace`` takes milliseconds, sympy/flint load on the first use of a function and
-# numba, matplotlib, trimesh, scikit-image, scipy and dask only where a feature needs them.
-_SUBMODULES = [
-    "core", "solve", "singular", "paths", "design", "atlas", "spatial", "dynamics",
-    "examples", "manipulator", "plotting", "widgets", "drawing", "cli", "tolerances", "exceptions",
-    "display", "spatial_surfaces",
-]
 # short names of modules that live in the layered packages (ARCHITECTURE.md), e.g. isp.screws
 _MODULE_ALIASES = {
     "kinematic_map": "core.kinematic_map", "constraints": "core.quadrics", "legs": "core.legs",
@@ -26,35 +18,14 @@ _MODULE_ALIASES = {
     "modechange": "paths.modechange", "clearance": "paths.backlash", "workspace": "design.workspace",
     "indices": "design.indices", "mobility": "design.mobility", "screws": "spatial.screws",
 }
-_ATTRIBUTES = {
-    "core.quadrics": ["Quadric", "image_symbols", "pp_quadric", "pr_quadric", "rp_quadric", "rr_quadric"],
-    "exceptions": ["AngleUnitWarning", "DegenerateDesignError", "EliminationError", "ImageSpaceError", "InputError",
-                   "NearSingularWarning"],
-    "core.kinematic_map": ["compose", "image_point", "inverse", "normalize", "pose_of", "transform_matrix",
-                           "transform_points"],
-    "core.legs": ["PPR", "PRP", "PRR", "RPP", "RPR", "RRP", "RRR", "Leg"],
-    "core.mechanism": ["Mechanism"],
-    "core.planar": ["PlanarMechanism"],
-    "core.certify": ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch"],
-    "manipulator": ["AssemblyMode", "AssemblyModes", "CertifiedModes", "DKBatchResult", "PlanarParallel"],
-    "singular.surface": ["ConicSection", "SingularitySurface", "singularity_surface", "singularity_surfaces"],
-    "singular.jacobians": ["PoseJacobians", "jacobians"],
-    "singular.meshing": ["export_mesh", "mesh_implicit", "mesh_surface"],
-    "paths.check": ["ImagePath", "PathCheck", "check_path", "polyline", "polynomial_curve", "pose_segment",
-                    "rational_curve", "segment", "segments_free"],
-    "paths.modechange": ["ModeChangePlan", "joint_trajectory", "plan_mode_change"],
-    "singular.cusps": ["cusp_edges", "cusps", "linking_number", "mode_count_map"],
-    "paths.cusp_loops": ["cusp_loop"],
-    "paths.backlash": ["backlash"],
-    "design.mobility": ["gruebler", "manipulator_mobility", "mechanism_mobility"],
-    "design.sweep": ["fuzzy_minmax", "sweep"],
-    "tolerances": ["TOLERANCES", "Tolerances"],
-    "spatial.gough_stewart": ["GoughStewart"],
-    "spatial.three_rps": ["ThreeRPS"],
-    "spatial_surfaces": ["mesh_constant_orientation_singularity"],
-    "atlas": ["JointAtlas", "joint_atlas", "is_cuspidal", "CuspidalityResult", "atlas_figure"],
-}
-_lazy_getattr, _lazy_dir, _ = _lazy.attach(__name__, submodules=_SUBMODULES, submod_attrs=_ATTRIBUTES)
+
+# Nothing is imported until it is used (PEP 562, through scientific-python's lazy_loader):
+# ``import imagespace`` takes milliseconds, sympy/flint load on the first use of a function and
+# numba, matplotlib, trimesh, scikit-image, scipy and dask only where a feature needs them.
+# The submodules and public names are listed once, in imagespace/__init__.pyi: the stub a type
+# checker reads is the list lazy_loader.attach_stub reads (the stub also types the aliases above;
+# tests/test_typing.py holds the two equal).
+_lazy_getattr, _lazy_dir, _ = _lazy.attach_stub(__name__, __file__)
 
 
 def __getattr__(name):

@@ -9,7 +9,10 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from ._validate import as_exact, as_float_array, check_positive
@@ -20,12 +23,15 @@ from ._validate import as_tolerances as check_tolerances
 from .design.workspace import dexterous_workspace, reachable_workspace
 from .manipulator import PlanarParallel
 
+if TYPE_CHECKING:  # imported where used: the spatial side loads only for a spatial example
+    from .spatial.gough_stewart import GoughStewart
+
 __all__ = ["stigger_husty", "collinear_3rpr", "choi_3ppr", "general_3rpr", "dietmaier_1998",
            "collinear_3rpr_closed_form",
            "choi_3ppr_closed_form", "choi_det_jh", "choi_rotation_limits", "choi_3ppr_indices"]
 
 
-def stigger_husty():
+def stigger_husty() -> PlanarParallel:
     """The planar 2RPR-PPR manipulator of Stigger & Husty with its six-solution joint values.
 
     Geometry (``docs/references.md``, errata; checked against eqs. (5)-(7) of the paper; the paper's tables give
@@ -61,7 +67,7 @@ def stigger_husty():
     return m
 
 
-def collinear_3rpr(R=2, r=1):
+def collinear_3rpr(R=2, r=1) -> PlanarParallel:
     """The 3-RPR of seed 003: base ``(-R, 0), (0, 0), (R, 0)``, platform ``(-r, 0), (0, 0), (r, 0)``.
 
     The Cramer denominator of the elimination vanishes identically for this design (case (a)):
@@ -101,7 +107,7 @@ def collinear_3rpr(R=2, r=1):
     return m
 
 
-def choi_3ppr(R=1, r=sp.Rational(1, 2), alpha=7 * sp.pi / 18):
+def choi_3ppr(R=1, r=sp.Rational(1, 2), alpha=7 * sp.pi / 18) -> PlanarParallel:
     """The symmetric 3-PPR of Choi (seed 004).
 
     Outer equilateral triangle with inscribed radius ``R``; slider ``i`` runs on side ``i``
@@ -151,7 +157,7 @@ def choi_3ppr(R=1, r=sp.Rational(1, 2), alpha=7 * sp.pi / 18):
     return m
 
 
-def general_3rpr():
+def general_3rpr() -> PlanarParallel:
     """A general 3-RPR with six real assembly modes at ``q_example``.
 
     Base anchors ``(7, -5), (-8, -4), (-2, 7)``; platform anchors ``(-1, -7), (-3, 2), (5, 4)``;
@@ -175,7 +181,7 @@ def general_3rpr():
     return m
 
 
-def dietmaier_1998():
+def dietmaier_1998() -> tuple[GoughStewart, npt.NDArray[np.float64]]:
     """Dietmaier's general 6-6 Gough-Stewart platform with 40 real assembly modes.
 
     The design that settled the question "can all 40 complex solutions be real?" (Dietmaier 1998).
@@ -206,12 +212,12 @@ def dietmaier_1998():
     """
     from .spatial.gough_stewart import GoughStewart
 
-    base = [[0, 0, 0], [1.107915, 0, 0], [0.549094, 0.756063, 0],
-            [0.735077, -0.223935, 0.525991], [0.514188, -0.526063, -0.368418],
-            [0.590473, 0.094733, -0.205018]]
-    platform = [[0, 0, 0], [0.542805, 0, 0], [0.956919, -0.528915, 0],
-                [0.665885, -0.353482, 1.402538], [0.478359, 1.158742, 0.107672],
-                [-0.137087, -0.235121, 0.353913]]
+    base: list[list[float]] = [[0, 0, 0], [1.107915, 0, 0], [0.549094, 0.756063, 0],
+                               [0.735077, -0.223935, 0.525991], [0.514188, -0.526063, -0.368418],
+                               [0.590473, 0.094733, -0.205018]]
+    platform: list[list[float]] = [[0, 0, 0], [0.542805, 0, 0], [0.956919, -0.528915, 0],
+                                   [0.665885, -0.353482, 1.402538], [0.478359, 1.158742, 0.107672],
+                                   [-0.137087, -0.235121, 0.353913]]
     lengths = np.array([1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071])
     return GoughStewart(base, platform), lengths
 

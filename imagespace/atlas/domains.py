@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -143,7 +144,7 @@ class UniquenessDomains:
     domain_aspect: tuple
     slivers: int
     seconds: float = 0.0
-    q: np.ndarray = field(default=None)
+    q: Optional[np.ndarray] = field(default=None)
 
     __repr__ = dataclass_repr
     _repr_html_ = dataclass_html

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -157,7 +158,7 @@ class JointAtlas:
     evidence: np.ndarray
     evidence_width: np.ndarray
     removed: int
-    evidence_points: np.ndarray = None
+    evidence_points: Optional[np.ndarray] = None
     cusp_curves: tuple = ()
     cusp_half_angles: tuple = ()
     uncertified_nodes: int = 0

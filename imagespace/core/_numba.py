@@ -9,6 +9,10 @@ works when nothing is writable.
 
 from __future__ import annotations
 
+from typing import Any, Callable, Optional
+
+_numba_njit: Optional[Callable[..., Any]]  # numba's njit, or None without numba
+prange: Callable[..., Any]  # numba's prange, or range without numba
 try:  # numba is optional: without it the decorators leave plain Python functions
     from numba import njit as _numba_njit, prange
     HAVE_NUMBA = True

@@ -312,7 +312,7 @@ class CoefficientEnclosure:
 
 _DIR_MODE = 0o700          # mode of the cache directories the kernel cache creates
 _FOREIGN_WRITE = 0o022     # group/other write bits: such a directory is refused
-_warned = set()            # (reason, path) already warned about in this process
+_warned: set[tuple[str, str]] = set()  # (reason, path) already warned about in this process
 
 
 class KernelCacheWarning(UserWarning):

@@ -36,6 +36,7 @@ import time
 from dataclasses import dataclass, field
 from fractions import Fraction
 from numbers import Integral, Rational, Real
+from typing import Optional, Union
 
 import numpy as np
 
@@ -347,10 +348,10 @@ class MsolveResult:
     """
 
     variables: tuple
-    dimension: object
+    dimension: Union[int, str]
     boxes: list = field(default_factory=list)
-    complex_count: object = None
-    distinct_count: object = None
+    complex_count: Optional[int] = None
+    distinct_count: Optional[int] = None
     seconds: float = 0.0
 
     def __repr__(self):

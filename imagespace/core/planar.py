@@ -154,7 +154,7 @@ class PlanarMechanism(Mechanism):
         self.legs = tuple(legs)
         self.name = name or "-".join(leg.joints for leg in legs)
         self.tolerances = tolerances
-        self.q_example = None
+        self.q_example: Optional[Sequence[Any]] = None
         self._kinds = tuple(leg.dyad(sp.Symbol("_q")).kind for leg in self.legs)
         self._plan = plan_elimination(list(self._kinds))
         self._init_cache()

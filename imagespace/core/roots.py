@@ -72,7 +72,7 @@ def _bf_derivative_angle(F, theta):
     return bf_eval_angle(up - down, theta)
 
 
-_ROTATIONS = {}
+_ROTATIONS: dict[int, np.ndarray] = {}
 
 
 def _rotation_matrices(d):

@@ -27,6 +27,7 @@ import types
 from collections.abc import Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import Optional
 
 import numbers
 
@@ -63,7 +64,7 @@ class DesignTable:
     values: dict
     shape: tuple
     how: str
-    errors: np.ndarray = None
+    errors: Optional[np.ndarray] = None
 
     def __post_init__(self):
         n = int(np.prod(self.shape))

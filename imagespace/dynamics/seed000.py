@@ -93,7 +93,7 @@ def seed000_model(params=None, tolerances=None):
     return _build(dict(SEED000, **params)).with_tolerances(tolerances)
 
 
-_CACHE = {}
+_CACHE: dict[str, OpenTreeModel] = {}
 
 
 def _build(p):

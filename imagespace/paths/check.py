@@ -64,7 +64,7 @@ _POSE_PREC_RETRY = 512
 # a thread; every change of it made here happens under this lock (see _arb_precision).
 _FLINT_PREC_LOCK = threading.Lock()
 # Prepared quartics by polynomial: a PlanarParallel builds a new SingularitySurface per call.
-_PREPARED = {}
+_PREPARED: dict[sp.Poly, _Quartic] = {}
 _PREPARED_MAX = 64
 
 

@@ -12,7 +12,11 @@ Not public API.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any, Optional
+
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_sympy_entry
@@ -306,7 +310,9 @@ def joint_table(manipulator, chart):
     return manipulator.cached(("singularity joint table", chart), build)
 
 
-def grid_coefficients(plain, trig, monoms, coeffs, w):
+def grid_coefficients(plain: Sequence[int], trig: Sequence[tuple[bool, int, Any]], monoms: Any,
+                      coeffs: Sequence[Any], w: npt.ArrayLike
+                      ) -> Optional[tuple[list[tuple[int, int]], npt.NDArray[np.float64]]]:
     """A chart table on a tensor grid: ``(monomials, C)`` - the monomials ``(a, b)`` of
     ``u**a v**b`` and their coefficients at the values ``w`` of the third chart variable,
     ``(len(w), len(monomials))`` - or ``None`` when a trigonometric generator depends on ``u`` or

@@ -317,7 +317,7 @@ def cusp_system(manipulator, X):
     return G, J, np.sum(np.abs(allc[:, :n]), axis=1)
 
 
-_FOURIER = {}
+_FOURIER: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
 
 def _fourier_matrix(d):

@@ -48,7 +48,7 @@ _flint_precision = flint_precision
 # -- proven signs ---------------------------------------------------------------------------------
 _arb_constant = arb_constant
 
-_TRIG_CHECK = {}
+_TRIG_CHECK: dict[str, bool] = {}
 
 
 def _trig_accuracy_ok():

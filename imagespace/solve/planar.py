@@ -7,7 +7,7 @@ validates and calls them; they never call a facade method.
 
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import Any, Optional, TypeVar
 
 import numpy as np
 import numpy.typing as npt
@@ -24,6 +24,8 @@ from .results import AssemblyModes, CertifiedModes, DKBatchResult, MAX_MODES, SO
 
 
 _KERNEL_MIN_ROWS = 2000
+# a per-call answer (AssemblyModes or CertifiedModes: lists of modes with attributes)
+_Modes = TypeVar("_Modes", bound=list)
 
 
 #: Peak bytes per row of a batch, measured with tracemalloc on 20,000 rows of the general 3-RPR
@@ -290,35 +292,45 @@ def store(res: DKBatchResult, rows: list, results: list, certify: bool) -> DKBat
     [6, 6]
     """
     got, modes = [], []
-    counts_ = res.certified_roots.copy() if certify else None
-    paths = res.certificate_path.astype(object) if certify else None
+    near = res.near_singular
+    if near is None:
+        raise ValueError("store: the batch has no near_singular column")
+    # the certificate columns, filled in with certify=True (the batch was solved with it)
+    counts_: Optional[np.ndarray] = None
+    paths: Optional[np.ndarray] = None
+    consistent: Optional[np.ndarray] = None
+    if certify:
+        counts_, paths, consistent = res.certified_roots, res.certificate_path, res.consistent
+        if counts_ is None or paths is None or consistent is None:
+            raise ValueError("store(certify=True): the batch has no certificate columns")
+        counts_, paths = counts_.copy(), paths.astype(object)
     for i, ms in zip(rows, results):
         i = int(i)
         if isinstance(ms, Exception):
             res.row_ok[i] = False
             res.errors[i] = str(ms)
-            if certify:
+            if counts_ is not None and paths is not None:
                 counts_[i] = -1
                 paths[i] = "continuum" if isinstance(ms, DegenerateDesignError) else "invalid"
             continue
         res.row_ok[i] = True
         res.errors.pop(i, None)
-        res.near_singular[i] = not ms.certificate.certified
+        near[i] = not ms.certificate.certified
         got.append(i)
         modes.append(list(ms))
-        if certify:
+        if counts_ is not None and paths is not None and consistent is not None:
             cert = ms.certificate
             counts_[i] = cert.count if cert.certified else -1
             paths[i] = ("reach" if cert.method.startswith("reach") else
                         "flint" if cert.certified and cert.exact else
                         "arb" if cert.certified else "uncertified")
-            res.consistent[i] = bool(cert.certified)
+            consistent[i] = bool(cert.certified)
     store_rows = [int(i) for i in rows]
     res.set_modes(store_rows, [modes[got.index(i)] if i in got else [] for i in store_rows])
     if res.solver is not None:
         res.set_solver(got, "certified")
         res.set_solver([i for i in store_rows if i not in got], "invalid")
-    if certify:
+    if counts_ is not None:
         res.certified_roots, res.certificate_path = counts_, np.asarray(paths).astype(str)
     return res
 
@@ -346,9 +358,10 @@ def doubt(m: Any, qf: np.ndarray, modes: Any) -> str:
             "Use direct_kinematics(q, certify=True) for the proven answer.")
 
 
-def with_complex(m: Any, qf: np.ndarray, modes: Any) -> Any:
+def with_complex(m: Any, qf: np.ndarray, modes: _Modes) -> _Modes:
     """The per-call answer with the complex solutions added (back-substituted, not polished)."""
-    out = type(modes).__new__(type(modes))
+    cls = type(modes)
+    out = cls.__new__(cls)
     out.__dict__.update(getattr(modes, "__dict__", {}))
     list.__init__(out, list(modes) + complex_modes(m, qf))
     return out

@@ -40,8 +40,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Any, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 __all__ = ["KrawczykResult", "exact_matrix", "choose_chart", "krawczyk_certify", "CERT_PRECISION"]
 
@@ -83,19 +85,19 @@ class KrawczykResult:
     real: np.ndarray
     disjoint: bool
     chart: np.ndarray
-    displacement: np.ndarray = None
+    displacement: Optional[np.ndarray] = None
 
     @property
-    def distinct_certified(self):
+    def distinct_certified(self) -> int:
         """Number of certified solutions, if their boxes are disjoint (else 0)."""
         return int(self.certified.sum()) if self.disjoint else 0
 
     @property
-    def real_count(self):
+    def real_count(self) -> int:
         """Number of certified real solutions."""
         return int(np.sum(self.certified & (self.real == 1)))
 
-    def complete(self, bound):
+    def complete(self, bound: int) -> bool:
         """True when ``bound`` distinct solutions are certified, each decided real or not and each
         a displacement (``x . x != 0``)."""
         disp = True if self.displacement is None else bool(np.all(self.displacement[self.certified]))
@@ -103,7 +105,7 @@ class KrawczykResult:
                 and disp)
 
 
-def exact_matrix(Q):
+def exact_matrix(Q: Any) -> npt.NDArray[np.object_]:
     """An exact rational copy (nested lists of :class:`fractions.Fraction`) of float or sympy matrices.
 
     Parameters
@@ -133,7 +135,7 @@ def exact_matrix(Q):
     return out
 
 
-def choose_chart(Z, seed=0):
+def choose_chart(Z: npt.ArrayLike, seed: int = 0) -> Optional[npt.NDArray[np.integer]]:
     """A small integer chart vector ``r``, far from orthogonal to every point's rotation part ``x``.
 
     Far means ``|r·x| >= 0.05 |r| |x|`` (``x`` the first four coordinates).
@@ -171,7 +173,8 @@ def _float_system(Qf, r, z):
     return G, J
 
 
-def krawczyk_certify(Q_exact, Z, chart=None, seed=0, radii=None):
+def krawczyk_certify(Q_exact: npt.NDArray[np.object_], Z: npt.ArrayLike, chart: Optional[npt.ArrayLike] = None,
+                     seed: int = 0, radii: Optional[npt.ArrayLike] = None) -> KrawczykResult:
     """Prove solutions of ``z^T Q_k z = 0`` near float approximations ``Z`` (Krawczyk in arb).
 
     Parameters

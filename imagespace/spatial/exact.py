@@ -241,7 +241,11 @@ def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOU
     if study_quadric:
         system.append(sp.Poly(sum(a * b for a, b in zip(x, y)), *symbols, domain="QQ"))
     deadline = time.monotonic() + timeout
-    rows, boxes, strata, counts, seconds = [], [], [], [], []
+    rows: list[np.ndarray] = []
+    boxes: list[tuple] = []
+    strata: list[int] = []
+    counts: list[int] = []
+    seconds: list[float] = []
     for k, label in enumerate(STUDY_STRATA):
         fixed = {x[j]: 0 for j in range(k)}
         fixed[x[k]] = 1
@@ -267,6 +271,7 @@ def exact_real_study_points(polys, *, study_quadric=True, timeout=DEFAULT_TIMEOU
             raise DegenerateDesignError(
                 f"the stratum {label} has infinitely many complex solutions (an architecture "
                 f"singularity, a continuum of poses, or too few equations); no finite answer")
+        assert res.complex_count is not None  # a finite (zero-dimensional) answer carries its count
         counts.append(res.complex_count)
         seconds.append(res.seconds)
         found = []

@@ -79,10 +79,15 @@ from __future__ import annotations
 import weakref
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from ..core._numba import njit, prange
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
 
 __all__ = ["FamilyEnclosure", "family_enclosure", "parameter_enclosure", "certify_endpoints",
            "FastCertificate", "CHARTS"]
@@ -146,7 +151,7 @@ class FamilyEnclosure:
     ok: bool
 
 
-_ENCLOSURES = weakref.WeakKeyDictionary()
+_ENCLOSURES: weakref.WeakKeyDictionary[object, FamilyEnclosure] = weakref.WeakKeyDictionary()
 
 
 def _up(x):
@@ -155,7 +160,7 @@ def _up(x):
     return f if Fraction(f) >= x else float(np.nextafter(f, np.inf))
 
 
-def family_enclosure(family):
+def family_enclosure(family: Any) -> FamilyEnclosure:  # a QuadricFamily (solver imports this module)
     """Enclose a :class:`~imagespace.spatial.solver.QuadricFamily`'s exact quadrics (cached).
 
     Parameters
@@ -202,7 +207,7 @@ def family_enclosure(family):
     return enc
 
 
-def parameter_enclosure(lengths, scale):
+def parameter_enclosure(lengths: npt.ArrayLike, scale: float) -> tuple[FloatArray, FloatArray]:
     """Enclose the exact parameters ``(L / scale)^2`` of float lengths: midpoints and radii.
 
     Parameters
@@ -775,7 +780,8 @@ class FastCertificate:
     real_count: np.ndarray
 
 
-def certify_endpoints(enclosure, Z, status, pm, pr, target, rows=None):
+def certify_endpoints(enclosure: FamilyEnclosure, Z: npt.NDArray[np.complex128], status: npt.NDArray[np.integer], pm: FloatArray,
+                      pr: FloatArray, target: int, rows: Optional[npt.NDArray[np.bool_]] = None) -> FastCertificate:
     """Run the compiled certificate on tracked endpoints.
 
     Parameters

@@ -33,8 +33,10 @@ Engineering and Science, World Scientific, 2005, Theorem 7.1.1 (coefficient-para
 from __future__ import annotations
 
 from functools import cached_property
+from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from .._validate import as_float_array, as_tolerances, check_squares
 from ..exceptions import DegenerateDesignError
@@ -43,6 +45,10 @@ from .platform import QuadricPlatform, anchor_points, check_lengths
 from .quadrics import sphere_quadric, sphere_quadric_exact, study_quadric_matrix
 from .solver import QuadricFamily
 from .study import rotation_entries, vector_norm
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
+    from ..tolerances import Tolerances
 
 __all__ = ["GoughStewart", "GOUGH_STEWART_BOUND", "PAIRED_BOUND"]
 
@@ -121,7 +127,8 @@ class GoughStewart(QuadricPlatform):
 
     leg_count = 6
 
-    def __init__(self, base_points, platform_points, tolerances=None):
+    def __init__(self, base_points: npt.ArrayLike, platform_points: npt.ArrayLike,
+                 tolerances: Optional[Tolerances] = None) -> None:
         self.tolerances = as_tolerances(tolerances)
         self.base_points = anchor_points(base_points, "base_points", 6)
         self.platform_points = anchor_points(platform_points, "platform_points", 6)
@@ -147,7 +154,7 @@ class GoughStewart(QuadricPlatform):
 
     # ------------------------------------------------------------------ kinematics
 
-    def inverse_kinematics(self, s):
+    def inverse_kinematics(self, s: npt.ArrayLike) -> FloatArray:
         """The six leg lengths ``L_i = |R b_i + t - a_i|`` at Study points.
 
         Parameters
@@ -172,7 +179,7 @@ class GoughStewart(QuadricPlatform):
         """
         return vector_norm(self.leg_vectors(_study_points(s)))
 
-    def constraint_quadrics(self, lengths):
+    def constraint_quadrics(self, lengths: npt.ArrayLike) -> FloatArray:
         """The seven quadrics of the direct kinematics: six legs, then Study's quadric.
 
         Parameters
@@ -201,7 +208,7 @@ class GoughStewart(QuadricPlatform):
         return np.concatenate([sphere_quadric(self.base_points, self.platform_points, L),
                                study_quadric_matrix()[None]], axis=0)
 
-    def jacobian(self, s):
+    def jacobian(self, s: npt.ArrayLike) -> FloatArray:
         """The ``6 x 6`` Jacobian whose rows are the legs' line coordinates ``(s_i, a_i x s_i)``.
 
         ``s_i = R b_i + t - a_i`` is leg ``i``'s vector; ``L_i dL_i/dt = s_i . v_O + (a_i x s_i) . w``
@@ -230,7 +237,7 @@ class GoughStewart(QuadricPlatform):
         V = self.leg_vectors(_study_points(s))
         return np.concatenate([V, np.cross(self.base_points, V)], axis=-1)
 
-    def aspects(self, s, tolerances=None):
+    def aspects(self, s: npt.ArrayLike, tolerances: Optional[Tolerances] = None) -> Union[int, npt.NDArray[np.int8]]:
         """The aspect of poses: the sign of ``det J`` (+1, -1), or 0 at a singularity.
 
         The decision is scale-free: the moment columns are divided by the design's length scale
@@ -281,7 +288,7 @@ class GoughStewart(QuadricPlatform):
         return int(out) if out.ndim == 0 else out
 
     @cached_property
-    def architecturally_singular(self):
+    def architecturally_singular(self) -> bool:
         """True when ``det J`` vanishes at every pose (an architecture singularity).
 
         Decided in exact rational arithmetic: ``det J`` at three seeded rational poses (rational
@@ -318,7 +325,7 @@ class GoughStewart(QuadricPlatform):
                 return False
         return True
 
-    def check_design(self):
+    def check_design(self) -> None:
         """Refuse an architecturally singular design (the direct kinematics calls this).
 
         Raises
@@ -339,7 +346,7 @@ class GoughStewart(QuadricPlatform):
 
     # ------------------------------------------------------------------ direct kinematics
 
-    def family(self):
+    def family(self) -> QuadricFamily:
         """The direct kinematics as a :class:`~imagespace.spatial.solver.QuadricFamily`.
 
         Parameters are the squared leg lengths; quadric 6 is Study's.
@@ -368,7 +375,7 @@ class GoughStewart(QuadricPlatform):
                              self._exact_quadrics, self._aspects_or_empty, sc)
 
     @property
-    def solution_bound(self):
+    def solution_bound(self) -> int:
         """A theorem's bound on the isolated complex assembly modes of every length vector.
 
         :data:`PAIRED_BOUND` (16) for a 6-3, 3-6 or 3-3 platform (anchors coincident in three

@@ -33,10 +33,16 @@ P. Breiding, S. Timme, HomotopyContinuation.jl, ICMS 2018, doi:10.1007/978-3-319
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from ..core._numba import njit, prange
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
+    from ..tolerances import Tolerances
 
 __all__ = ["StartSystem", "solve_start_system", "track_parameters", "classify_batch", "recentre",
            "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED"]
@@ -380,7 +386,8 @@ def _regular(A, E, pidx, p, patch, z, tol):
     return sv[-1] > _START_COND * sv[0]
 
 
-def solve_start_system(A, E, pidx, nparams, seed=0, attempts=4, expected=None, tol=1e-10):
+def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, nparams: int, seed: int = 0,
+                       attempts: int = 4, expected: Optional[int] = None, tol: float = 1e-10) -> StartSystem:
     """Solve the family once at random complex parameters (total-degree homotopy, ``2^m`` paths).
 
     Parameters
@@ -457,7 +464,7 @@ def solve_start_system(A, E, pidx, nparams, seed=0, attempts=4, expected=None, t
     return StartSystem(A, E, pidx, p_star, patch, np.ascontiguousarray(found), paths)
 
 
-def track_parameters(start, P):
+def track_parameters(start: StartSystem, P: npt.ArrayLike) -> tuple[npt.NDArray[np.complex128], npt.NDArray[np.integer], npt.NDArray[np.integer]]:
     """Track the start solutions to real (or complex) target parameters, row by row.
 
     Parameters
@@ -560,7 +567,8 @@ def _classify_rows(Z, status, real_imag, nonreal_imag, distinct_tol, W, real, di
         reliable[r] = ok
 
 
-def classify_batch(Z, status, tolerances):
+def classify_batch(Z: npt.NDArray[np.complex128], status: npt.NDArray[np.integer], tolerances: Tolerances
+                   ) -> tuple[FloatArray, npt.NDArray[np.bool_], npt.NDArray[np.integer], npt.NDArray[np.bool_]]:
     """Sort every row's endpoints into real modes (compiled; float checks, not a proof).
 
     Parameters
@@ -605,7 +613,7 @@ def classify_batch(Z, status, tolerances):
 RECENTRE_SPREAD = 0.3
 
 
-def recentre(start, centre, seed=0):
+def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0) -> StartSystem:
     """Move the start system to generic complex parameters near ``centre`` (fewer steps to targets).
 
     The new parameters are ``centre * (1 + RECENTRE_SPREAD * g)`` with ``g`` seeded complex normal:

@@ -11,8 +11,10 @@ where it has one, a design check (:meth:`QuadricPlatform.check_design`).
 from __future__ import annotations
 
 from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
 from .._validate import as_float_array
 from ..core.mechanism import Mechanism
@@ -24,13 +26,18 @@ from . import backends as _backends
 from .solver import start_system
 from .study import rotation_matrix, translation
 
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
+    from .homotopy import StartSystem
+    from .solver import QuadricFamily
+
 __all__ = ["QuadricPlatform", "anchor_points", "check_lengths", "DK_METHODS"]
 
 #: the direct kinematics' methods
 DK_METHODS = ("fast", "exact")
 
 
-def anchor_points(value, name, count):
+def anchor_points(value: npt.ArrayLike, name: str, count: int) -> FloatArray:
     """Anchor coordinates as a private read-only ``(count, 3)`` float copy.
 
     Parameters
@@ -60,7 +67,8 @@ def anchor_points(value, name, count):
     return P
 
 
-def check_lengths(lengths, name="lengths", count=6, allow_batch=False):
+def check_lengths(lengths: npt.ArrayLike, name: str = "lengths", count: int = 6,
+                  allow_batch: bool = False) -> FloatArray:
     """Leg lengths as a checked float array: finite and positive.
 
     Parameters
@@ -102,6 +110,8 @@ class QuadricPlatform(Mechanism):
 
     leg_count = 0
     image_space = "study"
+    base_points: FloatArray       # (legs, 3): set by the subclass's constructor
+    platform_points: FloatArray
     #: the spatial back ends (imagespace.spatial.backends); the front end reads them
     backends = _backends.BACKENDS
     # the direct kinematics: the one front end (docstrings and examples at imagespace.solve.front)
@@ -111,16 +121,16 @@ class QuadricPlatform(Mechanism):
     certified_root_counts = certified_root_counts
 
     @property
-    def joint_count(self):
+    def joint_count(self) -> int:
         """Number of legs (the length of a row of leg lengths)."""
         return self.leg_count
 
     @property
-    def name(self):
+    def name(self) -> str:  # type: ignore[override]  # read-only here: the name follows the class and legs
         """The design's name (its class, the number of legs and anchors)."""
         return f"{type(self).__name__} ({self.leg_count} legs)"
 
-    def check_q(self, q, name="lengths"):
+    def check_q(self, q: Any, name: str = "lengths") -> FloatArray:
         """One row of leg lengths as checked floats: real, finite, positive (see :func:`check_lengths`).
 
         Examples
@@ -132,7 +142,7 @@ class QuadricPlatform(Mechanism):
         """
         return check_lengths(q, name, count=self.leg_count)
 
-    def joint_rows(self, Q):
+    def joint_rows(self, Q: npt.ArrayLike) -> tuple[npt.NDArray[np.bool_], dict[int, str]]:
         """Which rows of a float array ``Q`` (n, legs) hold positive finite leg lengths:
         ``(ok, errors)`` (a batch never raises on one bad row).
 
@@ -150,18 +160,18 @@ class QuadricPlatform(Mechanism):
                   for i in np.flatnonzero(~ok)}
         return ok, errors
 
-    def direct_kinematics_dask(self, *args, **kwargs):
+    def direct_kinematics_dask(self, *args: Any, **kwargs: Any) -> Any:
         """The dask front end (:func:`imagespace.solve.distributed.direct_kinematics_dask`) for
         the rows of leg lengths of a dask array."""
         from ..solve.distributed import direct_kinematics_dask
 
         return direct_kinematics_dask(self, *args, **kwargs)
 
-    def family(self):  # pragma: no cover - every subclass defines it
+    def family(self) -> QuadricFamily:
         """The direct kinematics as a :class:`~imagespace.spatial.solver.QuadricFamily`."""
         raise NotImplementedError
 
-    def check_design(self):
+    def check_design(self) -> None:
         """Refuse designs whose direct kinematics is not finite (a hook; nothing by default).
 
         Examples
@@ -170,7 +180,7 @@ class QuadricPlatform(Mechanism):
         >>> isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3)).check_design()
         """
 
-    def leg_vectors(self, s):
+    def leg_vectors(self, s: npt.ArrayLike) -> FloatArray:
         """The leg vectors ``R b_i + t - a_i`` at Study points.
 
         Parameters
@@ -209,7 +219,7 @@ class QuadricPlatform(Mechanism):
         size = float(np.abs(np.concatenate([self.base_points, self.platform_points])).max())
         return size if size > 0 else 1.0
 
-    def reach_check(self, lengths):
+    def reach_check(self, lengths: npt.ArrayLike) -> tuple[list[Any], npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
         """What the reach bounds say about rows of leg lengths, before any solving.
 
         Parameters
@@ -247,7 +257,7 @@ class QuadricPlatform(Mechanism):
         return obstruction, far, beyond
 
     @property
-    def start_system(self):
+    def start_system(self) -> StartSystem:
         """The family's solutions at generic complex lengths, computed once per design.
 
         40 for a general Gough-Stewart platform, 16 for a 6-3 or 3-3 one or a general 3-RPS.

@@ -7,11 +7,18 @@ which constructors exist.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Optional
+
 import numpy as np
+import numpy.typing as npt
 
 from .._validate import as_flag, as_float_array, as_tolerances
 from ..exceptions import InputError
 from .study import quaternion_from_matrix, quaternion_multiply, study_point
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
+    from ..tolerances import Tolerances
 
 __all__ = ["pose_from_rotation", "pose_from_quaternion", "pose_from_rpy", "pose_from_matrix", "CONSTRUCTORS"]
 
@@ -46,7 +53,7 @@ def _translation(t):
     return t
 
 
-def pose_from_rotation(R, t):
+def pose_from_rotation(R: npt.ArrayLike, t: npt.ArrayLike) -> FloatArray:
     """The Study point of the displacement ``p -> R p + t``.
 
     Parameters
@@ -79,7 +86,7 @@ def pose_from_rotation(R, t):
     return study_point(quaternion_from_matrix(R), _translation(t))     # checks R under its own name
 
 
-def pose_from_quaternion(q, t):
+def pose_from_quaternion(q: npt.ArrayLike, t: npt.ArrayLike) -> FloatArray:
     """The Study point of the rotation of the quaternion ``q = (w, x, y, z)`` (scalar first; need not
     be a unit quaternion) followed by the translation ``t``.
 
@@ -118,7 +125,7 @@ def pose_from_quaternion(q, t):
     return study_point(x, _translation(t))
 
 
-def pose_from_rpy(rpy, t, degrees=False):
+def pose_from_rpy(rpy: npt.ArrayLike, t: npt.ArrayLike, degrees: bool = False) -> FloatArray:
     """The Study point of roll, pitch and yaw angles and a translation.
 
     The rotation is ``R = Rz(yaw) Ry(pitch) Rx(roll)``: roll about the fixed x axis first, then
@@ -170,7 +177,7 @@ def pose_from_rpy(rpy, t, degrees=False):
     return study_point(quaternion_multiply(qz, quaternion_multiply(qy, qx)), _translation(t))
 
 
-def pose_from_matrix(T, tolerances=None):
+def pose_from_matrix(T: npt.ArrayLike, tolerances: Optional[Tolerances] = None) -> FloatArray:
     """The Study point of a 4x4 homogeneous transform ``[[R, t], [0, 0, 0, 1]]``.
 
     Parameters

@@ -37,14 +37,19 @@ Mechanism and Machine Theory 31(4), 365-379, 1996, doi:10.1016/0094-114X(95)0009
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import TYPE_CHECKING, Any, Sequence, Union, overload
 
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from .._validate import (as_float_array, as_fraction, as_sympy_entry, as_sympy_vector, check_squares,
                          is_symbolic)
 from ..exceptions import InputError
 from .study import quaternion_multiply, quaternion_conjugate, study_symbols
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray, NumericInput
 
 __all__ = [
     "study_quadric_matrix",
@@ -59,7 +64,7 @@ __all__ = [
 ]
 
 
-def form_matrix(expr):
+def form_matrix(expr: Any) -> sp.Matrix:
     """The symmetric ``8 x 8`` matrix ``Q`` of a quadratic form in the Study symbols.
 
     Parameters
@@ -109,7 +114,7 @@ def form_matrix(expr):
     return Q
 
 
-def study_quadric_matrix():
+def study_quadric_matrix() -> FloatArray:
     """The matrix of Study's quadric ``x0 y0 + x1 y1 + x2 y2 + x3 y3``.
 
     Returns
@@ -127,7 +132,7 @@ def study_quadric_matrix():
     return out
 
 
-def quadric_value(Q, s):
+def quadric_value(Q: npt.ArrayLike, s: npt.ArrayLike) -> Union[float, FloatArray]:
     """``z^T Q z`` for Study points ``z``.
 
     Parameters
@@ -182,7 +187,7 @@ def _dot(p, q):
     return sum(pi * qi for pi, qi in zip(p, q))
 
 
-def landed_point_times_n(point):
+def landed_point_times_n(point: Any) -> sp.Matrix:
     """``N X`` as quaternion forms in the Study symbols: ``x p x~ + 2 y x~`` for a platform point ``p``.
 
     Its scalar part is ``2 x . y`` (zero on Study's quadric); its vector part is ``N (R p + t)``.
@@ -210,7 +215,7 @@ def landed_point_times_n(point):
 
 
 @lru_cache(maxsize=1)
-def sphere_quadric_symbolic():
+def sphere_quadric_symbolic() -> tuple[sp.Matrix, tuple[sp.Symbol, ...]]:
     """The sphere condition's matrix with symbolic geometry: ``a1..a3``, ``b1..b3``, ``L``.
 
     Returns
@@ -256,7 +261,8 @@ def _sphere_exact_compiled():
     return sp.lambdify(syms, list(2 * Q), modules=[{}, "math"])
 
 
-def sphere_quadric_exact(base_point, platform_point, length):
+def sphere_quadric_exact(base_point: Sequence[Any], platform_point: Sequence[Any],
+                         length: Any) -> npt.NDArray[np.object_]:
     """The sphere quadric in exact rational arithmetic (floats enter as their binary rationals).
 
     Compiled from the same derivation as :func:`sphere_quadric`.
@@ -291,6 +297,11 @@ def sphere_quadric_exact(base_point, platform_point, length):
     return np.array([Fraction(v) / 2 for v in twice], dtype=object).reshape(8, 8)
 
 
+@overload
+def sphere_quadric(base_point: NumericInput, platform_point: NumericInput,
+                   length: Union[float, NumericInput]) -> FloatArray: ...
+@overload
+def sphere_quadric(base_point: Any, platform_point: Any, length: Any) -> Any: ...
 def sphere_quadric(base_point, platform_point, length):
     """The quadric of "platform point ``b`` at distance ``L`` from base point ``a``".
 
@@ -371,6 +382,11 @@ def _exact_or_float(v):
     return [sp.Rational(float(c)) for c in v]
 
 
+@overload
+def point_on_plane_quadric(platform_point: NumericInput, plane_point: NumericInput,
+                           plane_normal: NumericInput) -> FloatArray: ...
+@overload
+def point_on_plane_quadric(platform_point: Any, plane_point: Any, plane_normal: Any) -> Any: ...
 def point_on_plane_quadric(platform_point, plane_point, plane_normal):
     """The quadric of "platform point ``b`` on the fixed plane through ``c`` with normal ``n``".
 
@@ -421,6 +437,11 @@ def point_on_plane_quadric(platform_point, plane_point, plane_normal):
     return Q if symbolic else _as_float_matrix(Q, "platform_point, plane_point or plane_normal")
 
 
+@overload
+def point_on_line_quadrics(platform_point: NumericInput, line_point: NumericInput,
+                           line_direction: NumericInput) -> FloatArray: ...
+@overload
+def point_on_line_quadrics(platform_point: Any, line_point: Any, line_direction: Any) -> Any: ...
 def point_on_line_quadrics(platform_point, line_point, line_direction):
     """The three quadrics of "platform point ``b`` on the fixed line through ``c`` along ``d``".
 

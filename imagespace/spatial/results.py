@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Optional, Sequence, overload
 
 import numpy as np
+import numpy.typing as npt
 
 from .._html import counts_text, fmt, html_table
 from .study import rotation_matrix, translation
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
 
 __all__ = ["SpatialDKResult", "SpatialDKBatch", "METHODS"]
 
@@ -61,19 +66,19 @@ class SpatialDKResult:
     method: str
 
     @property
-    def count(self):
+    def count(self) -> int:
         """Number of real assembly modes."""
         return int(self.study_points.shape[0])
 
     @property
-    def rotations(self):
+    def rotations(self) -> FloatArray:
         """``(k, 3, 3) float`` rotation matrices of the modes."""
         if not self.count:
             return np.zeros((0, 3, 3))
         return rotation_matrix(self.study_points)
 
     @property
-    def translations(self):
+    def translations(self) -> FloatArray:
         """``(k, 3) float`` translations of the modes."""
         if not self.count:
             return np.zeros((0, 3))
@@ -130,8 +135,10 @@ class SpatialDKBatch:
     (1, 2, 0, [True, False])
     """
 
-    def __init__(self, count, offsets, study_points, residuals, aspects, complex_count, reliable,
-                 certified, row_ok, errors=None, methods=None):
+    def __init__(self, count: npt.ArrayLike, offsets: npt.ArrayLike, study_points: npt.ArrayLike,
+                 residuals: npt.ArrayLike, aspects: npt.ArrayLike, complex_count: npt.ArrayLike,
+                 reliable: npt.ArrayLike, certified: npt.ArrayLike, row_ok: npt.ArrayLike,
+                 errors: Optional[dict[int, str]] = None, methods: Optional[npt.ArrayLike] = None) -> None:
         self.count = np.array(count, dtype=np.int64)
         self.offsets = np.array(offsets, dtype=np.int64)
         self.study_points = np.asarray(study_points, dtype=float).reshape(-1, 8)
@@ -149,7 +156,8 @@ class SpatialDKBatch:
         self.methods = np.asarray(methods, dtype=object)
 
     @classmethod
-    def from_results(cls, results, errors=None):
+    def from_results(cls, results: Sequence[Optional[SpatialDKResult]],
+                     errors: Optional[dict[int, str]] = None) -> SpatialDKBatch:
         """A batch from per-row :class:`SpatialDKResult` (None for a row not solved).
 
         Examples
@@ -173,27 +181,27 @@ class SpatialDKBatch:
 
     # -- the batch vocabulary ----------------------------------------------------------------------
     @property
-    def counts(self):
+    def counts(self) -> npt.NDArray[np.integer]:
         """The same array as :attr:`count` (the name before issue [15])."""
         return self.count
 
     @property
-    def near_singular(self):
+    def near_singular(self) -> npt.NDArray[np.bool_]:
         """(n,) bool: solved rows whose count is not proven (``row_ok`` and not ``reliable``)."""
         return self.row_ok & ~self.reliable
 
     @property
-    def certified_roots(self):
+    def certified_roots(self) -> npt.NDArray[np.int8]:
         """(n,) int8: the proven count of real modes per row, -1 where not proven."""
         return np.where(self.row_ok & self.certified, self.count, -1).astype(np.int8)
 
     @property
-    def consistent(self):
+    def consistent(self) -> npt.NDArray[np.bool_]:
         """(n,) bool: the rows whose modes are proven (as :attr:`certified`, on solved rows)."""
         return self.row_ok & self.certified
 
     @property
-    def certificate_path(self):
+    def certificate_path(self) -> npt.NDArray[np.str_]:
         """(n,) str: what proved each row's count: ``"krawczyk"`` (the compiled certificate or
         Krawczyk boxes in arb), ``"msolve"``, ``"reach"``; ``"uncertified"``, ``"invalid"``."""
         out = np.full(len(self), "uncertified", dtype=object)
@@ -204,7 +212,7 @@ class SpatialDKBatch:
         return out.astype(str)
 
     @property
-    def width(self):
+    def width(self) -> int:
         """The most modes of a row (the padded arrays' second axis)."""
         return int(self.count.max()) if len(self) else 0
 
@@ -216,12 +224,12 @@ class SpatialDKBatch:
         return out
 
     @property
-    def valid(self):
+    def valid(self) -> npt.NDArray[np.bool_]:
         """(n, width) bool: which padded slots hold a mode (the planar results' ``valid``)."""
         return np.arange(self.width)[None, :] < self.count[:, None]
 
     @property
-    def poses(self):
+    def poses(self) -> FloatArray:
         """(n, width, 7) float: each mode as translation ``(x, y, z)`` and unit quaternion
         ``(w, x, y, z)`` (``w >= 0``), NaN in unused slots."""
         S = self.study_points
@@ -234,13 +242,17 @@ class SpatialDKBatch:
         return self._padded(vals, np.nan, float, (7,))
 
     @property
-    def aspect(self):
+    def aspect(self) -> npt.NDArray[np.int8]:
         """(n, width) int8: the modes' aspects, 0 in unused slots."""
         return self._padded(self.aspects, 0, np.int8)
 
     def __len__(self):
         return int(self.count.shape[0])
 
+    @overload
+    def __getitem__(self, i: int) -> SpatialDKResult: ...
+    @overload
+    def __getitem__(self, i: slice) -> list[SpatialDKResult]: ...
     def __getitem__(self, i):
         from ..core.mechanism import index_rows
 
@@ -267,7 +279,7 @@ def _state(certified, reliable):
     return "certified" if certified else ("reliable (not proven)" if reliable else "NOT reliable")
 
 
-def result_html(result):
+def result_html(result: SpatialDKResult) -> str:
     """The modes of a :class:`SpatialDKResult` as a table for Jupyter: translation, rotation (angle
     and axis), aspect and residual of each mode under the count and how sure it is.
 
@@ -302,7 +314,7 @@ def result_html(result):
     return out
 
 
-def batch_html(batch):
+def batch_html(batch: SpatialDKBatch) -> str:
     """A :class:`SpatialDKBatch` for Jupyter: rows, how many are valid, reliable and certified, and
     the real counts seen.
 

@@ -24,8 +24,10 @@ faces share the formulas.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Optional, Sequence, Union, overload
 
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 import numbers
@@ -33,6 +35,10 @@ import numbers
 from .._validate import _short, as_count, as_exact, as_float_array, as_index, is_symbolic, as_scalar
 from ..exceptions import InputError
 from ..core.mechanism import check_mechanism
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray, NumericInput
+    from ..core.planar import PlanarMechanism
 
 __all__ = ["revolute", "prismatic", "helical", "transfer", "reciprocal_product", "reciprocal_system",
            "ConstraintAnalysis", "constraint_analysis", "TranslationalFiveR", "planar_leg_wrenches",
@@ -100,6 +106,10 @@ def _join(w, v):
     return np.concatenate([w, v], axis=-1)
 
 
+@overload
+def revolute(axis: NumericInput, point: NumericInput) -> FloatArray: ...
+@overload
+def revolute(axis: Any, point: Any) -> Any: ...
 def revolute(axis, point):
     """Unit twist of a revolute joint: ``(u; p x u)``.
 
@@ -133,6 +143,10 @@ def revolute(axis, point):
         return _in_range(_join(u, _cross(p, u)), "point", "the moment p x u")
 
 
+@overload
+def prismatic(axis: NumericInput) -> FloatArray: ...
+@overload
+def prismatic(axis: Any) -> Any: ...
 def prismatic(axis):
     """Unit twist of a prismatic joint: ``(0; u)``.
 
@@ -154,6 +168,10 @@ def prismatic(axis):
     return _join(zero, u)
 
 
+@overload
+def helical(axis: NumericInput, point: NumericInput, pitch: Union[float, NumericInput]) -> FloatArray: ...
+@overload
+def helical(axis: Any, point: Any, pitch: Any) -> Any: ...
 def helical(axis, point, pitch):
     """Unit twist of a helical joint of pitch ``h``: ``(u; p x u + h u)``.
 
@@ -199,6 +217,10 @@ def _check_screw(s, name):
     return a
 
 
+@overload
+def transfer(screw: NumericInput, point: NumericInput, kind: str = ...) -> FloatArray: ...
+@overload
+def transfer(screw: Any, point: Any, kind: str = ...) -> Any: ...
 def transfer(screw, point, kind="twist"):
     """Re-express a screw about another reference point ``r`` (coordinates of ``r`` in the old frame).
 
@@ -239,6 +261,10 @@ def transfer(screw, point, kind="twist"):
                          "the transferred moment")
 
 
+@overload
+def reciprocal_product(twist: NumericInput, wrench: NumericInput) -> Union[float, FloatArray]: ...
+@overload
+def reciprocal_product(twist: Any, wrench: Any) -> Any: ...
 def reciprocal_product(twist, wrench):
     """The power ``dot(omega, m) + dot(v, f)`` of a wrench on a twist (not the plain dot product).
 
@@ -277,6 +303,10 @@ def reciprocal_product(twist, wrench):
 _SWAP = np.block([[np.zeros((3, 3)), np.eye(3)], [np.eye(3), np.zeros((3, 3))]])
 
 
+@overload
+def reciprocal_system(twists: NumericInput, tol: float = ...) -> FloatArray: ...
+@overload
+def reciprocal_system(twists: Any, tol: float = ...) -> Any: ...
 def reciprocal_system(twists, tol=1e-9):
     """The wrenches reciprocal to every twist of a list (a leg's constraint wrenches).
 
@@ -396,7 +426,8 @@ def _beyond(P, intended, dof, tol):
     return vt[:k]
 
 
-def constraint_analysis(legs, dof, actuated=None, tol=1e-9, intended=None):
+def constraint_analysis(legs: Sequence[npt.ArrayLike], dof: int, actuated: Optional[Sequence[int]] = None,
+                        tol: float = 1e-9, intended: Optional[npt.ArrayLike] = None) -> ConstraintAnalysis:
     """Seed 001's four steps, plus actuation and leg singularities.
 
     Parameters
@@ -578,7 +609,7 @@ class TranslationalFiveR:
                 raise InputError(f"{name} must be a positive link length, got {getattr(self, name)!r}")
 
     @staticmethod
-    def d(i, theta):
+    def d(i: int, theta: npt.ArrayLike) -> FloatArray:
         """The direction of joints 2-4 of leg ``i`` (``(3,)`` or ``(n, 3)``).
 
         Raises
@@ -600,7 +631,7 @@ class TranslationalFiveR:
         z = np.zeros_like(t)
         return np.stack([(z, c, s), (s, z, c), (c, s, z)][i], axis=-1)
 
-    def base(self, i):
+    def base(self, i: int) -> FloatArray:
         """The base point ``A_i`` of leg ``i``.
 
         Raises
@@ -621,7 +652,7 @@ class TranslationalFiveR:
         return -self.a * E[i] + self.b * E[(i + 1) % 3]
 
     @staticmethod
-    def couple_condition(theta):
+    def couple_condition(theta: npt.ArrayLike) -> FloatArray:
         """Seed 001's closed form: the couple block ``det = s1 s2 s3 - c1 c2 c3`` (``(n,)``).
 
         Raises
@@ -647,7 +678,7 @@ class TranslationalFiveR:
             s, c = np.sin(t), np.cos(t)
         return s[:, 0] * s[:, 1] * s[:, 2] - c[:, 0] * c[:, 1] * c[:, 2]
 
-    def thetas(self, P, branch=0):
+    def thetas(self, P: npt.ArrayLike, branch: int = 0) -> FloatArray:
         """First joint angles at platform positions ``P`` ``(n, 3)``: ``(n, 3)``.
 
         Raises
@@ -675,7 +706,7 @@ class TranslationalFiveR:
             out[:, i] = np.arctan2(-(r @ f), r @ g) + branch * np.pi
         return out
 
-    def leg_twists(self, P, branch=0, elbow=0):
+    def leg_twists(self, P: npt.ArrayLike, branch: int = 0, elbow: int = 0) -> list[FloatArray]:
         """Joint twists of the three legs at platform position ``P`` ``(3,)``, about the origin.
 
         Raises
@@ -708,7 +739,7 @@ class TranslationalFiveR:
                 raise InputError(f"P = {P.tolist()} is out of reach of leg {i}")
             # elbow in the leg's plane (normal d): along r and the in-plane normal n = d x r / L
             x = (self.l1**2 - self.l2**2 + L**2) / (2 * L)
-            h = np.sqrt(max(self.l1**2 - x**2, 0.0)) * (1 if elbow == 0 else -1)
+            h = np.sqrt(max(float(self.l1**2 - x**2), 0.0)) * (1 if elbow == 0 else -1)
             nrm = np.cross(d, r) / L
             Eb = A + x * r / L + h * nrm
             legs.append(np.array([revolute(E[i], A), revolute(d, A), revolute(d, Eb), revolute(d, C),
@@ -720,7 +751,8 @@ MAX_SAMPLES = 1_000_000
 """The largest ``n`` :func:`singularity_fractions` accepts (one constraint analysis per position)."""
 
 
-def singularity_fractions(mechanism, box=0.4, n=2000, eps=0.05, seed=0):
+def singularity_fractions(mechanism: TranslationalFiveR, box: float = 0.4, n: int = 2000, eps: float = 0.05,
+                          seed: int = 0) -> dict[str, Any]:
     """Fractions of a sampled workspace lost near each singularity type (seed 001's comparison).
 
     Positions are drawn uniformly (seeded) in the cube ``[-box, box]^3``; those every leg reaches
@@ -797,7 +829,7 @@ def singularity_fractions(mechanism, box=0.4, n=2000, eps=0.05, seed=0):
     return out
 
 
-def planar_leg_wrenches(manipulator, pose):
+def planar_leg_wrenches(manipulator: PlanarMechanism, pose: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
     """Unit planar wrenches ``(f_x, f_y, m_z)`` along the legs of a 3-RPR at a pose (moments about the origin).
 
     For an RPR leg the constraint on the platform with the prismatic joint locked is a force

@@ -46,8 +46,10 @@ from __future__ import annotations
 
 from fractions import Fraction
 from functools import lru_cache
+from typing import TYPE_CHECKING, Any, Optional, Union
 
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_float_array, as_tolerances
@@ -55,6 +57,10 @@ from ..exceptions import DegenerateDesignError, InputError
 from .gough_stewart import GoughStewart
 from .quadrics import form_matrix, landed_point_times_n
 from .study import matrix_from_quaternion, rotation_entries, study_symbols
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
+    from ..tolerances import Tolerances
 
 __all__ = ["leg_line_forms", "jacobian_matrix", "jacobian_determinant", "aspect",
            "constant_orientation_singularity", "ConstantOrientationSingularity"]
@@ -136,7 +142,7 @@ def _forms_of(anchor_bytes):
     return out
 
 
-def leg_line_forms(gs):
+def leg_line_forms(gs: GoughStewart) -> FloatArray:
     """The line-coordinate Jacobian in Study coordinates: 36 quadratic forms in the Study point.
 
     Row ``i`` is ``N (s_i, a_i x s_i)`` with ``s_i = R b_i + t - a_i`` the leg vector, ``a_i x s_i``
@@ -181,7 +187,7 @@ def leg_line_forms(gs):
 
 # --------------------------------------------------------------------------- Euclidean Jacobian
 
-def jacobian_matrix(gs, s):
+def jacobian_matrix(gs: GoughStewart, s: npt.ArrayLike) -> FloatArray:
     """The Euclidean line-coordinate Jacobian: rows ``(s_i, a_i x s_i)``.
 
     ``s_i = R b_i + t - a_i`` is leg ``i``'s vector and ``a_i x s_i`` its moment about the base
@@ -220,7 +226,7 @@ def jacobian_matrix(gs, s):
     return gs.jacobian(_check_study_points(s)) + 0.0         # the same rows as GoughStewart.jacobian
 
 
-def jacobian_determinant(gs, s):
+def jacobian_determinant(gs: GoughStewart, s: npt.ArrayLike) -> Union[float, FloatArray]:
     """The determinant of the Study forms of :func:`leg_line_forms` at Study points.
 
     It equals ``N^6 det J`` with ``N = x . x`` and ``J`` the Euclidean Jacobian
@@ -271,7 +277,7 @@ def jacobian_determinant(gs, s):
     return float(d) if d.ndim == 0 else d
 
 
-def aspect(gs, s, tolerances=None):
+def aspect(gs: GoughStewart, s: npt.ArrayLike, tolerances: Optional[Tolerances] = None) -> Union[int, npt.NDArray[np.int8]]:
     """The aspect of poses: the sign of ``det J`` (+1, -1), or 0 at a singularity.
 
     The decision is scale-free: the moment columns are divided by the design's length scale
@@ -372,7 +378,7 @@ class ConstantOrientationSingularity:
     3
     """
 
-    def __init__(self, gs, rotation, polynomial, variables):
+    def __init__(self, gs: GoughStewart, rotation: npt.ArrayLike, polynomial: Any, variables: Any) -> None:
         self.gs = gs
         self.rotation = rotation
         self.polynomial = polynomial
@@ -387,7 +393,7 @@ class ConstantOrientationSingularity:
         return (f"ConstantOrientationSingularity(degree={self.degree}, terms={len(self._coefficients)}, "
                 f"rotation={np.round(self.rotation, 6).tolist()})")
 
-    def value(self, points):
+    def value(self, points: npt.ArrayLike) -> Union[float, FloatArray]:
         """The polynomial at positions (float coefficients, float arithmetic).
 
         Parameters
@@ -432,7 +438,9 @@ class ConstantOrientationSingularity:
         return self.value(points)
 
 
-def constant_orientation_singularity(gs, rotation, tolerances=None):
+def constant_orientation_singularity(gs: GoughStewart, rotation: npt.ArrayLike,
+                                     tolerances: Optional[Tolerances] = None
+                                     ) -> ConstantOrientationSingularity:
     """The constant-orientation singularity locus: ``det J = 0`` as a polynomial in ``(x, y, z)``.
 
     For the fixed orientation ``R`` the rows ``(s_i, a_i x s_i)`` of :func:`jacobian_matrix`

@@ -22,14 +22,20 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Callable, Optional
+from typing import TYPE_CHECKING, Any, Callable, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from ..exceptions import NearSingularWarning
 from .homotopy import PATH_OK, classify_batch, recentre, solve_start_system, track_parameters
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
+    from ..tolerances import Tolerances
+    from .homotopy import StartSystem
 
 __all__ = ["QuadricFamily", "solve_rows", "certify_row", "certify_rows", "completeness_target", "exact_study_solver",
            "exact_result", "quadric_polynomials", "study_jacobian_signs"]
@@ -77,14 +83,14 @@ class QuadricFamily:
     aspect: Callable
     scale: float = 1.0
 
-    def unscale(self, pts):
+    def unscale(self, pts: FloatArray) -> FloatArray:
         """Family solutions ``(k, 8)`` -> displacements of the design (``y`` times ``scale``)."""
         out = np.array(pts, dtype=float).reshape(-1, 8)
         out[:, 4:] *= self.scale
         return out
 
 
-def start_system(family, seed=0):
+def start_system(family: QuadricFamily, seed: int = 0) -> StartSystem:
     """The family's solutions at generic complex parameters (computed once per design).
 
     Parameters
@@ -124,7 +130,7 @@ def _residuals(family, P_row, pts):
     return _mode_residuals(family, np.broadcast_to(P_row, (pts.shape[0], len(P_row))), pts)
 
 
-def completeness_target(family, start):
+def completeness_target(family: QuadricFamily, start: StartSystem) -> tuple[int, bool]:
     """How many distinct proven solutions make a row complete, and whether a theorem says so.
 
     The family's bound (a theorem on the isolated solutions with ``x . x != 0`` of every member,
@@ -210,7 +216,8 @@ def _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr, with
     return (batch, cert) if with_certificate else batch
 
 
-def solve_rows(family, start, P, tolerances, valid=None, lengths=None):
+def solve_rows(family: QuadricFamily, start: StartSystem, P: npt.ArrayLike, tolerances: Tolerances,
+               valid: Optional[npt.ArrayLike] = None, lengths: Optional[npt.ArrayLike] = None) -> SpatialDKBatch:
     """The fast path on many rows: track, certify (compiled), classify, residuals and aspects.
 
     Parameters
@@ -264,8 +271,10 @@ def _exact_params(lengths, scale=1.0):
     return [(Fraction(float(v)) / Fraction(scale)) ** 2 for v in lengths]
 
 
-def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_solver=None,
-                fast=None):
+def certify_row(family: QuadricFamily, start: StartSystem, lengths: npt.ArrayLike, tolerances: Tolerances,
+                Z: Optional[npt.NDArray[np.complex128]] = None, status: Optional[npt.NDArray[np.integer]] = None,
+                exact_solver: Optional[Callable[..., Any]] = None, fast: Optional[tuple] = None
+                ) -> SpatialDKResult:
     """Prove one row: the compiled Krawczyk test, then Krawczyk in arb, then msolve.
 
     Parameters
@@ -305,7 +314,7 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
 
     lengths = np.asarray(lengths, dtype=float)
     P = (lengths / family.scale) ** 2
-    if Z is None:
+    if Z is None or status is None:
         Zs, sts, _ = track_parameters(start, P[None])
         Z, status = Zs[0], sts[0]
     if fast is None:
@@ -347,7 +356,9 @@ def certify_row(family, start, lengths, tolerances, Z=None, status=None, exact_s
     return res
 
 
-def certify_rows(family, start, lengths, tolerances, valid=None, exact_solver=None):
+def certify_rows(family: QuadricFamily, start: StartSystem, lengths: npt.ArrayLike, tolerances: Tolerances,
+                 valid: Optional[npt.ArrayLike] = None, exact_solver: Optional[Callable[..., Any]] = None
+                 ) -> SpatialDKBatch:
     """Prove many rows: one compiled pass (tracking and certificate), arb and msolve per row only
     where it does not settle the row.
 
@@ -403,7 +414,7 @@ def certify_rows(family, start, lengths, tolerances, valid=None, exact_solver=No
     return SpatialDKBatch.from_results(results)
 
 
-def quadric_polynomials(Q_exact):
+def quadric_polynomials(Q_exact: npt.NDArray[np.object_]) -> list[Any]:
     """The forms ``z^T Q_k z`` as sympy polynomials in the Study symbols (exact rational coefficients).
 
     Parameters
@@ -438,7 +449,8 @@ def quadric_polynomials(Q_exact):
     return out
 
 
-def exact_study_solver(Q_exact, exclude_null_rotations=None):
+def exact_study_solver(Q_exact: npt.NDArray[np.object_], exclude_null_rotations: Optional[bool] = None
+                       ) -> tuple[FloatArray, int]:
     """msolve on the exact quadrics (every real solution, the four strata of ``x``).
 
     Parameters
@@ -482,7 +494,8 @@ def exact_study_solver(Q_exact, exclude_null_rotations=None):
     return res.study_points, int(sum(res.stratum_complex_counts))
 
 
-def exact_result(family, lengths, exclude_null_rotations=None):
+def exact_result(family: QuadricFamily, lengths: npt.ArrayLike, exclude_null_rotations: Optional[bool] = None
+                 ) -> SpatialDKResult:
     """The exact path: msolve on the exact system, always certified.
 
     Parameters
@@ -523,7 +536,8 @@ def exact_result(family, lengths, exclude_null_rotations=None):
                            int(complex_count), True, True, "msolve")
 
 
-def study_jacobian_signs(family, pts, tolerances=None):
+def study_jacobian_signs(family: QuadricFamily, pts: npt.ArrayLike, tolerances: Optional[Tolerances] = None
+                        ) -> npt.NDArray[np.int8]:
     """Aspects in Study coordinates: the sign of ``det [2 Q_k z ; (x, 0)]`` at normalised modes.
 
     ``Q_k = A_k - p_k E`` with ``p_k = z^T A_k z / z^T E z`` (the mode's own parameters); the last

@@ -32,11 +32,18 @@ doi:10.1007/978-3-642-59029-0.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any, Optional, Union, overload
+
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_float_array, as_sympy_vector, as_tolerances, is_symbolic
 from ..exceptions import InputError
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray, NumericInput
+    from ..tolerances import Tolerances
 
 __all__ = [
     "study_symbols",
@@ -58,7 +65,7 @@ __all__ = [
 ]
 
 
-def study_symbols():
+def study_symbols() -> tuple[sp.Symbol, ...]:
     """The eight Study parameters as sympy symbols ``x0, x1, x2, x3, y0, y1, y2, y3``.
 
     Returns
@@ -173,6 +180,10 @@ def _conj(q):
     return q * np.array([1, -1, -1, -1], dtype=q.dtype if q.dtype != object else object)
 
 
+@overload
+def quaternion_multiply(p: NumericInput, q: NumericInput) -> FloatArray: ...
+@overload
+def quaternion_multiply(p: Any, q: Any) -> Any: ...
 def quaternion_multiply(p, q):
     """The Hamilton product ``p q`` of quaternions ``(w, x, y, z)``.
 
@@ -214,6 +225,10 @@ def quaternion_multiply(p, q):
     return out
 
 
+@overload
+def quaternion_conjugate(q: NumericInput) -> FloatArray: ...
+@overload
+def quaternion_conjugate(q: Any) -> Any: ...
 def quaternion_conjugate(q):
     """The conjugate ``(w, -x, -y, -z)`` of a quaternion.
 
@@ -240,7 +255,7 @@ def quaternion_conjugate(q):
     return _conj(as_float_array(q, "q", last=4))
 
 
-def rotation_entries(x0, x1, x2, x3):
+def rotation_entries(x0: Any, x1: Any, x2: Any, x3: Any) -> list[list[Any]]:
     """The rotation of the quaternion ``x`` times its squared norm ``x x~``: the nine entries
     ``N R`` (rows of a nested list) with ``R p = x p x~ / (x x~)``, in whatever arithmetic the
     components are (floats, numpy arrays, Fractions, sympy): the one home of this formula.
@@ -267,6 +282,10 @@ def _rotation_of(x):
     return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2) / n[..., None, None]
 
 
+@overload
+def matrix_from_quaternion(q: NumericInput) -> FloatArray: ...
+@overload
+def matrix_from_quaternion(q: Any) -> Any: ...
 def matrix_from_quaternion(q):
     """The rotation matrix of a (not necessarily unit) quaternion: ``R p = q p q~ / (q q~)``.
 
@@ -303,7 +322,7 @@ def matrix_from_quaternion(q):
     return _rotation_of(x / _max_abs(x))          # homogeneous of degree 0: scaled, never overflows
 
 
-def quaternion_from_matrix(R, tolerances=None):
+def quaternion_from_matrix(R: npt.ArrayLike, tolerances: Optional[Tolerances] = None) -> FloatArray:
     """The unit quaternion of a rotation matrix (scalar part first, first non-zero entry positive).
 
     Parameters
@@ -380,6 +399,10 @@ def _normalise_sign(x):
 
 # --------------------------------------------------------------------------- the map
 
+@overload
+def study_point(rotation: NumericInput, translation: NumericInput) -> FloatArray: ...
+@overload
+def study_point(rotation: Any, translation: Any) -> Any: ...
 def study_point(rotation, translation):
     """The Study parameters ``(x0:x1:x2:x3:y0:y1:y2:y3)`` of a displacement.
 
@@ -463,6 +486,10 @@ def _check_study(s, name="s"):
     return s, n
 
 
+@overload
+def rotation_matrix(s: NumericInput) -> FloatArray: ...
+@overload
+def rotation_matrix(s: Any) -> Any: ...
 def rotation_matrix(s):
     """The rotation matrix ``R`` of a Study point: ``R p = x p x~ / (x x~)``.
 
@@ -496,6 +523,10 @@ def rotation_matrix(s):
     return _rotation_of(x / _max_abs(x))          # homogeneous of degree 0: scaled, never overflows
 
 
+@overload
+def translation(s: NumericInput) -> FloatArray: ...
+@overload
+def translation(s: Any) -> Any: ...
 def translation(s):
     """The translation ``t = 2 y x~ / (x x~)`` of a Study point.
 
@@ -536,7 +567,7 @@ def translation(s):
     return t
 
 
-def transform_matrix(s):
+def transform_matrix(s: npt.ArrayLike) -> FloatArray:
     """The homogeneous ``4 x 4`` matrix ``[[R, t], [0, 1]]`` of a Study point.
 
     Parameters
@@ -565,7 +596,7 @@ def transform_matrix(s):
     return out
 
 
-def transform_points(s, points):
+def transform_points(s: npt.ArrayLike, points: npt.ArrayLike) -> FloatArray:
     """Platform points ``p`` (moving frame) in the base frame: ``X = R p + t``.
 
     Parameters
@@ -597,6 +628,10 @@ def transform_points(s, points):
     return out
 
 
+@overload
+def study_condition(s: NumericInput) -> Union[float, FloatArray]: ...
+@overload
+def study_condition(s: Any) -> Any: ...
 def study_condition(s):
     """The value of Study's quadric ``x0 y0 + x1 y1 + x2 y2 + x3 y3`` (zero for displacements).
 
@@ -635,7 +670,7 @@ def study_condition(s):
     return out
 
 
-def normalize_study(s):
+def normalize_study(s: npt.ArrayLike) -> FloatArray:
     """The normalised representative: ``|x| = 1``, first non-zero of ``x`` positive.
 
     Parameters
@@ -677,6 +712,10 @@ def _dual_mul(a, b):
                            _qmul(a[..., :4], b[..., 4:]) + _qmul(a[..., 4:], b[..., :4])], axis=-1)
 
 
+@overload
+def compose_study(a: NumericInput, b: NumericInput) -> FloatArray: ...
+@overload
+def compose_study(a: Any, b: Any) -> Any: ...
 def compose_study(a, b):
     """The displacement "first ``b``, then ``a``": ``X = R_a (R_b p + t_b) + t_a``.
 
@@ -716,6 +755,10 @@ def compose_study(a, b):
     return _normalised(z, "a or b")
 
 
+@overload
+def inverse_study(s: NumericInput) -> FloatArray: ...
+@overload
+def inverse_study(s: Any) -> Any: ...
 def inverse_study(s):
     """The inverse displacement: the conjugate dual quaternion ``(x~, y~)``.
 
@@ -745,6 +788,10 @@ def inverse_study(s):
     return _normalised(z * sign, "s")
 
 
+@overload
+def planar_to_study(image_point: NumericInput) -> FloatArray: ...
+@overload
+def planar_to_study(image_point: Any) -> Any: ...
 def planar_to_study(image_point):
     """Embed planar image points ``(p0, p1, p2, p3)`` as Study points ``(p0, 0, 0, p1, 0, p3, -p2, 0)``.
 
@@ -776,7 +823,7 @@ def planar_to_study(image_point):
     return out + 0.0
 
 
-def study_to_planar(s, tolerances=None):
+def study_to_planar(s: npt.ArrayLike, tolerances: Optional[Tolerances] = None) -> FloatArray:
     """The planar image point ``(x0, x3, -y2, y1)`` of a Study point of a planar displacement.
 
     Parameters

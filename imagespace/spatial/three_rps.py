@@ -31,8 +31,10 @@ Engineering and Science, World Scientific, 2005, Theorem 7.1.1 (coefficient-para
 from __future__ import annotations
 
 from functools import cached_property
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from .._validate import as_float_array, as_tolerances, check_squares
 from ..exceptions import DegenerateDesignError, InputError
@@ -42,6 +44,10 @@ from .quadrics import (point_on_plane_quadric, sphere_quadric, sphere_quadric_ex
                        study_quadric_matrix)
 from .solver import QuadricFamily, study_jacobian_signs
 from .study import vector_norm
+
+if TYPE_CHECKING:
+    from ..core.kinematic_map import FloatArray
+    from ..tolerances import Tolerances
 
 __all__ = ["ThreeRPS", "THREE_RPS_BOUND"]
 
@@ -93,7 +99,8 @@ class ThreeRPS(QuadricPlatform):
 
     leg_count = 3
 
-    def __init__(self, base_points, platform_points, base_axes=None, tolerances=None):
+    def __init__(self, base_points: npt.ArrayLike, platform_points: npt.ArrayLike,
+                 base_axes: Optional[npt.ArrayLike] = None, tolerances: Optional[Tolerances] = None) -> None:
         self.tolerances = as_tolerances(tolerances)
         self.base_points = anchor_points(base_points, "base_points", 3)
         self.platform_points = anchor_points(platform_points, "platform_points", 3)
@@ -115,7 +122,7 @@ class ThreeRPS(QuadricPlatform):
         return (f"ThreeRPS(base_points={self.base_points.tolist()}, "
                 f"platform_points={self.platform_points.tolist()}, base_axes={self.base_axes.tolist()})")
 
-    def inverse_kinematics(self, s):
+    def inverse_kinematics(self, s: npt.ArrayLike) -> FloatArray:
         """Leg lengths ``|R b_i + t - a_i|``; the pose must keep each leg in its plane.
 
         Parameters
@@ -151,7 +158,7 @@ class ThreeRPS(QuadricPlatform):
                              f"{float(np.max(off)):.3g} off it (|u_i . leg| / |leg| up to {float(np.max(cos)):.3g})")
         return norms
 
-    def constraint_quadrics(self, lengths):
+    def constraint_quadrics(self, lengths: npt.ArrayLike) -> FloatArray:
         """Seven quadrics: three spheres, three planes, Study's quadric.
 
         Parameters
@@ -213,7 +220,7 @@ class ThreeRPS(QuadricPlatform):
                             lambda pts: study_jacobian_signs(fam, pts), sc)
         return fam
 
-    def family(self):
+    def family(self) -> QuadricFamily:
         """The direct kinematics as a :class:`~imagespace.spatial.solver.QuadricFamily`.
 
         Returns

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -241,7 +242,7 @@ def _compile(source, name):
 
 
 _SOURCE = _HEADER + _LOCKSTEP_SOURCE + _LOOP_SOURCE + _COUNTS_SOURCE
-_RUN = {}                  # the compiled generic loops per cache directory in effect, per process
+_RUN: dict[tuple[Optional[str], str], Callable[..., Any]] = {}  # the compiled generic loops per cache directory in effect, per process
 
 
 def _generic_loop(name):
