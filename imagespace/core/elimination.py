@@ -371,10 +371,10 @@ ROW_D, ROW_X2, ROW_X3, ROW_F = 0, 3, 7, 11
 #: Scratch floats :func:`eliminate_row` needs.
 ELIMINATION_WORK_SIZE = 76
 
-_ROW_U = 2.0**-53                        # unit roundoff of double precision
-_ROW_GAMMA = 40 * _ROW_U / (1 - 40 * _ROW_U)   # gamma_40: any sum of up to 39 rounded products
-_ROW_INFLATE = 1.0 + 2.0**-40            # covers the rounding of the bound arithmetic itself
-_ROW_TINY = 2.0**-500                    # covers every underflow (each below 2**-1074 per operation); not
+ROW_UNIT_ROUNDOFF = 2.0**-53                        # unit roundoff of double precision
+ROW_GAMMA = 40 * ROW_UNIT_ROUNDOFF / (1 - 40 * ROW_UNIT_ROUNDOFF)   # gamma_40: any sum of up to 39 rounded products
+ROW_INFLATE = 1.0 + 2.0**-40            # covers the rounding of the bound arithmetic itself
+ROW_TINY = 2.0**-500                    # covers every underflow (each below 2**-1074 per operation); not
                                          # smaller: a product of two such floors must not underflow (slow)
 
 
@@ -439,7 +439,7 @@ def eliminate_row(C, Ce, plan, out, eout, work, bounded):
     >>> d, bool(np.allclose(out[ROW_F:ROW_F + 7], np.array(F, dtype=float), rtol=1e-12))
     (6, True)
     """
-    u = _ROW_U
+    u = ROW_UNIT_ROUNDOFF
     # E rows (c, A0, A1, B0, B1, K0, K1, K2) with bounds, three of them side by side
     E = work[0:24]
     Ee = work[24:48]
@@ -461,7 +461,7 @@ def eliminate_row(C, Ce, plan, out, eout, work, bounded):
                 E[8 * r + k] = v
                 if bounded:
                     Ee[8 * r + k] = ((abs(a) * eb + ea * abs(b) + ea * eb + abs(c) * ed + ec * abs(d) + ec * ed
-                                      + 3 * u * (abs(p1) + abs(p2))) * _ROW_INFLATE + _ROW_TINY)
+                                      + 3 * u * (abs(p1) + abs(p2))) * ROW_INFLATE + ROW_TINY)
     for k in range(ELIMINATION_ROW_SIZE):
         out[k] = 0.0
         eout[k] = 0.0
@@ -485,7 +485,7 @@ def eliminate_row(C, Ce, plan, out, eout, work, bounded):
         if not bounded:
             return
         for k in range(lo, hi):
-            eout[k] = (eout[k] + _ROW_GAMMA * acc[k] + abs(out[k]) * u) * _ROW_INFLATE + _ROW_TINY
+            eout[k] = (eout[k] + ROW_GAMMA * acc[k] + abs(out[k]) * u) * ROW_INFLATE + ROW_TINY
             acc[k] = 0.0
 
     # D = A1 B2 - A2 B1, X2 = K2 B1 - K1 B2, X3 = A2 K1 - A1 K2 (E rows at 0, 8, 16)

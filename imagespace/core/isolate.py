@@ -106,10 +106,10 @@ MAX_BITS = 52
 #: otherwise make the subdivision tree grow exponentially).
 MAX_SPLITS = 400
 
-_U = 2.0**-53                       # unit roundoff (round to nearest)
-_INFL = 1.0 + 2.0**-46              # inflation of each computed bound: covers (1 + u)**40
-_TINY = 2.0**-1000              # floor added to each bound, a normal number (subnormal operands are slow)
-_GAMMA = 8 * _U                     # >= gamma_{d+1} = (d+1)u / (1 - (d+1)u) for d <= 6
+UNIT_ROUNDOFF = 2.0**-53                       # unit roundoff (round to nearest)
+BOUND_INFLATE = 1.0 + 2.0**-46              # inflation of each computed bound: covers (1 + u)**40
+BOUND_TINY = 2.0**-1000              # floor added to each bound, a normal number (subnormal operands are slow)
+BOUND_GAMMA = 8 * UNIT_ROUNDOFF                     # >= gamma_{d+1} = (d+1)u / (1 - (d+1)u) for d <= 6
 
 # split parameters lam = num / 2**r (num odd, < 16), tried in order until the split point's sign
 # is certain; a one-root node that must be cut off an excluded end tries _EDGE_LAM (or
@@ -120,8 +120,8 @@ _LAM_BITS = np.array([1, 4, 4, 3, 3], dtype=np.int64)
 _EDGE_LAM = 0.875
 _EDGE_BITS = 3
 # |F| within these bounds: the floats are used unscaled (no over- or underflow can occur)
-_NO_SCALING_BELOW = 2.0**-300
-_NO_SCALING_ABOVE = 2.0**300
+NO_SCALING_BELOW = 2.0**-300
+NO_SCALING_ABOVE = 2.0**300
 
 # layout of one node in the scratch array: a, b, bits, c_0..c_MAX, e_0..e_MAX
 _C = 3
@@ -130,9 +130,9 @@ _STRIDE = 3 + 2 * (MAX_DEGREE + 1)
 # a depth-first stack: one node per bit level plus the root and two scratch nodes for a split
 _SLOTS = MAX_BITS + 4
 _SCALED = _SLOTS * _STRIDE          # the scaled F and E (2 * (MAX_DEGREE + 1) floats)
-_HID = _SCALED + 2 * (MAX_DEGREE + 1)   # per stack slot: the node's heap index in a split grid (0: none)
+SLOT_HEAP_INDEX = _SCALED + 2 * (MAX_DEGREE + 1)   # per stack slot: the node's heap index in a split grid (0: none)
 #: Length of the float64 scratch array ``work`` that :func:`count_real_roots_row` needs.
-ISOLATE_WORK_SIZE = _HID + _SLOTS
+ISOLATE_WORK_SIZE = SLOT_HEAP_INDEX + _SLOTS
 
 # -- the split grid of the lockstep kernel (imagespace.solve.kernel.lockstep) ----------------------
 # For a block of ``lanes`` rows side by side, the Bernstein coefficients of every node of the
@@ -166,13 +166,13 @@ def _bernstein_matrix():
 #: ``BERNSTEIN_MATRIX[i, k]``: integer weight of ``F[k]`` in ``binomial(6, i) b_i``, the
 #: Bernstein coefficients of degree 6 on ``[-1, 1]`` of chart 0 (a form of degree ``d < 6`` is
 #: elevated: ``F[k] = 0`` for ``k > d``; chart 1 uses the reversed coefficients ``F[d - k]``).
-BERNSTEIN_MATRIX, _BINOM = _bernstein_matrix()
+BERNSTEIN_MATRIX, BINOM = _bernstein_matrix()
 
 
 @njit(cache=True)
 def _bound(x):
     """A computed non-negative bound, inflated to cover its own rounding (module docstring)."""
-    return x * _INFL + _TINY
+    return x * BOUND_INFLATE + BOUND_TINY
 
 
 @njit(cache=True)
@@ -201,10 +201,10 @@ def _to_bernstein(work, d, reverse):
             aw = abs(w)
             mag += aw * abs(g)
             box += aw * work[_SCALED + MAX_DEGREE + 1 + kk]
-        binom = _BINOM[i]
+        binom = BINOM[i]
         b = acc / binom
         work[_C + i] = b
-        work[_E + i] = _bound((box + _GAMMA * mag) / binom + _U * abs(b))
+        work[_E + i] = _bound((box + BOUND_GAMMA * mag) / binom + UNIT_ROUNDOFF * abs(b))
     work[0] = -1.0
     work[1] = 1.0
     work[2] = 0.0
@@ -255,11 +255,11 @@ def _lerp(x, y, ex, ey, lam, mu, half):
     """``mu x + lam y`` rounded, and its bound before inflation (module docstring)."""
     if half:
         s = (x + y) * 0.5                       # fl(x + y) / 2: error <= u |s|
-        return s, (ex + ey) * 0.5 + _U * abs(s)
+        return s, (ex + ey) * 0.5 + UNIT_ROUNDOFF * abs(s)
     p1 = mu * x
     p2 = lam * y
     s = p1 + p2
-    return s, mu * ex + lam * ey + _U * (abs(p1) + abs(p2) + abs(s))
+    return s, mu * ex + lam * ey + UNIT_ROUNDOFF * (abs(p1) + abs(p2) + abs(s))
 
 
 @njit(cache=True)
@@ -398,13 +398,13 @@ def count_real_roots_row(F, E, d, lo, hi, chart, work):
     # 2**6 times larger than max |F|)
     s1 = 1.0
     s2 = 1.0
-    if not _NO_SCALING_BELOW <= big <= _NO_SCALING_ABOVE:
+    if not NO_SCALING_BELOW <= big <= NO_SCALING_ABOVE:
         ex = math.frexp(big)[1]
         s1 = math.ldexp(1.0, -(ex // 2))
         s2 = math.ldexp(1.0, -ex - (-(ex // 2)))
     for k in range(d + 1):
         work[_SCALED + k] = (F[k] * s1) * s2
-        eg = ((E[k] * s1) * s2) * (1.0 + 2.0 * _U) + _TINY
+        eg = ((E[k] * s1) * s2) * (1.0 + 2.0 * UNIT_ROUNDOFF) + BOUND_TINY
         if not math.isfinite(eg):
             return -1
         work[_SCALED + MAX_DEGREE + 1 + k] = eg
@@ -429,9 +429,9 @@ def _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf):
     ``(count, splits)``, count -1 when undecided. A node of heap index ``h < nleaf`` split at 1/2
     takes its children from column ``lane`` of the split ``grid`` (see ``GRID_FIELDS``); the row
     kernel passes ``nleaf = 1`` (no grid)."""
-    work[_HID] = 1.0
+    work[SLOT_HEAP_INDEX] = 1.0
     start = count
-    count, splits, _ = _search(work, ch, count, splits, np.inf, d, lo, hi, chart, grid, lane, nleaf)
+    count, splits, _ = search_chart(work, ch, count, splits, np.inf, d, lo, hi, chart, grid, lane, nleaf)
     if count < 0:
         return -1, splits
     # roots were found right to left: reverse this chart's entries
@@ -445,9 +445,9 @@ def _descend(work, ch, count, splits, d, lo, hi, chart, grid, lane, nleaf):
 
 
 @njit(cache=True)
-def _search(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nleaf):
+def search_chart(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nleaf):
     """The depth-first search of :func:`_descend` from the node in slot 0 of ``work`` (its heap
-    index in the split grid at ``work[_HID]``, 0 when it is not a grid node), the roots appended
+    index in the split grid at ``work[SLOT_HEAP_INDEX]``, 0 when it is not a grid node), the roots appended
     right to left from ``count`` on, ``last_lo`` the left end of the last root found (to its
     right). Returns ``(count, splits, last_lo)``, count -1 when undecided."""
     lanes = grid.shape[1] // GRID_FIELDS
@@ -486,14 +486,14 @@ def _search(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nlea
                 first = _EDGE_LAM
             elif touch_lo and not touch_hi:
                 first = 1.0 - _EDGE_LAM
-        h = int(work[_HID + top])
+        h = int(work[SLOT_HEAP_INDEX + top])
         if first == 0.5 and 0 < h < nleaf and bits + 1 <= MAX_BITS:
             if grid[gbase + h, 14 * lanes + lane] != 0.0:   # the split point's sign is certain: children from the grid
                 m = a + 0.5 * (b - a)
-                _store_grid(work, o, a, m, bits + 1, grid, gbase + 2 * h, lanes, lane)
-                _store_grid(work, o + _STRIDE, m, b, bits + 1, grid, gbase + 2 * h + 1, lanes, lane)
-                work[_HID + top] = 2.0 * h
-                work[_HID + top + 1] = 2.0 * h + 1.0
+                store_grid(work, o, a, m, bits + 1, grid, gbase + 2 * h, lanes, lane)
+                store_grid(work, o + _STRIDE, m, b, bits + 1, grid, gbase + 2 * h + 1, lanes, lane)
+                work[SLOT_HEAP_INDEX + top] = 2.0 * h
+                work[SLOT_HEAP_INDEX + top + 1] = 2.0 * h + 1.0
                 top += 1
                 continue
         done = False
@@ -515,8 +515,8 @@ def _search(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nlea
                 m = a + lam * (b - a)
                 _store(work, o, a, m, bits + r, lc, le)
                 _store(work, o + _STRIDE, m, b, bits + r, rc, re)
-                work[_HID + top] = 0.0
-                work[_HID + top + 1] = 0.0
+                work[SLOT_HEAP_INDEX + top] = 0.0
+                work[SLOT_HEAP_INDEX + top + 1] = 0.0
                 done = True
                 break
         if not done:
@@ -526,7 +526,7 @@ def _search(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nlea
 
 
 @njit(cache=True)
-def _store_grid(work, o, a, b, bits, grid, node, lanes, lane):
+def store_grid(work, o, a, b, bits, grid, node, lanes, lane):
     """Store node ``node`` of the block's row ``lane`` of the split grid in slot ``o``."""
     work[o] = a
     work[o + 1] = b

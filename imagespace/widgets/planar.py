@@ -38,7 +38,6 @@ the same panels that opens without a kernel. Needs the ``imagespace[jupyter]`` e
 from __future__ import annotations
 
 import html
-import json
 import threading
 import time
 import warnings
@@ -52,7 +51,7 @@ from ..core.mechanism import check_mechanism
 from ..drawing import CHART_LABELS, chart_coordinates, mechanism_lines
 from ..exceptions import ImageSpaceError, InputError, NearSingularWarning
 from .inputs import joint_ranges, parse_joint_value
-from .planar_panels import joined_polylines, merged_labels, planar_panels
+from .planar_panels import joined_polylines, merged_labels, planar_panels, section_regions, status_html
 from .tracking import ModeTracker
 from .view import PanelView
 from ..solve import front
@@ -485,26 +484,11 @@ class Explorer(W.VBox):
         k = min(int(self.section_mode.value), len(self.modes) - 1)
         mode = self.modes[k]
         phi = float(mode.pose[2])
-        c = np.asarray(self._surface.section_coefficients(phi), dtype=float).reshape(-1)
-        P = np.array([mm.pose for mm in self.modes])
-        lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)
-        half = 0.75 * max(float(np.max(hi - lo)), 1.0)
-        mid = (lo + hi) / 2
-        xs = np.linspace(mid[0] - half, mid[0] + half, SECTION_GRID)
-        ys = np.linspace(mid[1] - half, mid[1] + half, SECTION_GRID)
-        X, Y = np.meshgrid(xs, ys)
-
-        def conic(x, y):                       # A x^2 + B xy + C y^2 + D x + E y + F
-            return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y + c[5]
-
-        Z = conic(X, Y)
-        s0 = conic(mode.pose[0], mode.pose[1])
-        # the sign of the conic times the chosen mode's (aspect * sign) is the aspect of a region
-        flip = float(np.sign(s0)) * (1 if mode.aspect >= 0 else -1) if s0 != 0 and mode.aspect != 0 else 1.0
+        xs, ys, Z = section_regions(self._surface.section_coefficients(phi), self.modes, k, SECTION_GRID)
         same = [j for j, mm in enumerate(self.modes) if abs(np.remainder(mm.pose[2] - phi + np.pi, 2 * np.pi) - np.pi)
                 <= self.manipulator.tolerances.plot_orientation]
         with v.batch():
-            v.set("regions", x=xs, y=ys, z=flip * Z)
+            v.set("regions", x=xs, y=ys, z=Z)
             for a in (1, -1):
                 js = [j for j in same if (1 if self.modes[j].aspect >= 0 else -1) == a]
                 v.set(f"section{a:+d}", x=np.array([self.modes[j].pose[0] for j in js]),
@@ -517,32 +501,8 @@ class Explorer(W.VBox):
                                    + (" [surface of earlier joint values, updating]" if self._stale else ""))
 
     def _draw_status(self):
-        st = self.status
-        badge = ('<span style="background:#f0ad4e;color:white;padding:1px 6px;border-radius:8px" '
-                 'class="isp-near-singular">near singular</span> ') if st["near_singular"] else ""
-        if st["error"]:
-            body = f'<b class="isp-error" style="color:#b00">{html.escape(st["error"])}</b>'
-        else:
-            if not st["certified"]:
-                how = "NOT certified"
-            else:
-                how = "certified on the exact joint values" if st["exact"] else "certified on the float joint values"
-            body = (f'<b><span class="isp-count">{st["count"]}</span> real assembly mode'
-                    f'{"" if st["count"] == 1 else "s"}</b> ({how})')
-            if st["count"] == 0:
-                body += (' &middot; <span class="isp-none">no real assembly mode for these joint values: the legs '
-                         'cannot be assembled (the last drawing is shown greyed)</span>')
-        if st.get("events"):
-            body += f' &middot; <span class="isp-events">{html.escape(st["events"])}</span>'
-        if self._atlas_panel is not None:
-            body += " &middot; " + self._atlas_panel.status_html()
-        q = ",".join(repr(float(v)) for v in self.q)
-        modes = json.dumps([[int(n), int(mm.aspect)] + [float(v) for v in mm.pose]
-                            for n, mm in zip(self.mode_numbers, self.modes)])
-        self.status_line.value = (f'<div class="isp-status" data-q="{q}" data-modes="{html.escape(modes)}">{badge}{body}'
-                                  f' &middot; <span title="time in the kernel: certified direct kinematics and the '
-                                  f'drawing data; the browser adds the round trip and the repaint">kernel time '
-                                  f'<span class="isp-seconds">{1000 * st["seconds"]:.0f}</span> ms</span></div>')
+        atlas = None if self._atlas_panel is None else self._atlas_panel.status_html()
+        self.status_line.value = status_html(self.status, self.q, self.modes, self.mode_numbers, atlas)
 
     # -- events ---------------------------------------------------------------------------------
     def _on_slider(self, change):

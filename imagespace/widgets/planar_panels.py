@@ -3,11 +3,14 @@ the helpers that place mode labels and join polylines."""
 
 from __future__ import annotations
 
+import html
+import json
+
 import numpy as np
 
 from ..drawing import ASPECT_COLOURS
 
-__all__ = ["merged_labels", "joined_polylines", "planar_panels", "GREY"]
+__all__ = ["merged_labels", "joined_polylines", "planar_panels", "section_regions", "status_html", "GREY"]
 
 GREY = "#9a9a9a"
 """Colour of the last drawing kept, greyed, when no real mode is left."""
@@ -55,6 +58,84 @@ def merged_labels(points, numbers, scale):
             done[j] = True
         labels[i] = ", ".join(str(numbers[j]) for j in group)
     return labels
+
+
+def section_regions(coefficients, modes, k, grid):
+    """The section view's aspect regions at the orientation of ``modes[k]``: a ``grid`` x ``grid``
+    sample of the fixed-orientation conic ``A x^2 + B xy + C y^2 + D x + E y + F`` (``coefficients``,
+    six numbers) on a square around the modes' positions, signed so that positive values are the
+    aspect det J > 0 (the conic's sign at ``modes[k]`` times that mode's aspect).
+
+    Returns ``(xs, ys, Z)`` with ``Z[i, j]`` at ``(xs[j], ys[i])`` (plotly's heatmap order).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from types import SimpleNamespace
+    >>> from imagespace.widgets.planar_panels import section_regions
+    >>> mode = SimpleNamespace(pose=np.array([0.0, 0.0, 0.0]), aspect=-1)
+    >>> xs, ys, Z = section_regions([1, 0, 1, 0, 0, -1], [mode], 0, 5)    # x^2 + y^2 - 1
+    >>> Z.shape, float(Z[2, 2])          # at the mode itself: its own aspect, det J < 0
+    ((5, 5), -1.0)
+    """
+    c = np.asarray(coefficients, dtype=float).reshape(-1)
+    mode = modes[k]
+    P = np.array([mm.pose for mm in modes], dtype=float)
+    lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)
+    half = 0.75 * max(float(np.max(hi - lo)), 1.0)
+    mid = (lo + hi) / 2
+    xs = np.linspace(mid[0] - half, mid[0] + half, grid)
+    ys = np.linspace(mid[1] - half, mid[1] + half, grid)
+    X, Y = np.meshgrid(xs, ys)
+
+    def conic(x, y):
+        return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y + c[5]
+
+    s0 = conic(mode.pose[0], mode.pose[1])
+    flip = float(np.sign(s0)) * (1 if mode.aspect >= 0 else -1) if s0 != 0 and mode.aspect != 0 else 1.0
+    return xs, ys, flip * conic(X, Y)
+
+
+def status_html(status, q, modes, mode_numbers, atlas_html=None):
+    """The explorer's status line as HTML: the certified count (and on what it is certified), the
+    near-singular badge, the error or events, the atlas region (``atlas_html``) and the kernel time.
+    The joint values and the modes ride along as ``data-q`` / ``data-modes`` for the browser tests.
+
+    ``status`` is the explorer's status dict (``count``, ``certified``, ``exact``, ``near_singular``,
+    ``error``, ``events``, ``seconds``); ``modes`` carry ``pose`` and ``aspect``.
+
+    Examples
+    --------
+    >>> from imagespace.widgets.planar_panels import status_html
+    >>> st = dict(count=0, certified=True, exact=False, near_singular=False, error="", seconds=0.01)
+    >>> "no real assembly mode" in status_html(st, [1.0, 2.0, 3.0], [], [])
+    True
+    """
+    st = status
+    badge = ('<span style="background:#f0ad4e;color:white;padding:1px 6px;border-radius:8px" '
+             'class="isp-near-singular">near singular</span> ') if st["near_singular"] else ""
+    if st["error"]:
+        body = f'<b class="isp-error" style="color:#b00">{html.escape(st["error"])}</b>'
+    else:
+        if not st["certified"]:
+            how = "NOT certified"
+        else:
+            how = "certified on the exact joint values" if st["exact"] else "certified on the float joint values"
+        body = (f'<b><span class="isp-count">{st["count"]}</span> real assembly mode'
+                f'{"" if st["count"] == 1 else "s"}</b> ({how})')
+        if st["count"] == 0:
+            body += (' &middot; <span class="isp-none">no real assembly mode for these joint values: the legs '
+                     'cannot be assembled (the last drawing is shown greyed)</span>')
+    if st.get("events"):
+        body += f' &middot; <span class="isp-events">{html.escape(st["events"])}</span>'
+    if atlas_html is not None:
+        body += " &middot; " + atlas_html
+    qs = ",".join(repr(float(v)) for v in q)
+    data = json.dumps([[int(n), int(mm.aspect)] + [float(v) for v in mm.pose] for n, mm in zip(mode_numbers, modes)])
+    return (f'<div class="isp-status" data-q="{qs}" data-modes="{html.escape(data)}">{badge}{body}'
+            f' &middot; <span title="time in the kernel: certified direct kinematics and the '
+            f'drawing data; the browser adds the round trip and the repaint">kernel time '
+            f'<span class="isp-seconds">{1000 * st["seconds"]:.0f}</span> ms</span></div>')
 
 
 def _scatter(name, **kw):

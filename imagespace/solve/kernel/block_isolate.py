@@ -9,9 +9,9 @@ import math
 import numpy as np
 
 from ...core._numba import njit
-from ...core.isolate import (BERNSTEIN_MATRIX, MAX_DEGREE, _BINOM, _GAMMA, _HID, _INFL,
-                             _NO_SCALING_ABOVE, _NO_SCALING_BELOW, _TINY as _ISO_TINY, _U as _ISO_U, _search,
-                             _store_grid, count_real_roots_row)
+from ...core.isolate import (BERNSTEIN_MATRIX, MAX_DEGREE, BINOM, BOUND_GAMMA, SLOT_HEAP_INDEX, BOUND_INFLATE,
+                             NO_SCALING_ABOVE, NO_SCALING_BELOW, BOUND_TINY as _ISO_TINY, UNIT_ROUNDOFF as _ISO_U, search_chart,
+                             store_grid, count_real_roots_row)
 from .block_layout import GRID_LEVELS, LOCKSTEP_ROWS, _S_BERN, _S_SC
 
 __all__ = ["isolate_block"]
@@ -82,7 +82,7 @@ def _half_split_block(src, left, right, nb):
         v1 = (s1 + s2) * 0.5
         ev1 = (es1 + es2) * 0.5 + u * abs(v1)
         w0 = (v0 + v1) * 0.5
-        ew0 = ((ev0 + ev1) * 0.5 + u * abs(w0)) * _INFL + _ISO_TINY
+        ew0 = ((ev0 + ev1) * 0.5 + u * abs(w0)) * BOUND_INFLATE + _ISO_TINY
         left[l] = c0
         left[1 * B + l] = p0
         left[2 * B + l] = q0
@@ -91,11 +91,11 @@ def _half_split_block(src, left, right, nb):
         left[5 * B + l] = v0
         left[6 * B + l] = w0
         left[7 * B + l] = e0
-        left[8 * B + l] = ep0 * _INFL + _ISO_TINY
-        left[9 * B + l] = eq0 * _INFL + _ISO_TINY
-        left[10 * B + l] = er0 * _INFL + _ISO_TINY
-        left[11 * B + l] = es0 * _INFL + _ISO_TINY
-        left[12 * B + l] = ev0 * _INFL + _ISO_TINY
+        left[8 * B + l] = ep0 * BOUND_INFLATE + _ISO_TINY
+        left[9 * B + l] = eq0 * BOUND_INFLATE + _ISO_TINY
+        left[10 * B + l] = er0 * BOUND_INFLATE + _ISO_TINY
+        left[11 * B + l] = es0 * BOUND_INFLATE + _ISO_TINY
+        left[12 * B + l] = ev0 * BOUND_INFLATE + _ISO_TINY
         left[13 * B + l] = ew0
         right[l] = w0
         right[1 * B + l] = v1
@@ -105,11 +105,11 @@ def _half_split_block(src, left, right, nb):
         right[5 * B + l] = p5
         right[6 * B + l] = c6
         right[7 * B + l] = ew0
-        right[8 * B + l] = ev1 * _INFL + _ISO_TINY
-        right[9 * B + l] = es2 * _INFL + _ISO_TINY
-        right[10 * B + l] = er3 * _INFL + _ISO_TINY
-        right[11 * B + l] = eq4 * _INFL + _ISO_TINY
-        right[12 * B + l] = ep5 * _INFL + _ISO_TINY
+        right[8 * B + l] = ev1 * BOUND_INFLATE + _ISO_TINY
+        right[9 * B + l] = es2 * BOUND_INFLATE + _ISO_TINY
+        right[10 * B + l] = er3 * BOUND_INFLATE + _ISO_TINY
+        right[11 * B + l] = eq4 * BOUND_INFLATE + _ISO_TINY
+        right[12 * B + l] = ep5 * BOUND_INFLATE + _ISO_TINY
         right[13 * B + l] = e6
         src[14 * B + l] = 1.0 if w0 > ew0 else (-1.0 if w0 < -ew0 else 0.0)
 
@@ -191,7 +191,7 @@ def _walk_lane(grid, nleaf, kinds, lane, d, lo, hi, chart, work):
     at on the grid (visited, and not split there at 1/2) are taken right to left, as the search
     meets them: a node without a root is passed, a one-root node that touches neither the last
     root's interval nor an excluded end is a root, any other node is searched from
-    (:func:`imagespace.core.isolate._search`, splitting off the grid). The same decisions in the
+    (:func:`imagespace.core.isolate.search_chart`, splitting off the grid). The same decisions in the
     same order, hence the same count and intervals; the split budget counts every split on the
     grid up front (the search gives up at the same total)."""
     B = LOCKSTEP_ROWS
@@ -229,9 +229,9 @@ def _walk_lane(grid, nleaf, kinds, lane, d, lo, hi, chart, work):
                 count += 1
                 last_lo = a
                 continue
-            _store_grid(work, 0, a, b, order[j, 3], grid, base + h, B, lane)
-            work[_HID] = h
-            count, splits, last_lo = _search(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nleaf)
+            store_grid(work, 0, a, b, order[j, 3], grid, base + h, B, lane)
+            work[SLOT_HEAP_INDEX] = h
+            count, splits, last_lo = search_chart(work, ch, count, splits, last_lo, d, lo, hi, chart, grid, lane, nleaf)
             if count < 0:
                 return -1
         i, j = start, count - 1
@@ -276,7 +276,7 @@ def isolate_block(S, F0, Fe0, d, nb, grid, nleaf, status, counts, lo, hi, chart,
         big = sc[l]
         if big == 0.0:
             status[l] = -1
-        elif status[l] == 0 and not _NO_SCALING_BELOW <= big <= _NO_SCALING_ABOVE:
+        elif status[l] == 0 and not NO_SCALING_BELOW <= big <= NO_SCALING_ABOVE:
             status[l] = 1
     for k in range(d + 1):
         f = S[F0 + k]
@@ -313,11 +313,11 @@ def isolate_block(S, F0, Fe0, d, nb, grid, nleaf, status, counts, lo, hi, chart,
                     acc[l] += w * g[l]
                     mag[l] += aw * abs(g[l])
                     box[l] += aw * ge[l]
-            binom = _BINOM[i]
+            binom = BINOM[i]
             for l in range(nb):
                 b = acc[l] / binom
                 root[i * B + l] = b
-                root[(MAX_DEGREE + 1 + i) * B + l] = ((box[l] + _GAMMA * mag[l]) / binom + _ISO_U * abs(b)) * _INFL + _ISO_TINY
+                root[(MAX_DEGREE + 1 + i) * B + l] = ((box[l] + BOUND_GAMMA * mag[l]) / binom + _ISO_U * abs(b)) * BOUND_INFLATE + _ISO_TINY
         h = 1
         while h < nleaf:
             base = ch * 2 * nleaf

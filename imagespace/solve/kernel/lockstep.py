@@ -49,7 +49,7 @@ import numpy as np
 from ...core._numba import njit
 from ...core.bounded_trig import cos_sin_bounded
 from ...core.elimination import (ELIMINATION_ROW_SIZE, ROW_D, ROW_F, ROW_X2, ROW_X3,
-                                 _ROW_GAMMA, _ROW_INFLATE, _ROW_TINY, _ROW_U)
+                                 ROW_GAMMA, ROW_INFLATE, ROW_TINY, ROW_UNIT_ROUNDOFF)
 from ...core.isolate import GRID_FIELDS, ISOLATE_WORK_SIZE, MAX_DEGREE
 from .block_isolate import isolate_block
 from .block_layout import (GRID_LEVELS, LOCKSTEP_ROWS, S_SIZE, _S_ACC8, _S_BERN, _S_C, _S_CE, _S_CS, _S_DC,  # noqa: F401
@@ -215,7 +215,7 @@ def _close_block(S, lo, hi, nb, bounded):
         oe = S[_S_ELE + k]
         oa = S[_S_EACC + k]
         for l in range(nb):
-            oe[l] = (oe[l] + _ROW_GAMMA * oa[l] + abs(o[l]) * _ROW_U) * _ROW_INFLATE + _ROW_TINY
+            oe[l] = (oe[l] + ROW_GAMMA * oa[l] + abs(o[l]) * ROW_UNIT_ROUNDOFF) * ROW_INFLATE + ROW_TINY
             oa[l] = 0.0
 
 
@@ -239,7 +239,7 @@ def eliminate_block(S, plan, nb, bounded):
     >>> eliminate_block(S, t.plan, 1, True)
     6
     """
-    u = _ROW_U
+    u = ROW_UNIT_ROUNDOFF
     for r in range(3):
         i = plan[2 * r]
         j = plan[2 * r + 1]
@@ -271,7 +271,7 @@ def eliminate_block(S, plan, nb, bounded):
                     dst[l] = p1 - p2
                     if bounded:
                         dste[l] = ((abs(a) * eb + ea * abs(b) + ea * eb + abs(c) * ed + ec * abs(d) + ec * ed
-                                    + 3 * u * (abs(p1) + abs(p2))) * _ROW_INFLATE + _ROW_TINY)
+                                    + 3 * u * (abs(p1) + abs(p2))) * ROW_INFLATE + ROW_TINY)
     for k in range(ELIMINATION_ROW_SIZE):
         o = S[_S_EL + k]
         oe = S[_S_ELE + k]
