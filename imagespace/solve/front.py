@@ -152,13 +152,15 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
     if include_complex and be.complex_modes is None:
         raise InputError(f"include_complex=True is not offered by {type(m).__name__} (its result "
                          "reports the number of complex solutions instead)")
-    # a reach bound answers first, except where the caller asked for the exact solver itself
-    # (its complex count is part of that answer)
+    # a reach bound answers first, except where the caller asked for the exact solver itself (its
+    # complex count is part of that answer) on joint values of a sensible size; at absurd sizes
+    # (``far``) the bound answers anyway: bounded work, the complex count then unknown (-1)
+    far = be.far is not None and bool(be.far(m, qf[None])[0])
     obstruction = (be.reach(m, q if certify else qf)
-                   if be.reach is not None and method not in be.exact_methods else None)
+                   if be.reach is not None and (far or method not in be.exact_methods) else None)
     if obstruction is not None:
         out = be.empty(m, obstruction, certify)
-    elif certify or method in be.exact_methods or (be.far is not None and be.far(m, qf[None])[0]):
+    elif certify or method in be.exact_methods or far:
         out = be.exact(m, q, qf, method, certify)
     else:
         batch = be.solve(m, qf[None, :], np.ones(1, dtype=bool), method, True)
@@ -166,7 +168,7 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
         if batch.near_singular[0]:
             warnings.warn(be.doubt(m, qf, out), NearSingularWarning, stacklevel=2)
     if include_complex:
-        if be.far is not None and be.far(m, qf[None])[0]:
+        if far:
             raise InputError(f"include_complex=True needs joint values within "
                              f"{m.tolerances.far_reach_ratio:g} times the size of {m.name} (the "
                              f"complex modes are computed in floating point), got q = {qf.tolist()}")
@@ -223,9 +225,8 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
                  f"use direct_kinematics_chunks(Q, chunk_size=...) to solve it chunk by chunk "
                  f"(a chunk of 65,536 rows needs about {65536 * per_row / 1e9:.2g} GB)")
     ok, errors = m.joint_rows(Q)
-    alone = ok & (be.far(m, Q) if be.far is not None else np.zeros(n, dtype=bool))
-    if method in be.exact_methods:
-        alone = ok.copy()
+    far = ok & (be.far(m, Q) if be.far is not None else np.zeros(n, dtype=bool))
+    alone = ok.copy() if method in be.exact_methods else far
     rows = ok & ~alone
     res = be.solve(m, Q, rows, method, False)
     if certify:
@@ -234,7 +235,8 @@ def direct_kinematics_batch(m: Any, Q: npt.ArrayLike, certify: bool = False, met
         idx = [int(i) for i in np.flatnonzero(alone)]
         results = []
         for i in idx:
-            ob = be.reach(m, Q[i]) if be.reach is not None and method not in be.exact_methods else None
+            ob = (be.reach(m, Q[i]) if be.reach is not None and (far[i] or method not in be.exact_methods)
+                  else None)
             if ob is not None:
                 results.append(be.empty(m, ob, True))
                 continue

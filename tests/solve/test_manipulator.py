@@ -497,6 +497,9 @@ def test_compiled_coefficients_equal_numeric_elimination(rng):
         designs += 1
         comp = m.compiled()
         Q = rng.uniform(3, 12, (20, 3))
+        for i, leg in enumerate(m.legs):         # an actuated angle in radians, inside [-pi, pi]
+            if leg.actuated_is_angle:
+                Q[:, i] = rng.uniform(-np.pi, np.pi, 20)
         C = comp.coefficients(Q)
         assert C.shape == (20, comp.degree + 1)
         el = eliminate(m.quadrics(Q))
