@@ -126,6 +126,7 @@ def test_cli_box_accepts_negative_scientific_notation(tmp_path, capsys):
     assert target.exists()
 
 
+@pytest.mark.slow
 def test_cli_phi_accepts_negative_scientific_notation(tmp_path, capsys, monkeypatch):
     seen = {}
     real = imagespace.plotting.plot_conic_section
@@ -189,6 +190,7 @@ def test_cli_plot_refuses_working_modes_it_would_ignore(figure, tmp_path, capsys
     assert not target.exists()
 
 
+@pytest.mark.slow
 def test_cli_plot_q_still_places_the_drawn_modes(tmp_path, capsys):
     """In ``plot``, ``--q`` chooses the assembly modes drawn, so it is not refused."""
     target = tmp_path / "s.png"

@@ -64,6 +64,7 @@ def test_collinear_closed_form_at_sin_theta_zero():
     assert same_poses(out, [(0.0, 0.75, 0.0), (0.0, -0.75, 0.0)], 1e-15) and len(out) == 2
 
 
+@pytest.mark.slow
 def test_collinear_closed_form_agrees_with_the_image_space_dk_across_sin_theta_zero():
     """Rational designs, orientations approaching 0 and pi, and exactly 0 and pi: four modes, then
     two; the image-space DK gives the same set (its own multiplicity bookkeeping aside)."""
@@ -150,6 +151,7 @@ def test_choi_closed_form_at_the_fold_returns_the_one_pose_and_decides_either_si
     assert choi_3ppr_closed_form(rho - 3e-9 * r / np.sin(alpha), R, r, alpha).shape == (2, 3)
 
 
+@pytest.mark.slow
 def test_choi_closed_form_agrees_with_the_image_space_dk_at_and_off_the_fold():
     rng = np.random.default_rng(405)
     checked = 0

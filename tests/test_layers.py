@@ -6,6 +6,8 @@ import ast
 import functools
 from pathlib import Path
 
+import pytest
+
 
 ROOT = Path(__file__).resolve().parents[1] / "imagespace"
 
@@ -118,6 +120,7 @@ def allowed(src, dst):
     return RANK[ld] <= RANK[ls]
 
 
+@pytest.mark.slow
 def test_imports_point_downwards():
     mods, edges = graph()
     bad = set()
@@ -163,6 +166,7 @@ def test_no_import_cycles():
     assert not cycles, f"import cycles: {cycles}"
 
 
+@pytest.mark.slow
 def test_no_module_touches_another_objects_private_cache():
     """Derived artefacts live behind Mechanism.cached / SingularitySurface.cached."""
     offenders = []
@@ -227,6 +231,7 @@ def private_imports(mods=None):
     return found
 
 
+@pytest.mark.slow
 def test_no_module_imports_another_modules_private_names():
     """A helper shared between modules gets a documented non-underscore name (out of ``__all__``
     if it is not public API) instead of being imported under its private name."""

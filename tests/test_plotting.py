@@ -139,6 +139,7 @@ def test_every_figure_has_unit_labels_and_a_legend():
     assert len(seen) == 13
 
 
+@pytest.mark.slow
 def test_assembly_modes_are_numbered_wherever_drawn():
     m = isp.examples.stigger_husty()
     fig = plotting.plot_assembly_modes(m, m.q_example)

@@ -28,6 +28,7 @@ def landed(gs, q, t):
     return RB + t
 
 
+@pytest.mark.slow
 def test_platform_drawing_puts_legs_between_the_anchors(rng, tmp_path):
     gs = design(rng)
     q, t = rng.normal(size=4), rng.normal(size=3) + [0, 0, 2]
@@ -64,6 +65,7 @@ def test_platform_drawing_into_given_axes_and_refuses_2d_axes(rng):
     plt.close(fig)
 
 
+@pytest.mark.slow
 def test_mode_panels_are_titled_with_the_aspect_of_det_j(rng, tmp_path):
     gs = design(rng)
     Q, T = rng.normal(size=(5, 4)), rng.normal(size=(5, 3))
@@ -95,6 +97,7 @@ def test_mode_panels_are_titled_with_the_aspect_of_det_j(rng, tmp_path):
         plot_gough_stewart_modes(gs, S, aspects=[1])
 
 
+@pytest.mark.slow
 def test_singularity_mesh_figure(rng, tmp_path):
     from imagespace.spatial_surfaces import mesh_constant_orientation_singularity
 

@@ -28,6 +28,7 @@ def atlas(design):
     return joint_atlas(design, BOX, 28)
 
 
+@pytest.mark.slow
 def test_region_labels_agree_with_certified_counts_at_10000_points(design, atlas, rng):
     """At 10,000 seeded points the certified count equals the atlas's label of the nearest node,
     except within a cell of the surface (the atlas's stated resolution)."""

@@ -68,6 +68,7 @@ def test_seed_designs_are_cuspidal_with_verified_witness(name, box):
     triple_root_check(m, w)
 
 
+@pytest.mark.slow
 @needs_msolve
 @pytest.mark.parametrize("scale, base", [
     (sp.Rational(1, 2), ((0, 0), (10, 0), (3, 8))),
@@ -81,6 +82,7 @@ def test_similar_base_and_platform_are_not_cuspidal(scale, base):
     assert "never three" in r.reason and r.method == "msolve"
 
 
+@pytest.mark.slow
 def test_verify_cusp_refuses_a_point_off_the_curve():
     m = isp.examples.general_3rpr()
     assert verify_cusp(m, [0.1, 11.0, 5.0, 10.0]) is None

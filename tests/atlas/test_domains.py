@@ -24,6 +24,7 @@ def general():
     return m, uniqueness_domains(m, [(8, 14), (2, 8), (7, 13)], (56, 56, 96))
 
 
+@pytest.mark.slow
 def test_direct_kinematics_restricted_to_a_domain_has_one_solution(general, rng):
     m, ud = general
     assert ud.n_aspects >= 2 and ud.n_domains > ud.n_aspects       # cuspidal: more domains than aspects
@@ -48,6 +49,7 @@ def test_direct_kinematics_restricted_to_a_domain_has_one_solution(general, rng)
     assert boundary <= 0.02 * total                               # within a cell of the domain's edge
 
 
+@pytest.mark.slow
 def test_non_cuspidal_design_has_its_aspects_as_uniqueness_domains():
     base, scale = ((0, 0), (10, 0), (3, 8)), sp.Rational(1, 2)
     m = isp.PlanarParallel([RPR(base=b, platform=(scale * b[0], scale * b[1])) for b in base])
@@ -61,6 +63,7 @@ def test_non_cuspidal_design_has_its_aspects_as_uniqueness_domains():
     assert all(len(d) == 1 and ud.region_preimages[d[0]] == 1 for d in ud.domains)
 
 
+@pytest.mark.slow
 def test_validation_and_figure(general):
     m, ud = general
     with pytest.raises(InputError, match="resolution must be at most 200"):

@@ -99,6 +99,7 @@ def test_taylor_constants_are_exact_roundings():
     assert bt._RHO > math.pi / 4 + 2.0**-28
 
 
+@pytest.mark.slow
 def test_encloses_arb_over_many_scales(rng):
     q = sample(rng)
     c, s, ec, es = cos_sin_enclosure(q)
@@ -106,6 +107,7 @@ def test_encloses_arb_over_many_scales(rng):
     assert_tight(q, c, s, ec, es)
 
 
+@pytest.mark.slow
 def test_kernel_and_enclosure_agree_elementwise(rng):
     q = sample(rng)[::7]
     got = np.array([cos_sin_bounded(float(v)) for v in q])
@@ -230,6 +232,7 @@ def arb_value(expr, q):
     raise NotImplementedError(expr)
 
 
+@pytest.mark.slow
 def test_coefficient_enclosure_with_actuated_angles(rng):
     """CoefficientEnclosure on coefficients in cos/sin of actuated angles (two RRR legs with
     actuated base angles and an RRP leg, also actuated by an angle; products of the legs' quadric

@@ -74,6 +74,7 @@ def test_symbolic_and_numeric_quadric_agree(rng):
         assert np.allclose(g, qd.gradient(X))
 
 
+@pytest.mark.slow
 def test_one_dyad_system_evaluator_and_its_numba_twin_agree_on_random_input():
     """dk_system (numpy, used by the numpy DK path and Quadric.evaluate/gradient) and
     dk_system_row (the source the compiled kernel is built from) are one formula: equal on random

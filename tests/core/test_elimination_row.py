@@ -38,6 +38,7 @@ def compiled():
     return twin
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kinds", KINDS)
 @pytest.mark.parametrize("which", ["python", "numba"])
 def test_values_and_bounds_hold_against_exact_rationals(kinds, which):

@@ -32,6 +32,7 @@ def _spin(seconds):
     return "done"
 
 
+@pytest.mark.slow
 @linux
 def test_results_and_errors_cross_the_process_boundary():
     assert call_interruptibly(pow, (2, 100)) == 2**100
@@ -62,6 +63,7 @@ def test_long_coefficients_without_real_roots_are_decided_by_sturm():
     assert time.monotonic() - start < 60        # a guard against a hang, not a speed claim
 
 
+@pytest.mark.slow
 @linux
 def test_ctrl_c_stops_a_long_certified_call():
     """A subprocess certifies a form whose isolation takes minutes; SIGINT must reach it as a

@@ -181,6 +181,7 @@ def test_products_of_linear_factors(rng):
     assert decided >= 140
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("special", ["infinity", "t0", "both"])
 def test_roots_at_split_points_are_decided(special, rng):
     """x0 = 0 (s = 0) and t = 0 are the first split points of the charts: decided all the same."""
@@ -214,6 +215,7 @@ def test_roots_at_the_chart_boundary(r):
         assert near == [chart]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("gap", [1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13, 1e-14])
 def test_close_roots_right_or_undecided(gap, rng):
     decided = 0
@@ -241,6 +243,7 @@ def test_multiple_roots_undecided_or_right(mult, rng):
     assert run_row([0.0, 0.0, 1.0, 5.0])[0] == -1
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("eps", [1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12])
 def test_complex_pairs_close_to_the_axis(eps, rng):
     decided = 0
@@ -276,6 +279,7 @@ def test_box_around_a_double_root_is_undecided():
     assert run_row(F, E + 1e-12)[0] == -1
 
 
+@pytest.mark.slow
 def test_leading_and_trailing_coefficients_zero(rng):
     for _ in range(50):
         d = int(rng.integers(2, MAX_DEGREE + 1))
@@ -416,6 +420,7 @@ def test_batch_refuses_non_numbers():
 
 # -- realistic rows --------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_seed002_rows_match_the_disc_certificate():
     """10,000 rows of the seed-002 kinematic polynomial with rigorous coefficient enclosures
     (irrational exact coefficients, in Q(sqrt(181))): the counts equal those of

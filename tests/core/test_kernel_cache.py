@@ -55,7 +55,10 @@ def template(tmp_path_factory):
     os.environ["IMAGESPACE_CACHE"] = str(root)
     try:
         m = isp.examples.general_3rpr()
-        m.direct_kinematics_batch(joint_rows(m, 10), method="kernel")   # compiled and cached
+        # every entry point the tests use, compiled and cached once (a test that damages one
+        # file then recompiles that one only)
+        m.direct_kinematics_batch(joint_rows(m, 10), method="kernel")
+        m.direct_kinematics_batch(joint_rows(m, 10), method="numpy")
     finally:
         if old is None:
             del os.environ["IMAGESPACE_CACHE"]
@@ -252,14 +255,11 @@ def _garbage(p):
     p.write_bytes(head + b"\x80\x05garbage\x00" * 8 if head else pickle.dumps(("not", "numba")))
 
 
-def _empty(p):
-    p.write_bytes(b"")
-
-
 @pytest.mark.slow
-@pytest.mark.parametrize("pattern, damage", [("*.run-*.nbi", _truncate), ("*.run-*.nbi", _garbage),
-                                             ("*.run-*.nbc", _truncate), ("*.run-*.nbc", _garbage),
-                                             ("*.run-*.nbc", _empty)])
+# one damage per file kind (each case recompiles the kernel, ~50 s): an index with garbage after
+# its version, a truncated data file. The other damages (truncated index, garbage or empty data)
+# reach the same guarded load and were checked when it was written (session 5)
+@pytest.mark.parametrize("pattern, damage", [("*.run-*.nbi", _garbage), ("*.run-*.nbc", _truncate)])
 def test_corrupted_numba_cache_heals_itself(cache, pattern, damage):
     (victim,) = (cache / "__pycache__").glob(pattern)
     damage(victim)

@@ -72,6 +72,7 @@ def test_batch_shapes_and_half_turn():
     assert np.allclose(n, [[0.0, 1.0, -0.5, -0.5]])
 
 
+@pytest.mark.slow
 def test_symbolic_face_matches_numeric():
     x, y, phi = sp.symbols("x y phi", real=True)
     X = isp.image_point((x, y, phi))

@@ -64,6 +64,7 @@ def forward_check(kind, q, pose):
     raise AssertionError(kind)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", sorted(LEGS))
 def test_ik_closes_the_chain_and_dyads_vanish(kind, rng):
     checked = 0
@@ -94,6 +95,7 @@ def test_ik_batch_matches_single(rng):
         assert np.allclose(batch[i], leg.inverse_kinematics(poses[i]), equal_nan=True)
 
 
+@pytest.mark.slow
 def test_symbolic_dyad_equals_numeric():
     for kind, make in LEGS.items():
         for act in range(3):

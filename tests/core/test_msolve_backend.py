@@ -276,6 +276,7 @@ def _start_long_run(tmp_path, request):
     return proc, kids[0]
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc and prctl: Linux only")
 def test_msolve_dies_with_its_killed_caller_and_leaves_no_files(tmp_path, request):
     import signal
@@ -291,6 +292,7 @@ def test_msolve_dies_with_its_killed_caller_and_leaves_no_files(tmp_path, reques
     assert os.listdir(tmp_path) == []                   # no temporary folder, no input file
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc: Linux only")
 def test_ctrl_c_stops_msolve(tmp_path, request):
     import signal

@@ -18,6 +18,7 @@ def seed002():
     return isp.examples.stigger_husty()
 
 
+@pytest.mark.slow
 def test_coefficients_equal_sympy_exact_values(seed002):
     P = seed002.kinematic_polynomial()
     d = P.total_degree()
@@ -32,6 +33,7 @@ def test_coefficients_equal_sympy_exact_values(seed002):
             assert sp.expand(c.subs(sub) - mine) == 0
 
 
+@pytest.mark.slow
 def test_counts_equal_the_general_certified_path_next_to_the_discriminant(seed002):
     """Rows the kernel's float bounds cannot decide (roots closer than its bounds) and random
     rows: the Q(sqrt 181) count equals the count of the general certified path (sympy numbers,

@@ -52,6 +52,7 @@ def random_leg(rng, kind, actuated):
 KINDS = ("RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR")
 
 
+@pytest.mark.slow
 def test_joint_values_of_real_poses_are_never_refused():
     """Every leg type and actuation, random geometry, random poses (some far out, some with the
     platform at the base): the joint values of each IK branch have a real pose, the bound must
@@ -122,6 +123,7 @@ def _near_cos_sin(angle, name):
                 sp.Rational(int(mpmath.floor(s * 2**200)), 2**200))
 
 
+@pytest.mark.slow
 def test_claims_agree_with_an_exact_root_count(monkeypatch):
     """Random joint values on random designs of annulus legs (RPR, RRR with an angle actuated,
     PRR with the slider actuated): wherever the bound claims no pose, sympy's Sturm count of the

@@ -29,6 +29,7 @@ def test_exact_workspaces_against_grid_sampling(ratio):
     assert abs(s.area / c.area - 1) < 0.01
 
 
+@pytest.mark.slow
 def test_workspace_trends_of_seed_004():
     alpha = 7 * np.pi / 18
     rng_ = (alpha - np.pi / 2 - 17 * np.pi / 36, alpha - np.pi / 2 + 17 * np.pi / 36)

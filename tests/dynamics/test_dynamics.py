@@ -69,6 +69,7 @@ def test_eq_11_at_the_singularity_agrees_with_eq_5_next_to_it(setup):
     assert np.allclose(at.mu[0, 2:], T_mid, rtol=1e-2)
 
 
+@pytest.mark.slow
 def test_power_balance_along_the_consistent_trajectory(setup):
     model, path, st, sing, law, info = setup
     res = inverse_dynamics(model, path, law, np.linspace(0.01, 0.99, 50), st.eta, sing, eps=1e-3)
@@ -82,6 +83,7 @@ def test_forward_simulation_tracks_the_plan(setup):
     assert simulate(model, path, law, res, st.eta).max() < 1e-4
 
 
+@pytest.mark.slow
 def test_the_cubic_law_is_flagged_and_its_forces_grow_like_one_over_delta(setup):
     model, path, st, sing, law, info = setup
     cub = cubic_rest_to_rest(1.5, 1.0)

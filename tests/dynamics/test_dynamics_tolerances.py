@@ -46,6 +46,7 @@ def test_dynamics_residual_decides_whether_newton_converged():
     assert loose.eta[1] == pytest.approx(0.5)     # accepted (residual >= 1 <= 10): b follows the path
 
 
+@pytest.mark.slow
 def test_dynamics_rank_and_alpha_zero_decide_the_row_dependence(setup):
     model, path, st, sing = setup
     assert np.count_nonzero(sing.alpha) > 0

@@ -103,6 +103,7 @@ def test_thresholds_match_an_independent_four_bar_sweep(analysis, sweep):
     assert checked >= 5
 
 
+@pytest.mark.slow
 def test_released_curve_satisfies_the_locked_legs(analysis):
     m, res = analysis
     X = res.points.reshape(-1, 4)

@@ -93,6 +93,7 @@ def test_crossing_at_t_1e_minus_9_is_caught(m):
     assert res.crosses and not res.touches and not res.singularity_free
 
 
+@pytest.mark.slow
 def test_two_crossings_between_samples_are_caught(m):
     P, g = _smooth_surface_point()
     d = [sp.Rational(1, 3), sp.Rational(1, 5), sp.Rational(1, 7), sp.Rational(-2, 7)]

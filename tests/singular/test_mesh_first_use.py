@@ -47,6 +47,7 @@ def berkowitz(m, q=None):
     return sp.Poly(det, *x)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("make", [isp.examples.stigger_husty, isp.examples.general_3rpr, rrr_design,
                                   isp.examples.collinear_3rpr])
 def test_singularity_polynomial_equals_the_berkowitz_derivation(make):
@@ -63,6 +64,7 @@ def test_singularity_polynomial_equals_berkowitz_with_trig_constants():
     assert m.singularity_polynomial() == berkowitz(m)
 
 
+@pytest.mark.slow
 def test_singularity_polynomial_at_exact_q_equals_berkowitz(rng):
     m = rrr_design()
     for _ in range(2):
@@ -91,6 +93,7 @@ def exact_value(expr, syms, p):
     return expr.xreplace({s: sp.Rational(Fraction(float(v))) for s, v in zip(syms, p)})
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("chart", ["image", "pose"])
 def test_table_values_and_gradients_against_exact_evaluation(chart, rng):
     S = isp.examples.stigger_husty().singularity_surface()
@@ -157,6 +160,7 @@ def check_table_against(table, derived, q, chart, m):
         assert f == pytest.approx(float(sp.N(c, 40)), rel=4e-16)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("chart", ["image", "pose"])
 def test_joint_table_equals_the_derivation_at_q(chart, rng):
     """An actuated base revolute (q enters through cos q, sin q): the table at q equals the general

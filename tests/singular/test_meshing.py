@@ -109,6 +109,7 @@ def euclidean_jx_ratio(m, pts):
     return np.array(out)
 
 
+@pytest.mark.slow
 def test_pose_mesh_agrees_with_the_exact_conic_sections(seed002, rng):
     """Points of the fixed-orientation conics (``SingularitySurface.section``) are singular poses by
     the Euclidean Jacobian written here (independent of the image space), and they lie near the
@@ -134,6 +135,7 @@ def test_pose_mesh_agrees_with_the_exact_conic_sections(seed002, rng):
         assert dist.max() < 2 * h
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("suffix", EXPORT_FORMATS)
 def test_exports_load_back(image_mesh, tmp_path, suffix):
     path = export_mesh(image_mesh, tmp_path / f"surface{suffix}")

@@ -150,6 +150,7 @@ def test_spatial_far_lengths_are_refused_clearly(gs):
         m.direct_kinematics([1e300] * 3, certify=True)
 
 
+@pytest.mark.slow
 def test_spatial_batch_masks_far_rows(gs):
     L = np.array([[2.0] * 6, [1e300] * 6, [1e-300] * 6, [1e300, 1, 1, 1, 1, 1]])
     b = gs.direct_kinematics_batch(L)

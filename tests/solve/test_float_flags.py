@@ -51,6 +51,7 @@ def per_call(m, q):
 
 # --------------------------------------------------------------------------- the issue's row
 
+@pytest.mark.slow
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel needs numba")
 def test_issue_row_is_flagged_on_every_float_path():
     m = issue_design()
@@ -104,6 +105,7 @@ def sample(seeds, lines):
         yield m, Q[keep], b.count[keep], level[keep]
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel needs numba")
 def test_float_paths_flag_wrong_counts_next_to_the_discriminant_fast():
     record = {}
@@ -173,6 +175,7 @@ def congruent(kind):
                                isp.RPR((1, 3), (13 / 5, 9 / 5))])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["unrotated", "rotated"])
 def test_continuum_raises_per_call_and_is_masked_per_row(kind):
     m = congruent(kind)

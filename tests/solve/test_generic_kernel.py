@@ -27,6 +27,7 @@ def designs():
             "3rrr": isp.PlanarParallel(RRR3)}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["seed002", "general", "3ppr", "mixed", "3rrr"])
 def test_design_row_encloses_the_exact_dyads(name):
     from imagespace.solve.kernel import design_row, design_tables
@@ -73,6 +74,7 @@ def reachable_rows(m, n, seed, box=((1, 3), (0.5, 2.5), (-0.6, 0.6))):
     return Q[np.all(np.isfinite(Q), axis=1)]
 
 
+@pytest.mark.slow
 def test_kernel_counts_equal_the_disc_certificate_on_seed002():
     """The kernel's proven counts against inclusion discs + flint on the enclosed general-q
     polynomial (a different algorithm on a different derivation of the same polynomial)."""
@@ -121,6 +123,7 @@ def test_kernel_intervals_hold_one_independent_mode_each():
     assert checked >= 10
 
 
+@pytest.mark.slow
 def test_certified_root_counts_three_rrr_against_exact_rows():
     """Three actuated base revolutes (cos/sin of the joint values in every coefficient): the
     kernel's counts against msolve's real solutions of the Euclidean system (independent of the

@@ -38,6 +38,7 @@ def joint_rows(m, n, seed):
     return Q[rng.permutation(len(Q))]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", NAMES)
 @pytest.mark.parametrize("proof", [True, False])
 def test_lockstep_stages_equal_the_row_functions_bit_for_bit(name, proof):
@@ -110,6 +111,7 @@ def test_lockstep_elimination_contains_the_exact_forms():
                     assert abs(exact - val) <= err
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", NAMES)
 def test_lockstep_kernel_equals_the_row_kernel_exactly(name):
     """Every output of the lockstep loop (modes, poses, residuals, aspects, counts, flags; the

@@ -242,6 +242,7 @@ test_ik_of_dk_is_q = settings(max_examples=10, deadline=None)(given(*_IK_POSES)(
 test_ik_of_dk_is_q_sweep = pytest.mark.slow(settings(max_examples=40, deadline=None)(given(*_IK_POSES)(_ik_of_dk_is_q)))
 
 
+@pytest.mark.slow
 def test_symbolic_polynomial_at_q_equals_numeric(rng):
     m = isp.examples.general_3rpr()
     P = m.kinematic_polynomial()

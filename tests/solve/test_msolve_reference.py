@@ -204,6 +204,7 @@ def test_double_root_construction_is_an_exact_double_root():
     assert near(planar_dk_reference(m, [Fraction(5) - Fraction(1, 2**20), 26, 20])) == 0
 
 
+@pytest.mark.slow
 def test_double_root_is_one_singular_mode_of_multiplicity_two():
     m = double_root_design()
     ref = planar_dk_reference(m, DOUBLE_Q)
@@ -298,6 +299,7 @@ def assert_continuum_on_every_path(m, q):
         assert sorted(res.errors) == [0, 1, 2] and all(res.errors.values())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("rho", [1.0, 2.5])
 @pytest.mark.parametrize("variant", [
     "congruent",
@@ -312,6 +314,7 @@ def test_congruent_3rpr_continuum(variant, rho):
     assert_continuum_on_every_path(m, q)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("rho", [1.0, 2.5])
 def test_rounded_congruent_rotated_3rpr_is_not_a_continuum(rho):
     """The rotated triangle rounded to floats: the exact input is NOT a continuum.

@@ -130,6 +130,7 @@ def test_issue_row_msolve_count():
     assert exact.count == 2 == gs.direct_kinematics(ISSUE_L).count
 
 
+@pytest.mark.slow
 def test_reliable_is_right_near_double_modes_small():
     sample = _sample(["6-6", "6-3", "3-3", "3-RPS"], 1, 1)
     total, reliable, how, unreliable = _check(sample, use_msolve=True)
@@ -203,6 +204,7 @@ def _designs_for_bounds(rng):
     yield isp.ThreeRPS(rng.normal(size=(3, 3)), rng.normal(size=(3, 3)) * 0.5, base_axes=rng.normal(size=(3, 3)))
 
 
+@pytest.mark.slow
 def test_compiled_bounds_contain_arb_enclosures():
     # every quantity the compiled test bounds (the quadrics for exact squared lengths, G(m),
     # ||Y G(m)||, ||I - Y J(m)||, mu, x . x on a box) at random points m and matrices Y, over
@@ -347,6 +349,7 @@ def _compare_with_arb(m, rows):
     return len(rows), int(b.certified.sum()), both
 
 
+@pytest.mark.slow
 def test_compiled_certificate_equals_arb_small():
     rng = np.random.default_rng(11)
     gs, L = isp.examples.dietmaier_1998()

@@ -183,6 +183,7 @@ def test_referee_half_turn_found_once(seed):
     _check_referee_poses(ref, base, platform, E.exact_squared_lengths(lengths=lengths))
 
 
+@pytest.mark.slow
 def test_referee_half_turn_random_axis_exact_lengths():
     # a half-turn about a random rational axis, lengths exact: q0 = 0 exactly, found once
     design = D.random_design(21)
@@ -203,6 +204,7 @@ def test_referee_complex_count_general_design():
                                          lengths=lengths) == (40, 40)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("make", [D.random_design_63, D.random_design_33], ids=["6-3", "3-3"])
 def test_referee_complex_count_special_designs(make):
     # the 6-3 and the octahedral 3-3 platforms have 16 complex poses
@@ -263,6 +265,7 @@ def _api_poses(result):
     return R, t
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["exact", "fast"])
 @pytest.mark.parametrize("i", _case_params())
 def test_api_matches_referee(i, method):

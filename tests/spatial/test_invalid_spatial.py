@@ -251,6 +251,7 @@ def test_non_finite_entries_are_input_errors_naming_the_parameter(target, bad):
     _named(excinfo, name)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("target", TARGETS, ids=IDS)
 @pytest.mark.parametrize("scale", [1e200, 1e300, 1e-300])
 def test_absurd_magnitudes_are_answered_or_refused(target, scale):

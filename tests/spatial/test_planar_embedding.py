@@ -39,6 +39,7 @@ def wrap(a):
 
 # --------------------------------------------------------------------------- the embedding
 
+@pytest.mark.slow
 @given(pose_st)
 @settings(max_examples=150, deadline=None)
 def test_embedded_image_point_has_the_planar_pose(pose):
@@ -163,6 +164,7 @@ CASES = ["general_3rpr q_example", "general_3rpr half-turn", "seeded design, IK 
          "seeded design, half-turn"]
 
 
+@pytest.mark.slow
 @needs_msolve
 @pytest.mark.parametrize("case", CASES)
 def test_planar_mechanism_solved_in_the_spatial_model_gives_the_planar_modes(case):

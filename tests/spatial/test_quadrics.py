@@ -84,6 +84,7 @@ def test_sphere_quadric_batch_matches_single(rng):
     assert np.allclose(vals, ((X - A) ** 2).sum(axis=1) - L ** 2, atol=1e-11)
 
 
+@pytest.mark.slow
 def test_sphere_form_identity_exactly():
     """``form * N == |N X - N a|^2 - N^2 L^2 + 4 (x . y)^2`` as polynomials (a, b, L symbolic).
 
@@ -139,6 +140,7 @@ def test_sphere_symbolic_face_equals_numeric_face(rng):
         assert np.allclose(np.array(sym.tolist(), dtype=float), num, rtol=1e-14, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_sphere_quadric_float_entries_within_a_few_ulps_of_exact(rng):
     """The compiled numeric face against the exact rational matrix of the same float input."""
     Q, syms = sphere_quadric_symbolic()
@@ -155,6 +157,7 @@ def test_sphere_quadric_float_entries_within_a_few_ulps_of_exact(rng):
 
 # --------------------------------------------------------------------------- plane and line
 
+@pytest.mark.slow
 def test_point_on_plane_quadric_at_random_poses(rng):
     # 15 designs x 5 poses (each matrix is derived with sympy: ~0.1 s a call)
     for _ in range(15):
@@ -171,6 +174,7 @@ def test_point_on_plane_quadric_at_random_poses(rng):
             assert abs(z2 @ Q @ z2) <= 1e-11 * N2 * (1 + np.abs(t2).max()) * (1 + np.abs(n).max())
 
 
+@pytest.mark.slow
 def test_point_on_line_quadrics_at_random_poses(rng):
     for _ in range(12):
         b, c, d = rng.normal(size=3), rng.normal(size=3), rng.normal(size=3)
@@ -236,6 +240,7 @@ def test_plane_quadric_float_entries_are_correctly_rounded(rng):
                 assert Q[i, j] == float(M[i][j]), (i, j)
 
 
+@pytest.mark.slow
 def test_line_quadrics_float_entries_are_correctly_rounded(rng):
     for _ in range(3):
         b, c, d = rng.normal(size=3) * 5, rng.normal(size=3) / 7, rng.normal(size=3) * 3

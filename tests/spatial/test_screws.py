@@ -70,6 +70,7 @@ def _singular_position(mech, rng):
     raise AssertionError("no sign change found")
 
 
+@pytest.mark.slow
 def test_rank_drops_exactly_on_the_closed_form_condition(rng):
     mech = TranslationalFiveR()
     translations = np.hstack([np.zeros((3, 3)), np.eye(3)])

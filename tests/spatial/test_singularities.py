@@ -171,6 +171,7 @@ def point_on_locus(locus, rng):
             return p + real[0] * d
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(4))
 def test_constant_orientation_locus_is_a_cubic(seed):
     """Read off the exact determinant: total degree 3 for general 6-6 designs and orientations."""
@@ -231,6 +232,7 @@ def test_matrix_and_quaternion_give_the_same_locus(rng):
     assert np.allclose(a.value(T), b.value(T), rtol=1e-9, atol=1e-12 * np.abs(a.value(T)).max())
 
 
+@pytest.mark.slow
 def test_zeros_of_the_locus_are_rank_5_jacobians(rng):
     for _ in range(5):
         gs = random_design(rng)

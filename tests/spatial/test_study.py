@@ -75,6 +75,7 @@ scale_st = st.one_of(st.floats(1e-3, 1e3), st.floats(-1e3, -1e-3))
 
 # --------------------------------------------------------------------------- properties (hypothesis)
 
+@pytest.mark.slow
 @given(axis_st, angle_st, trans_st)
 @settings(max_examples=150, deadline=None)
 def test_study_point_of_quaternion_and_matrix_inverts(axis, angle, t):
@@ -94,6 +95,7 @@ def test_study_point_of_quaternion_and_matrix_inverts(axis, angle, t):
     assert np.allclose(a, b, atol=1e-10) or (abs(a[0]) < 1e-10 and np.allclose(a, -b, atol=1e-10))
 
 
+@pytest.mark.slow
 @given(st.tuples(*[st.floats(-5.0, 5.0, allow_nan=False)] * 4).filter(lambda v: np.linalg.norm(v) > 1e-2))
 @settings(max_examples=150, deadline=None)
 def test_rotation_matrix_is_orthogonal_with_det_one_for_any_x(x):
@@ -109,6 +111,7 @@ def test_rotation_matrix_is_orthogonal_with_det_one_for_any_x(x):
         assert np.allclose(R, rodrigues(v, angle), atol=1e-11)
 
 
+@pytest.mark.slow
 @given(axis_st, angle_st, trans_st, axis_st, angle_st, trans_st)
 @settings(max_examples=100, deadline=None)
 def test_compose_is_the_product_of_homogeneous_matrices(ua, aa, ta, ub, ab, tb):
@@ -134,6 +137,7 @@ def test_inverse_composes_to_the_identity(axis, angle, t):
                        atol=1e-10)
 
 
+@pytest.mark.slow
 @given(axis_st, angle_st, trans_st, scale_st)
 @settings(max_examples=150, deadline=None)
 def test_normalize_keeps_the_displacement_and_fixes_the_sign(axis, angle, t, lam):
@@ -251,6 +255,7 @@ def random_rational(rng, den=17):
     return sp.Rational(int(rng.integers(-40, 41)), int(rng.integers(1, den)))
 
 
+@pytest.mark.slow
 def test_symbolic_face_is_exact():
     """Identities of the symbolic face hold exactly (as rational functions)."""
     q = sp.symbols("q0:4", real=True)
@@ -265,6 +270,7 @@ def test_symbolic_face_is_exact():
     assert [str(v) for v in study_symbols()] == ["x0", "x1", "x2", "x3", "y0", "y1", "y2", "y3"]
 
 
+@pytest.mark.slow
 def test_symbolic_face_equals_numeric_face_at_rationals(rng):
     q = sp.symbols("q0:4", real=True)
     t = sp.symbols("t1:4", real=True)

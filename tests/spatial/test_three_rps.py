@@ -23,6 +23,7 @@ def _design(seed):
     return rng.integers(-4, 5, (3, 3)) / 2.0, rng.integers(-4, 5, (3, 3)) / 4.0, rng.integers(-3, 4, (3, 3))
 
 
+@pytest.mark.slow
 def test_quadrics_are_the_euclidean_conditions():
     rng = np.random.default_rng(11)
     a, b, u = _design(3)
@@ -62,6 +63,7 @@ def test_fast_path_equals_msolve(seed):
         assert np.allclose(np.einsum("ij,ij->i", u, legs), 0, atol=1e-9)
 
 
+@pytest.mark.slow
 def test_inverse_of_a_reachable_pose():
     # a pose reached by the fast path: its leg lengths come back
     m = isp.ThreeRPS([[1, 0, 0], [-0.5, 0.8, 0], [-0.5, -0.8, 0]],
@@ -96,6 +98,7 @@ def test_bad_input():
         m.direct_kinematics([1.0, 1.0, 1.0], method="magic")
 
 
+@pytest.mark.slow
 @needs_msolve
 def test_complex_count_includes_half_turn_modes():
     # a symmetric design whose modes include half-turns (x0 = 0): msolve's count in the chart

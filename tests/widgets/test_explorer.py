@@ -41,6 +41,7 @@ def test_parse_joint_value_is_exact_and_never_evaluates():
         parse_joint_value(3.0)
 
 
+@pytest.mark.slow
 def test_sliders_start_exactly_at_q(seed002_explorer):
     ex = seed002_explorer
     q = isp.examples.stigger_husty().q_example_float
@@ -127,6 +128,7 @@ def test_section_regions_follow_det_j(seed002_explorer):
     assert checked > 40
 
 
+@pytest.mark.slow
 def test_change_mode_equal_and_opposite_aspects(seed002_explorer):
     ex = seed002_explorer
     ex.set_q(isp.examples.stigger_husty().q_example_float)
@@ -220,6 +222,7 @@ def _uncertifiable_q(m):
     return warned[-1]
 
 
+@pytest.mark.slow
 def test_near_singular_badge_next_to_a_double_root(seed002_explorer):
     ex = seed002_explorer
     m = ex.manipulator
@@ -307,6 +310,7 @@ def test_slider_snap_of_a_typed_value_is_not_a_user_move(seed002_explorer):
     assert not ex.status["exact"] and ex.exact_boxes[2].value == "" and ex.q[2] == pytest.approx(snapped + s.step)
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not msolve_available(), reason="msolve binary not installed")
 def test_modes_keep_their_numbers_across_a_count_change(seed002_explorer):
     ex = seed002_explorer

@@ -55,6 +55,7 @@ def _sent(ex, action):
     return [c for c, _ in sent if c["type"] == "update"], sent
 
 
+@pytest.mark.slow
 def test_marker_follows_q_and_shows_the_certified_count_not_the_grid_label(explorer, design, coarse):
     ex = explorer
     rng = np.random.default_rng(20261203)
@@ -152,6 +153,7 @@ def test_without_atlas_nothing_changes_and_nothing_is_imported():
     assert out.stdout.split() == ["['loop',", "'pose',", "'section',", "'space']", "None", "False", "False"]
 
 
+@pytest.mark.slow
 def test_bad_atlas_arguments(design):
     m = design
     with pytest.raises(TypeError, match="atlas must be a JointAtlas .* got str 'yes'"):

@@ -33,6 +33,7 @@ def _segments(trace):
     return out
 
 
+@pytest.mark.slow
 def test_counts_and_the_legs_drawn(dietmaier):
     ex = dietmaier
     st = ex.status
@@ -94,6 +95,7 @@ def test_a_count_change_keeps_the_survivors_numbers(dietmaier):
     assert ex.wait(120) and ex.status["certified_count"] == 40
 
 
+@pytest.mark.slow
 def test_default_lengths_and_bad_input():
     base = np.array([[2.0, 0.1, 0.0], [1.1, 1.6, 0.05], [-0.9, 1.8, -0.1], [-2.1, 0.2, 0.0], [-1.0, -1.7, 0.1],
                      [0.8, -1.9, 0.0]])

@@ -2,11 +2,13 @@
 tracker's numbers against the nearest partner of each surviving mode."""
 
 import numpy as np
+import pytest
 from scipy.optimize import linear_sum_assignment
 
 from imagespace.widgets.tracking import ModeTracker, assignment, projective_distance
 
 
+@pytest.mark.slow
 def test_assignment_is_optimal_like_scipys():
     rng = np.random.default_rng(16)
     for _ in range(300):
