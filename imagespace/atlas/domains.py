@@ -32,13 +32,23 @@ References
 D. Chablat, P. Wenger, *Working modes and aspects in fully parallel manipulators*, IEEE ICRA
 1998, arXiv:0707.2006 (working modes, aspects; illustrated on an RR-RRR); D. Chablat, P. Wenger,
 arXiv:0705.1148 (working modes, aspects, characteristic surfaces and uniqueness domains of fully
-parallel manipulators); P. Wenger, *Cuspidal and noncuspidal robot manipulators*, Robotica 25(6),
-2007, hal-00454562 (characteristic surfaces, uniqueness domains, the non-cuspidal criterion).
+parallel manipulators); P. Wenger, D. Chablat, *Uniqueness domains in the workspace of parallel
+manipulators*, arXiv:0705.0960 (parallel manipulators with one inverse kinematic solution: the
+aspects are not uniqueness domains, the characteristic surfaces cut the workspace into basic
+regions that yield the uniqueness domains; illustrated on a 3-RPR with an octree model);
+D. Chablat, G. Moroz, P. Wenger, *Uniqueness domains and non singular assembly mode changing
+trajectories*, arXiv:1104.0840 (non-singular assembly-mode changes explained by uniqueness
+domains); P. Wenger, *Cuspidal and noncuspidal robot manipulators*, Robotica 25(6), 2007,
+hal-00454562 (characteristic surfaces, uniqueness domains, the non-cuspidal criterion).
 
-Only the abstracts of the two Chablat-Wenger papers were reachable when this was written, so
-their example's number of uniqueness domains is not reproduced here; the construction follows
-the definitions above, and the tests check it against the direct kinematics and against the
-non-cuspidal criterion instead.
+No published example's number of uniqueness domains is reproduced here. The examples to
+reproduce are arXiv:0705.0960's 3-RPR and arXiv:1104.0840's, but the stored copies reachable
+when this was written (issue [17]) hold only each paper's title, abstract and the start of its
+introduction: not the example's anchors, joint limits or counts. No count is claimed without
+them. The construction follows the definitions above; the tests check it against the direct
+kinematics and against the non-cuspidal criterion, and check on a general 3-RPR what
+arXiv:0705.0960's abstract states of its own: the aspects are not uniqueness domains (more
+domains than aspects).
 """
 
 from __future__ import annotations

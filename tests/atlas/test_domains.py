@@ -5,6 +5,12 @@ exactly one solution at 1,200 sampled joint vectors of its image; a non-cuspidal
 base and platform, no cusp by the literature and by is_cuspidal's proof) has its aspects as
 uniqueness domains (Wenger, Robotica 25(6), 2007: a manipulator is non-cuspidal exactly when
 its uniqueness domains are its aspects).
+
+No test checks a published example's number of uniqueness domains: the examples of Wenger &
+Chablat (arXiv:0705.0960, a 3-RPR) and Chablat, Moroz & Wenger (arXiv:1104.0840) could be read
+only up to their abstracts and introductions here, without their anchors, joint limits or counts
+(issue [17]; see imagespace/atlas/domains.py). The general 3-RPR test checks the qualitative claim
+of arXiv:0705.0960's abstract instead: its aspects are not uniqueness domains.
 """
 
 import numpy as np
