@@ -24,12 +24,13 @@ def rng():
 
 
 
-# pytest-xdist (``--dist loadgroup`` in pyproject.toml) sends each group to one worker. Every item
-# is grouped by its file, as ``--dist loadscope`` would (module-scoped fixtures and per-process
-# caches built once per file); files that share an expensive per-process artefact form one group.
-# The seed-000 dynamics model (a symbolic derivation of about 4 s, cached per process by
-# seed000_model) is built by tests/dynamics and by the doctests of imagespace/dynamics: one group,
-# one derivation instead of one on each worker. Without xdist the marks do nothing.
+# pytest-xdist (``--dist loadgroup`` in pyproject.toml) sends each group to one worker and spreads
+# the other items one by one (session 10: grouping every file kept the long files on one worker
+# while the other idled; the suite took 21 min). Files that share an expensive per-process
+# artefact form one group. The seed-000 dynamics model (a symbolic derivation of about 4 s, cached
+# per process by seed000_model) is built by tests/dynamics and by the doctests of
+# imagespace/dynamics: one group, one derivation instead of one on each worker. Without xdist the
+# marks do nothing.
 XDIST_GROUPS = {
     "tests/dynamics/": "dynamics",
     "imagespace/dynamics/": "dynamics",
@@ -95,5 +96,6 @@ def pytest_collection_modifyitems(config, items):
         if isinstance(item, pytest.DoctestItem) and item.name in SLOW_DOCTESTS:
             item.add_marker(pytest.mark.slow)
         path = item.nodeid.split("::", 1)[0]
-        group = next((g for prefix, g in XDIST_GROUPS.items() if path.startswith(prefix)), path)
-        item.add_marker(pytest.mark.xdist_group(group))
+        group = next((g for prefix, g in XDIST_GROUPS.items() if path.startswith(prefix)), None)
+        if group is not None:
+            item.add_marker(pytest.mark.xdist_group(group))

@@ -54,20 +54,20 @@ __all__ = ["GoughStewart", "GOUGH_STEWART_BOUND", "PAIRED_BOUND"]
 
 #: Every Gough-Stewart platform has at most 40 isolated assembly modes over C (Raghavan 1993;
 #: Ronga & Vust 1992, Lazard 1993, Mourrain 1993): the generic design has 40 complex solutions with
-#: ``x . x != 0`` (msolve confirms it on random designs, ``tests/spatial/test_exact.py``), and the
+#: ``x.x != 0`` (msolve confirms it on random designs, ``tests/spatial/test_exact.py``), and the
 #: coefficient-parameter theorem (Morgan & Sommese 1989; Sommese & Wampler 2005, Thm 7.1.1) bounds
-#: the isolated solutions in the open set ``x . x != 0`` of every member of the family (designs
+#: the isolated solutions in the open set ``x.x != 0`` of every member of the family (designs
 #: and lengths) by the generic count.
 GOUGH_STEWART_BOUND = 40
 
 #: A 6-3 platform (the six platform points are three distinct points, each shared by two legs), a
 #: 3-6 platform (the same for the base) and a 3-3 platform (both; a special 6-3) have at most 16
-#: isolated assembly modes over C with ``x . x != 0``: 16 is the generic count of the 6-3 family
+#: isolated assembly modes over C with ``x.x != 0``: 16 is the generic count of the 6-3 family
 #: (Nanua, Waldron & Murthy 1990; Faugere & Lazard 1995; the 3-3: Griffis & Duffy 1989; msolve
 #: confirms 16 on random 6-3, 3-6 and 3-3 designs, ``tests/spatial/test_fast_certificate.py``), and
 #: the coefficient-parameter theorem carries it to every member of the family. A 3-6 platform is a
 #: 6-3 platform for the inverse motion (``(x, y) -> (x~, y~)``, a linear map of ``P^7`` keeping
-#: ``x . x``), so the bound is the same.
+#: ``x.x``), so the bound is the same.
 PAIRED_BOUND = 16
 
 

@@ -13,7 +13,7 @@ on random designs, see the tests). The plane quadrics must be exact: rounded to 
 structure that sends 24 of the 40 solutions of seven general quadrics to the exceptional
 generator ``x = 0`` is lost, and msolve then counts 40.
 
-At most 16 isolated complex solutions with ``x . x != 0`` for every design and lengths
+At most 16 isolated complex solutions with ``x.x != 0`` for every design and lengths
 (:data:`THREE_RPS_BOUND`): 16 is the generic count (Schadlbauer, Walter & Husty 2014; msolve
 confirms it on random designs, ``tests/spatial/test_three_rps.py``), and the coefficient-parameter
 theorem (Sommese & Wampler 2005, Thm 7.1.1) bounds every member of the family by it. So
@@ -51,7 +51,7 @@ if TYPE_CHECKING:
 
 __all__ = ["ThreeRPS", "THREE_RPS_BOUND"]
 
-#: Every 3-RPS has at most 16 isolated complex assembly modes with ``x . x != 0`` (the generic
+#: Every 3-RPS has at most 16 isolated complex assembly modes with ``x.x != 0`` (the generic
 #: count, Schadlbauer, Walter & Husty 2014, carried to every member by the coefficient-parameter
 #: theorem).
 THREE_RPS_BOUND = 16

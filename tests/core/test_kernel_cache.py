@@ -5,6 +5,11 @@ code's own report: private directories (0700 whatever the umask), refused direct
 owner, group/other-writable, symbolic link), planted modules never executed, planted symbolic
 links never followed, corrupted numba pickles rebuilt, and ``import imagespace`` with nothing
 writable.
+
+The generated module holds the lockstep loops and the row-at-a-time loops; the cache handles them
+alike (one file, one numba cache). These tests run the row loops (``lockstep=False``: compiled in
+about 15 s where the lockstep loops take about 80 s) and compare their counts, DK and certified,
+with the numpy path's counts computed once under the default cache.
 """
 
 import os
@@ -30,16 +35,34 @@ pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel cache needs n
 ROWS = 2000          # a batch of this size once failed on every later run with a broken cache
 
 
-def joint_rows(m, n=ROWS):
+def joint_rows(m=None, n=ROWS):
+    q = (m or isp.examples.general_3rpr()).q_example_float
     rng = np.random.default_rng(20261201)
-    return np.asarray(m.q_example_float) * (1 + 0.1 * rng.standard_normal((n, 3)))
+    return np.asarray(q) * (1 + 0.1 * rng.standard_normal((n, 3)))
+
+
+_REFERENCE = {}
+
+
+def numpy_counts():
+    """The numpy path's counts on :func:`joint_rows` (eigenvalues; computed once, under the cache
+    in effect at the first call: the default one, see the ``template`` fixture)."""
+    if "counts" not in _REFERENCE:
+        m = isp.examples.general_3rpr()
+        _REFERENCE["counts"] = m.direct_kinematics_batch(joint_rows(m), method="numpy").count
+    return _REFERENCE["counts"]
 
 
 def kernel_counts_match_numpy(m):
+    """The generated module's row loops (DK and certified counts) against the numpy path."""
+    from imagespace.solve.proof import batch_kernel
+
     Q = joint_rows(m)
-    k = m.direct_kinematics_batch(Q, method="kernel")
-    n = m.direct_kinematics_batch(Q, method="numpy")
-    return np.array_equal(k.count, n.count) and np.all(k.count > 0)
+    kernel = batch_kernel(m)
+    count = kernel(Q, lockstep=False)[4]
+    certified = kernel.certified_counts(Q, lockstep=False)[0]
+    ref = numpy_counts()
+    return np.array_equal(count, ref) and np.array_equal(certified, ref) and np.all(ref > 0)
 
 
 def cache_warnings(record):
@@ -50,15 +73,18 @@ def cache_warnings(record):
 def template(tmp_path_factory):
     """A kernel cache with the compiled kernel of general_3rpr (built once for the module; numba
     keys its cache on the content of the generated file, so copies of it load)."""
+    numpy_counts()                          # the reference, under the default cache
     root = tmp_path_factory.mktemp("template")
     old = os.environ.get("IMAGESPACE_CACHE")
     os.environ["IMAGESPACE_CACHE"] = str(root)
     try:
-        m = isp.examples.general_3rpr()
-        # every entry point the tests use, compiled and cached once (a test that damages one
-        # file then recompiles that one only)
-        m.direct_kinematics_batch(joint_rows(m, 10), method="kernel")
-        m.direct_kinematics_batch(joint_rows(m, 10), method="numpy")
+        # both row loops the tests use, compiled and cached once (a test that damages one file
+        # then recompiles that one only)
+        from imagespace.solve.proof import batch_kernel
+
+        kernel = batch_kernel(isp.examples.general_3rpr())
+        kernel(joint_rows(None, 10), lockstep=False)
+        kernel.certified_counts(joint_rows(None, 300), lockstep=False)
     finally:
         if old is None:
             del os.environ["IMAGESPACE_CACHE"]
@@ -66,7 +92,8 @@ def template(tmp_path_factory):
             os.environ["IMAGESPACE_CACHE"] = old
     folder = root / "kernels"
     (module,) = folder.glob("k_*.py")
-    assert len(list((folder / "__pycache__").glob("*.run-*.nbc"))) == 1
+    assert len(list((folder / "__pycache__").glob("*.run_rows-*.nbc"))) == 1
+    assert len(list((folder / "__pycache__").glob("*.run_counts_rows-*.nbc"))) == 1
     return root, module.name, module.read_bytes()
 
 
@@ -167,6 +194,7 @@ def test_sticky_world_writable_parent_is_accepted(tmp_path, monkeypatch):
 
 @pytest.mark.slow
 def test_refused_directory_gets_no_files_and_the_kernel_still_works(tmp_path, monkeypatch):
+    numpy_counts()                          # the reference, under the default cache
     monkeypatch.setenv("IMAGESPACE_CACHE", str(tmp_path))
     d = tmp_path / "kernels"
     _group_writable(d)
@@ -259,7 +287,7 @@ def _garbage(p):
 # one damage per file kind (each case recompiles the kernel, ~50 s): an index with garbage after
 # its version, a truncated data file. The other damages (truncated index, garbage or empty data)
 # reach the same guarded load and were checked when it was written (session 5)
-@pytest.mark.parametrize("pattern, damage", [("*.run-*.nbi", _garbage), ("*.run-*.nbc", _truncate)])
+@pytest.mark.parametrize("pattern, damage", [("*.run_rows-*.nbi", _garbage), ("*.run_rows-*.nbc", _truncate)])
 def test_corrupted_numba_cache_heals_itself(cache, pattern, damage):
     (victim,) = (cache / "__pycache__").glob(pattern)
     damage(victim)
@@ -291,9 +319,12 @@ assert type(fastdk._horner._cache).__name__ == "NullCache", fastdk._horner._cach
 m = isp.examples.general_3rpr()
 rng = np.random.default_rng(20261201)
 Q = np.asarray(m.q_example_float) * (1 + 0.1 * rng.standard_normal(({rows}, 3)))
-k = m.direct_kinematics_batch(Q, method="kernel")
-n = m.direct_kinematics_batch(Q, method="numpy")
-assert np.array_equal(k.count, n.count) and np.all(k.count > 0), (k.count, n.count)
+from imagespace.solve.proof import batch_kernel
+kernel = batch_kernel(m)
+ref = np.array({reference})                  # the numpy path's counts, from the test's process
+count = kernel(Q, lockstep=False)[4]
+certified = kernel.certified_counts(Q, lockstep=False)[0]
+assert np.array_equal(count, ref) and np.array_equal(certified, ref) and np.all(ref > 0), (count, certified)
 print("OK")
 """
 
@@ -314,7 +345,7 @@ def test_import_and_kernel_work_when_nothing_is_writable(tmp_path):
            if not k.startswith(("NUMBA_", "IMAGESPACE_", "XDG_", "PYTHON"))}
     env.update(HOME=str(blocker / "home"), IMAGESPACE_CACHE=str(blocker / "x"), NUMBA_CACHE_DIR="",
                PYTHONPATH=str(site), PYTHONDONTWRITEBYTECODE="1", MPLCONFIGDIR=str(tmp_path / "mpl"))
-    script = textwrap.dedent(SCRIPT.format(site=str(site), rows=ROWS))
+    script = textwrap.dedent(SCRIPT.format(site=str(site), rows=ROWS, reference=numpy_counts().tolist()))
     proc = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env,
                           capture_output=True, text=True, timeout=900)
     assert proc.returncode == 0, proc.stderr[-3000:]

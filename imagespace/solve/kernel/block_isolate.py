@@ -246,7 +246,7 @@ def _walk_lane(grid, nleaf, kinds, lane, d, lo, hi, chart, work):
 @njit(cache=True)
 def isolate_block(S, F0, Fe0, d, nb, grid, nleaf, status, counts, lo, hi, chart, work, fl, el, kinds):
     """:func:`~imagespace.core.isolate.count_real_roots_row` for every row of the block: the form
-    of degree ``d`` in rows ``F0 .. F0 + d`` of ``S``, its bounds in ``Fe0 ..``; counts into
+    of degree ``d`` in rows ``F0`` to ``F0 + d`` of ``S``, its bounds in ``Fe0`` on; counts into
     ``counts[l]``, the isolating intervals into ``lo[l], hi[l], chart[l]``.
 
     ``grid`` (``grid_rows(levels)``, ``GRID_FIELDS * LOCKSTEP_ROWS``) takes the split grid (see

@@ -42,7 +42,7 @@ S_SIZE = sum(_S_SIZES)
 
 def grid_rows(levels=GRID_LEVELS):
     """Rows (nodes) of the split grid of :func:`isolate_block` for ``levels`` levels: two charts,
-    the heap-ordered nodes ``1 .. 2**(levels + 1) - 1`` of each (row 0 of a chart unused).
+    the heap-ordered nodes ``1`` to ``2**(levels + 1) - 1`` of each (row 0 of a chart unused).
 
     Examples
     --------

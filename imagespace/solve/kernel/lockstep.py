@@ -68,7 +68,7 @@ __all__ = ["LOCKSTEP_ROWS", "GRID_LEVELS", "LOCKSTEP_NEWTON_STEPS", "S_SIZE", "g
 
 @njit(cache=True)
 def coefficients_block(Q, r0, nb, expo, coef, cerr, nmono, trig, bounded, S):
-    """:func:`.tables.design_row` for rows ``r0 .. r0 + nb - 1`` of ``Q`` at once: the quadric
+    """:func:`.tables.design_row` for rows ``r0`` to ``r0 + nb - 1`` of ``Q`` at once: the quadric
     coefficients into ``S[_S_C + k]``, their derivatives into ``S[_S_DC + k]`` and, with
     ``bounded``, rigorous bounds into ``S[_S_CE + k]`` (zero otherwise).
 
@@ -206,7 +206,7 @@ def _mac_block(S, f, fe, nf, g, ge, ng, s, h, nb, bounded):
 
 @njit(cache=True)
 def _close_block(S, lo, hi, nb, bounded):
-    """The rounding of the sums ``lo .. hi - 1`` added to their bounds (``close`` of
+    """The rounding of the sums ``lo`` to ``hi - 1`` added to their bounds (``close`` of
     :func:`~imagespace.core.elimination.eliminate_row`)."""
     if not bounded:
         return
@@ -354,7 +354,7 @@ _R_SIZE = 48 + ELIMINATION_ROW_SIZE
 
 @njit(cache=True, error_model="numpy")
 def refine_roots(MD, MI, nm, deg):
-    """:func:`.newton._monotone_root` for the roots ``0 .. nm - 1`` of ``MD``, each in its bracket
+    """:func:`.newton._monotone_root` for the roots ``0`` to ``nm - 1`` of ``MD``, each in its bracket
     ``[A, B]`` with values ``FA, FB`` of opposite signs: the result in ``MD[_M_T]``. Roots of degree ``deg`` take the first :data:`LOCKSTEP_NEWTON_STEPS` steps together
     (Horner's rule for all of them at once, then each root's decision), operation for operation
     the scalar iteration's; the rest of their steps, and roots of another degree, go through the
@@ -619,7 +619,7 @@ def block_workspace():
 @njit(cache=True)
 def solve_block(Q, r0, nb, expo, coef, cerr, nmono, trig, plan, tol, proof, out_X, out_P, out_R, out_A, cnt, flag,
                 S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p):
-    """The rows ``r0 .. r0 + nb - 1`` of ``Q`` through every stage in lockstep, into the kernel's
+    """The rows ``r0`` to ``r0 + nb - 1`` of ``Q`` through every stage in lockstep, into the kernel's
     outputs (the row kernel's ``run``, block by block)."""
     coefficients_block(Q, r0, nb, expo, coef, cerr, nmono, trig, proof, S)
     d = eliminate_block(S, plan, nb, proof)
@@ -633,7 +633,7 @@ def solve_block(Q, r0, nb, expo, coef, cerr, nmono, trig, plan, tol, proof, out_
 @njit(cache=True)
 def counts_block(Q, r0, nb, expo, coef, cerr, nmono, trig, plan, out_counts, out_lo, out_hi, out_chart,
                  S, grid, ints, kinds, lo, hi, chart, work, small):
-    """The certified counts of the rows ``r0 .. r0 + nb - 1`` (the row kernel's ``run_counts``):
+    """The certified counts of the rows ``r0`` to ``r0 + nb - 1`` (the row kernel's ``run_counts``):
     bounded coefficients and elimination, isolation; intervals of undecided rows left NaN / -1."""
     coefficients_block(Q, r0, nb, expo, coef, cerr, nmono, trig, True, S)
     d = eliminate_block(S, plan, nb, True)
