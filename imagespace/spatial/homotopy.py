@@ -46,7 +46,7 @@ if TYPE_CHECKING:
     from ..tolerances import Tolerances
 
 __all__ = ["StartSystem", "solve_start_system", "track_parameters", "classify_batch", "recentre",
-           "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED"]
+           "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED", "TRACK_KERNELS", "TRACK_KERNEL"]
 
 # start system: thresholds between the regular solutions and the degenerate component
 # (measured, see :func:`_regular`)
@@ -186,7 +186,7 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
         status = np.zeros((1, starts.shape[0]), dtype=np.int64)
         steps = np.zeros((1, starts.shape[0]), dtype=np.int64)
         track_many(np.ascontiguousarray(starts), 1, A, E, pidx, np.zeros((1, nparams), complex), p_star,
-                    U, patch, gamma, Z, status, steps)
+                   U, patch, gamma, Z, status, steps)
         paths += starts.shape[0]
         good = [z for z, st in zip(Z[0], status[0]) if st == PATH_OK and _regular(A, E, pidx, p_star, patch,
                                                                                     z, tol)]
@@ -198,7 +198,39 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
     return StartSystem(A, E, pidx, p_star, patch, np.ascontiguousarray(found), paths)
 
 
-def track_parameters(start: StartSystem, P: npt.ArrayLike) -> tuple[npt.NDArray[np.complex128], npt.NDArray[np.integer], npt.NDArray[np.integer]]:
+#: the trackers of :func:`track_parameters`: ``"lanes"`` the lockstep tracker
+#: (:mod:`imagespace.spatial.lanes`), ``"scalar"`` the one-path tracker
+#: (:mod:`imagespace.spatial.tracker`); they take the same decisions on every path
+TRACK_KERNELS = ("lanes", "scalar")
+#: the default tracker (the faster one on the issue [18] benchmark, ``benchmarks/spatial_dk.py``)
+TRACK_KERNEL = "scalar"
+
+
+def check_kernel(kernel: object) -> str:
+    """``kernel`` if it names a tracker of :data:`TRACK_KERNELS`, else an error.
+
+    Raises
+    ------
+    InputError
+        Naming the parameter, the value given and the trackers expected.
+
+    Examples
+    --------
+    >>> check_kernel("lanes")
+    'lanes'
+    >>> check_kernel("simd")
+    Traceback (most recent call last):
+    ...
+    imagespace.exceptions.InputError: kernel must be one of 'lanes', 'scalar', got 'simd'
+    """
+    if not isinstance(kernel, str) or kernel not in TRACK_KERNELS:
+        from ..exceptions import InputError
+        raise InputError(f"kernel must be one of {', '.join(map(repr, TRACK_KERNELS))}, got {kernel!r}")
+    return kernel
+
+
+def track_parameters(start: StartSystem, P: npt.ArrayLike, kernel: str = TRACK_KERNEL
+                     ) -> tuple[npt.NDArray[np.complex128], npt.NDArray[np.integer], npt.NDArray[np.integer]]:
     """Track the start solutions to real (or complex) target parameters, row by row.
 
     Parameters
@@ -206,6 +238,11 @@ def track_parameters(start: StartSystem, P: npt.ArrayLike) -> tuple[npt.NDArray[
     start : StartSystem
     P : (n, p) float or complex
         Target parameters (squared leg lengths).
+    kernel : {"lanes", "scalar"}, optional
+        ``"lanes"``: the lockstep tracker (:mod:`imagespace.spatial.lanes`, ``LANES`` paths
+        advanced together, vectorised); ``"scalar"``: one path at a time
+        (:mod:`imagespace.spatial.tracker`). Both take the same decisions on every path; the
+        endpoints agree to rounding. Default :data:`TRACK_KERNEL`.
 
     Returns
     -------
@@ -227,15 +264,25 @@ def track_parameters(start: StartSystem, P: npt.ArrayLike) -> tuple[npt.NDArray[
     >>> Z, status, steps = track_parameters(st, np.full((1, 6), 4.0))
     >>> Z.shape
     (1, 40, 8)
+    >>> Zl, status_l, _ = track_parameters(st, np.full((1, 6), 4.0), kernel="lanes")
+    >>> bool(np.array_equal(status, status_l) and np.allclose(Z, Zl, rtol=1e-9, atol=1e-12))
+    True
     """
+    kernel = check_kernel(kernel)
     P = np.ascontiguousarray(np.atleast_2d(P), dtype=complex)
     n, k = P.shape[0], start.solutions.shape[0]
     Z = np.zeros((n, k, DIM), dtype=complex)
     status = np.zeros((n, k), dtype=np.int64)
     steps = np.zeros((n, k), dtype=np.int64)
-    if k:
+    if not n or not k:
+        return Z, status, steps
+    if kernel == "lanes":
+        from .lanes import track_lanes
+        track_lanes(start.solutions, start.A, start.E, start.pidx, P, start.p_star, start.patch, Z, status,
+                    steps)
+    else:
         track_many(start.solutions, 0, start.A, start.E, start.pidx, P, start.p_star,
-                    np.zeros((start.A.shape[0], DIM), complex), start.patch, 1.0 + 0j, Z, status, steps)
+                   np.zeros((start.A.shape[0], DIM), complex), start.patch, 1.0 + 0j, Z, status, steps)
     return Z, status, steps
 
 
@@ -347,7 +394,8 @@ def classify_batch(Z: npt.NDArray[np.complex128], status: npt.NDArray[np.integer
 RECENTRE_SPREAD = 0.3
 
 
-def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0) -> StartSystem:
+def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0, kernel: str = TRACK_KERNEL
+             ) -> StartSystem:
     """Move the start system to generic complex parameters near ``centre`` (fewer steps to targets).
 
     The new parameters are ``centre * (1 + RECENTRE_SPREAD * g)`` with ``g`` seeded complex normal:
@@ -360,6 +408,8 @@ def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0) -> StartS
     centre : (p,) float
         Typical target parameters (e.g. a batch's median).
     seed : int
+    kernel : {"lanes", "scalar"}, optional
+        The tracker (:func:`track_parameters`).
 
     Returns
     -------
@@ -382,7 +432,7 @@ def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0) -> StartS
     rng = np.random.default_rng(seed)
     centre = np.asarray(centre, dtype=float)
     p_new = centre * (1.0 + RECENTRE_SPREAD * _random_complex(rng, centre.shape[0]))
-    Z, status, _ = track_parameters(start, p_new[None])
+    Z, status, _ = track_parameters(start, p_new[None], kernel=kernel)
     Z = Z[0]
     if np.any(status[0] != PATH_OK) or not np.all(np.isfinite(Z)):
         return start

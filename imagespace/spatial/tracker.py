@@ -29,6 +29,7 @@ STEP_MAX = 1.0           # largest step
 STEP_GROW = 2.0          # growth after a step whose corrector converged in one iteration
 STEP_KEEP = 1.25         # ... in two
 STEP_SHRINK = 0.7        # ... in three
+STEP_CUT = 0.5           # after a step whose corrector failed
 MAX_STEPS = 3000         # step budget of a path (then PATH_FAILED)
 NEWTON_STEPS = 3         # corrector iterations per step
 # corrector converged: |dz| <= CORRECT_TOL * |z| (loose: the endpoint is polished at s = 0, and two
@@ -261,7 +262,7 @@ def _track(z0, mode, A, E, pidx, p0, p1, U, c, gamma, z, V, J, piv):
             else:
                 h *= STEP_SHRINK
         else:
-            h *= 0.5
+            h *= STEP_CUT
             if h < STEP_MIN:
                 return PATH_FAILED, steps
     for it in range(FINAL_NEWTON):
