@@ -202,20 +202,18 @@ def _lanes_lu(B):
                 better = a > B[_BIG, l]
                 B[_BIG, l] = a if better else B[_BIG, l]
                 B[_PIV + k, l] = fi if better else B[_PIV + k, l]
-        for l in range(L):
-            p = int(B[_PIV + k, l])
-            if p != k:
-                for j in range(k, DIM):
-                    a = _JR + k * DIM + j
-                    b = _JR + p * DIM + j
-                    tmp = B[a, l]
-                    B[a, l] = B[b, l]
-                    B[b, l] = tmp
-                    a += _JI - _JR
-                    b += _JI - _JR
-                    tmp = B[a, l]
-                    B[a, l] = B[b, l]
-                    B[b, l] = tmp
+        for i in range(k + 1, DIM):        # the swap as selects over lanes (vectorised)
+            fi = float(i)
+            for j in range(k, DIM):
+                for part in range(2):
+                    a = _JR + part * (_JI - _JR) + k * DIM + j
+                    b = _JR + part * (_JI - _JR) + i * DIM + j
+                    for l in range(L):
+                        swap = B[_PIV + k, l] == fi
+                        u = B[a, l]
+                        v = B[b, l]
+                        B[a, l] = v if swap else u
+                        B[b, l] = u if swap else v
         for l in range(L):
             a = B[rkk, l]
             b = B[ikk, l]
@@ -257,15 +255,17 @@ def _lanes_solve(B, br, bi, xr, xi):
             B[xr + i, l] = B[br + i, l]
             B[xi + i, l] = B[bi + i, l]
     for k in range(DIM):
-        for l in range(L):
-            p = int(B[_PIV + k, l])
-            if p != k:
-                tmp = B[xr + k, l]
-                B[xr + k, l] = B[xr + p, l]
-                B[xr + p, l] = tmp
-                tmp = B[xi + k, l]
-                B[xi + k, l] = B[xi + p, l]
-                B[xi + p, l] = tmp
+        for i in range(k + 1, DIM):        # the swap as selects over lanes (vectorised)
+            fi = float(i)
+            for part in range(2):
+                a = (xr if part == 0 else xi) + k
+                b = (xr if part == 0 else xi) + i
+                for l in range(L):
+                    swap = B[_PIV + k, l] == fi
+                    u = B[a, l]
+                    v = B[b, l]
+                    B[a, l] = v if swap else u
+                    B[b, l] = u if swap else v
         for i in range(k + 1, DIM):
             rf = _JR + i * DIM + k
             jf = _JI + i * DIM + k
