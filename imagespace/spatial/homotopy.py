@@ -203,7 +203,7 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
 #: (:mod:`imagespace.spatial.tracker`); they take the same decisions on every path
 TRACK_KERNELS = ("lanes", "scalar")
 #: the default tracker (the faster one on the issue [18] benchmark, ``benchmarks/spatial_dk.py``)
-TRACK_KERNEL = "scalar"
+TRACK_KERNEL = "lanes"
 
 
 def check_kernel(kernel: object) -> str:

@@ -27,7 +27,7 @@ from .tracker import (CORRECT_TOL, DIM, DIVERGED, FINAL_NEWTON, FINAL_TOL, FIRST
                       NEWTON_STEPS, PATH_FAILED, PATH_OK, STEP_CUT, STEP_FIRST, STEP_GROW, STEP_KEEP,
                       STEP_MAX, STEP_MIN, STEP_SHRINK)
 
-__all__: list[str] = []     # internal: reached through imagespace.spatial.homotopy.track_parameters
+__all__: list[str] = []     # internal: the default kernel of imagespace.spatial.homotopy.track_parameters
 
 #: paths advanced together (a multiple of the SIMD width: 4 doubles with AVX2, 8 with AVX-512)
 LANES = 32
