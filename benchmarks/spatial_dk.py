@@ -16,23 +16,33 @@ without msolve). Printed per design, rows per second (wall clock, numba threads 
 * ``arb-certified``: the previous certified implementation (:func:`arb_certified_row`: tracking
   and Krawczyk in arb on every endpoint, msolve where that fails) -- the baseline;
 * ``msolve``: ``method="exact"``;
-* whether the certified paths agree (counts and modes) on the shared rows.
+* whether the certified paths agree (counts and modes) on the shared rows;
+* ``fast path, kernel=...`` (issue [18] target 5: >= 2,000 poses/s on 2 cores): the fast path's
+  back end (:func:`~imagespace.spatial.solver.solve_rows`: re-centring, tracking, compiled
+  certificate, classification) with the one-path tracker (``kernel="scalar"``, the baseline) and
+  the lockstep tracker (``kernel="lanes"``) on the same rows, interleaved, on ``KERNEL_THREADS``
+  numba threads: the median poses/s of ``KERNEL_REPEATS`` runs each (range in brackets), the
+  ratio, and whether the two give the same counts and ``reliable`` flags.
 
 ``python benchmarks/spatial_dk.py [N_FAST N_ARB N_EXACT N_COMPARE]``: ``N_COMPARE`` more rows per
 6-6 design compared between the compiled and the arb certified paths (the issue's 10,000-row check:
 ``N_COMPARE = 5000`` for the two 6-6 designs).
+
+``python benchmarks/spatial_dk.py --kernels [N_FAST]``: the kernel comparison alone (a few seconds),
+on the two 6-6 designs.
 """
 
 import sys
 import time
 
+import numba
 import numpy as np
 
 import imagespace as isp
 from imagespace.spatial.certify import krawczyk_certify
 from imagespace.spatial.fastcert import certify_endpoints, family_enclosure, parameter_enclosure
 from imagespace.spatial.homotopy import PATH_OK, classify_batch, recentre, track_parameters
-from imagespace.spatial.solver import RECENTRE_MIN_ROWS, exact_study_solver
+from imagespace.spatial.solver import RECENTRE_MIN_ROWS, exact_study_solver, solve_rows
 from imagespace.spatial.study import normalize_study, study_point
 
 
@@ -80,6 +90,44 @@ def _same_modes(a, b):
 
 def _rate(n, t):
     return n / t if t > 0 else float("inf")
+
+
+#: numba threads of the kernel comparison (issue [18] target 5 is stated for 2 cores)
+KERNEL_THREADS = 2
+#: interleaved runs per kernel (the machine is shared: the median and the range are printed)
+KERNEL_REPEATS = 5
+
+
+def compare_kernels(name, m, L):
+    """The fast path's back end with kernel="scalar" and kernel="lanes" on the same rows,
+    interleaved; prints poses/s (median and range of ``KERNEL_REPEATS`` runs) and the ratio."""
+    threads = numba.get_num_threads()
+    numba.set_num_threads(min(KERNEL_THREADS, numba.config.NUMBA_NUM_THREADS))
+    fam = m.family()
+    kernels = ("scalar", "lanes")
+    batches, times = {}, {k: [] for k in kernels}
+    try:
+        for k in kernels:                                    # compiled, caches loaded
+            solve_rows(fam, m.start_system, L[:8] ** 2, m.tolerances, lengths=L[:8], kernel=k)
+        for _ in range(KERNEL_REPEATS):
+            for k in kernels:
+                t = time.perf_counter()
+                batches[k] = solve_rows(fam, m.start_system, L ** 2, m.tolerances, lengths=L, kernel=k)
+                times[k].append(time.perf_counter() - t)
+    finally:
+        used = numba.get_num_threads()
+        numba.set_num_threads(threads)
+    rate = {k: sorted(L.shape[0] / t for t in times[k]) for k in kernels}
+    med = {k: float(np.median(rate[k])) for k in kernels}
+    same = (np.array_equal(batches["scalar"].count, batches["lanes"].count)
+            and np.array_equal(batches["scalar"].reliable, batches["lanes"].reliable))
+    print(f"  fast path on {used} threads, {L.shape[0]} rows, median of {KERNEL_REPEATS} interleaved runs "
+          f"({name}):")
+    for k in kernels:
+        print(f"    kernel={k!r:9s} {med[k]:9.1f} poses/s  [{rate[k][0]:.1f} .. {rate[k][-1]:.1f}]")
+    print(f"    lanes / scalar: {med['lanes'] / med['scalar']:.2f}x;  same counts and reliable: {same}; "
+          f"reliable {int(batches['lanes'].reliable.sum())}/{L.shape[0]}")
+    return med
 
 
 def run_design(name, m, L, n_arb, n_exact, n_compare, rng):
@@ -152,20 +200,32 @@ def run_design(name, m, L, n_arb, n_exact, n_compare, rng):
           f"  certificate cost / tracking cost: {t_cert / t_track:.2f}")
     print(f"  same answers: compiled-certified = arb-certified on {agree}/{len(idx)} rows; "
           f"= msolve on {agree_exact}/{len(exact)} rows")
+    compare_kernels(name, m, L)
 
 
-def main(n_fast=4000, n_arb=40, n_exact=8, n_compare=0):
-    rng = np.random.default_rng(2026)
+def designs_66(n_fast, rng):
+    """The two 6-6 designs and their rows: (name, platform, lengths)."""
     base = rng.integers(-8, 9, (6, 3)) / 8.0
     platform = rng.integers(-8, 9, (6, 3)) / 16.0
     gs = isp.GoughStewart(base, platform)
     poses = study_point(rng.normal(size=(n_fast, 4)), rng.uniform(-0.5, 0.5, (n_fast, 3)) + [0, 0, 1.5])
-    run_design("general 6-6", gs, gs.inverse_kinematics(poses), n_arb, n_exact, n_compare, rng)
-
     dg, Ld = isp.examples.dietmaier_1998()
     u = rng.normal(size=(n_fast, 6))
     Ld = np.asarray(Ld) * (1 + 10.0 ** rng.uniform(-6, -2, (n_fast, 1)) * u / np.linalg.norm(u, axis=1)[:, None])
-    run_design("Dietmaier 1998 (lengths moved 1e-6 .. 1e-2)", dg, Ld, n_arb, n_exact, n_compare, rng)
+    return [("general 6-6", gs, gs.inverse_kinematics(poses)),
+            ("Dietmaier 1998 (lengths moved 1e-6 .. 1e-2)", dg, Ld)]
+
+
+def kernels_only(n_fast=4000):
+    rng = np.random.default_rng(2026)
+    for name, m, L in designs_66(n_fast, rng):
+        compare_kernels(name, m, L)
+
+
+def main(n_fast=4000, n_arb=40, n_exact=8, n_compare=0):
+    rng = np.random.default_rng(2026)
+    for name, m, L in designs_66(n_fast, rng):
+        run_design(name, m, L, n_arb, n_exact, n_compare, rng)
 
     tri = rng.integers(-16, 17, (3, 3)) / 16.0
     g63 = isp.GoughStewart(rng.integers(-16, 17, (6, 3)) / 8.0, tri[[0, 1, 1, 2, 2, 0]])
@@ -186,5 +246,7 @@ def main(n_fast=4000, n_arb=40, n_exact=8, n_compare=0):
 
 
 if __name__ == "__main__":
-    args = [int(a) for a in sys.argv[1:5]]
-    main(*args)
+    if sys.argv[1:2] == ["--kernels"]:
+        kernels_only(*[int(a) for a in sys.argv[2:3]])
+    else:
+        main(*[int(a) for a in sys.argv[1:5]])

@@ -38,286 +38,20 @@ from typing import TYPE_CHECKING, Optional
 import numpy as np
 import numpy.typing as npt
 
-from ..core._numba import njit, prange
+from ..core._numba import njit
+from .tracker import DIM, PATH_FAILED, PATH_OK, complex_norm, track_many
 
 if TYPE_CHECKING:
     from ..core.kinematic_map import FloatArray
     from ..tolerances import Tolerances
 
 __all__ = ["StartSystem", "solve_start_system", "track_parameters", "classify_batch", "recentre",
-           "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED"]
+           "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED", "TRACK_KERNELS", "TRACK_KERNEL"]
 
-#: path status codes
-PATH_OK = 0
-PATH_FAILED = 1          # the step size fell below the minimum or the step budget ran out
-
-# numerical knobs of the tracker (they steer the integration, they decide nothing about an answer:
-# every endpoint is checked afterwards, by Newton residuals and by the certificate)
-_N = 8                   # homogeneous Study coordinates
-_STEP_FIRST = 0.1       # first step in s (an Euler step)
-_STEP_MIN = 1e-9         # smallest step before a path is given up
-_STEP_MAX = 1.0          # largest step
-_STEP_GROW = 2.0         # growth after a step whose corrector converged in one iteration
-_STEP_KEEP = 1.25        # ... in two
-_STEP_SHRINK = 0.7       # ... in three
-_MAX_STEPS = 3000
-_NEWTON_STEPS = 3        # corrector iterations per step
-# corrector converged: |dz| <= _CORRECT_TOL * |z| (loose: the endpoint is polished at s = 0, and two
-# paths that meet end at one endpoint, which the distinctness check reports; 17 evaluations a path
-# instead of 21 at 1e-5)
-_CORRECT_TOL = 1e-4
-_FIRST_CORRECTION = 0.01  # the first corrector update must be below this times |z| (against path jumping)
-_FINAL_NEWTON = 4        # polishing iterations at the target
-_START_X = 1e-4          # start system: |x| / |z| above this is not the degenerate component
-_START_COND = 1e-9       # start system: sigma_min / sigma_max of the Jacobian above this is regular
-_BLOCKS = 256            # parallel blocks of (row, path) jobs
-_DIVERGED = 1e8          # |z| beyond this on the patch: the path runs to the degenerate component
-
-
-@njit(cache=True, fastmath=True)
-def _lu(M, piv):
-    """LU factorisation in place (8 x 8 complex, partial pivoting on ``|re| + |im|``); False on a
-    zero pivot."""
-    n = M.shape[0]
-    for k in range(n):
-        p = k
-        big = abs(M[k, k].real) + abs(M[k, k].imag)
-        for i in range(k + 1, n):
-            a = abs(M[i, k].real) + abs(M[i, k].imag)
-            if a > big:
-                big = a
-                p = i
-        piv[k] = p
-        if big == 0.0:
-            return False
-        if p != k:
-            for j in range(n):
-                tmp = M[k, j]
-                M[k, j] = M[p, j]
-                M[p, j] = tmp
-        inv = 1.0 / M[k, k]
-        for i in range(k + 1, n):
-            f = M[i, k] * inv
-            M[i, k] = f
-            for j in range(k + 1, n):
-                M[i, j] -= f * M[k, j]
-    return True
-
-
-@njit(cache=True, fastmath=True)
-def _lu_solve(M, piv, b, out, sign):
-    """``out = sign * M^{-1} b`` from the factors of :func:`_lu`."""
-    n = M.shape[0]
-    for i in range(n):
-        out[i] = sign * b[i]
-    for k in range(n):
-        p = piv[k]
-        if p != k:
-            tmp = out[k]
-            out[k] = out[p]
-            out[p] = tmp
-    for k in range(n):
-        for i in range(k + 1, n):
-            out[i] -= M[i, k] * out[k]
-    for i in range(n - 1, -1, -1):
-        acc = out[i]
-        for j in range(i + 1, n):
-            acc -= M[i, j] * out[j]
-        out[i] = acc / M[i, i]
-
-
-@njit(cache=True, fastmath=True)
-def _evaluate(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az):
-    """Value ``H``, Jacobian ``J`` and ``dH/ds`` of the homotopy at ``(z, s)``.
-
-    mode 0 (parameters): ``H_k = z^T A_k z - p_k(s) z^T E z`` with ``p(s) = (1 - s) p0 + s p1``.
-    mode 1 (start): ``H = (1 - s) F(z; p1) + s gamma G(z)``, ``G_k = (u_k . z)^2 - (c . z)^2``.
-    The last row is the patch ``c . z - 1``.
-    """
-    m = A.shape[0]
-    # E is diagonal (x . x for legs): Ez = diag(E) z
-    for i in range(_N):
-        Ez[i] = E[i, i] * z[i]
-    zEz = 0j
-    for i in range(_N):
-        zEz += z[i] * Ez[i]
-    cz = 0j
-    for i in range(_N):
-        cz += c[i] * z[i]
-    for k in range(m):
-        # A is real: real and imaginary parts separately (half the multiplications)
-        for i in range(_N):
-            ar = 0.0
-            ai = 0.0
-            for j in range(_N):
-                a = A[k, i, j]
-                ar += a * z[j].real
-                ai += a * z[j].imag
-            Az[i] = complex(ar, ai)
-        zAz = 0j
-        for i in range(_N):
-            zAz += z[i] * Az[i]
-        q = pidx[k]
-        if mode == 0:
-            if q >= 0:
-                pk = (1.0 - s) * p0[q] + s * p1[q]
-                dp = p1[q] - p0[q]
-            else:
-                pk = 0j
-                dp = 0j
-            H[k] = zAz - pk * zEz
-            Hs[k] = -dp * zEz
-            for i in range(_N):
-                J[k, i] = 2.0 * (Az[i] - pk * Ez[i])
-        else:
-            pk = p1[q] if q >= 0 else 0j
-            F = zAz - pk * zEz
-            uz = 0j
-            for i in range(_N):
-                uz += U[k, i] * z[i]
-            G = uz * uz - cz * cz
-            H[k] = (1.0 - s) * F + s * gamma * G
-            Hs[k] = gamma * G - F
-            for i in range(_N):
-                dF = 2.0 * (Az[i] - pk * Ez[i])
-                dG = 2.0 * (uz * U[k, i] - cz * c[i])
-                J[k, i] = (1.0 - s) * dF + s * gamma * dG
-    H[m] = cz - 1.0
-    Hs[m] = 0j
-    for i in range(_N):
-        J[m, i] = c[i]
-
-
-@njit(cache=True, fastmath=True)
-def _norm(v):
-    acc = 0.0
-    for i in range(v.shape[0]):
-        acc += v[i].real * v[i].real + v[i].imag * v[i].imag
-    return np.sqrt(acc)
-
-
-@njit(cache=True, fastmath=True)
-def _track(z0, mode, A, E, pidx, p0, p1, U, c, gamma, z, V, J, piv):
-    """Track one path from ``s = 1`` to ``s = 0``; ``z`` receives the endpoint. Returns (status,
-    Jacobian evaluations). ``V`` (10, 8) complex, ``J`` (8, 8) complex and ``piv`` (8,) int are
-    work arrays (allocated once per thread by the caller).
-
-    Predictor: cubic Hermite extrapolation through the last two accepted points and their tangents
-    (Euler for the first step); the tangent at an accepted point reuses the LU factors of the
-    corrector's last Jacobian. Corrector: Newton, at most ``_NEWTON_STEPS`` iterations.
-    """
-    H = V[0]
-    Hs = V[1]
-    dz = V[2]
-    dzp = V[3]
-    zp = V[4]
-    w = V[5]
-    step = V[6]
-    Ez = V[7]
-    Az = V[8]
-    for i in range(_N):
-        z[i] = z0[i]
-    s = 1.0
-    _evaluate(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
-    if not _lu(J, piv):
-        return PATH_FAILED, 0
-    _lu_solve(J, piv, Hs, dz, -1.0)
-    sp = 1.0
-    have_prev = False
-    h = _STEP_FIRST
-    steps = 0
-    evals = 1
-    while s > 0.0:
-        steps += 1
-        if steps > _MAX_STEPS:
-            return PATH_FAILED, steps
-        if h > s:
-            h = s
-        t = s - h
-        if have_prev:
-            d = s - sp
-            tau = (t - sp) / d
-            t2 = tau * tau
-            t3 = t2 * tau
-            h00 = 2.0 * t3 - 3.0 * t2 + 1.0
-            h10 = t3 - 2.0 * t2 + tau
-            h01 = -2.0 * t3 + 3.0 * t2
-            h11 = t3 - t2
-            for i in range(_N):
-                w[i] = h00 * zp[i] + h10 * d * dzp[i] + h01 * z[i] + h11 * d * dz[i]
-        else:
-            for i in range(_N):
-                w[i] = z[i] - h * dz[i]
-        converged = False
-        used = 0
-        for it in range(_NEWTON_STEPS):
-            used = it + 1
-            evals += 1
-            _evaluate(w, t, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
-            if not _lu(J, piv):
-                break
-            _lu_solve(J, piv, H, step, 1.0)
-            for i in range(_N):
-                w[i] -= step[i]
-            nd, nw = _norm(step), _norm(w)
-            if it == 0 and nd > _FIRST_CORRECTION * (1.0 + nw):
-                break
-            if nd <= _CORRECT_TOL * (1.0 + nw):
-                converged = True
-                break
-        if converged:
-            if _norm(w) > _DIVERGED:
-                return PATH_FAILED, steps
-            for i in range(_N):
-                zp[i] = z[i]
-                dzp[i] = dz[i]
-                z[i] = w[i]
-            sp = s
-            s = t
-            _lu_solve(J, piv, Hs, dz, -1.0)
-            have_prev = True
-            # step control from the corrector's effort: one iteration -> grow, three -> shrink
-            if used == 1:
-                h = min(h * _STEP_GROW, _STEP_MAX)
-            elif used == 2:
-                h = min(h * _STEP_KEEP, _STEP_MAX)
-            else:
-                h *= _STEP_SHRINK
-        else:
-            h *= 0.5
-            if h < _STEP_MIN:
-                return PATH_FAILED, steps
-    for it in range(_FINAL_NEWTON):
-        _evaluate(z, 0.0, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
-        if not _lu(J, piv):
-            break
-        _lu_solve(J, piv, H, step, 1.0)
-        for i in range(_N):
-            z[i] -= step[i]
-        if _norm(step) <= 1e-15 * (1.0 + _norm(z)):
-            break
-    return PATH_OK, evals
-
-
-@njit(cache=True, parallel=True)
-def _track_many(starts, mode, A, E, pidx, P0, p1, U, c, gamma, Z, status, steps):
-    """Every (row, path) pair: row ``r`` tracks the start points to the parameters ``P0[r]``."""
-    n = P0.shape[0]
-    k = starts.shape[0]
-    jobs = n * k
-    blocks = min(jobs, _BLOCKS)
-    for b in prange(blocks):
-        # one set of work arrays per block: no allocation per path (allocations in parallel
-        # threads serialise on the allocator)
-        V = np.zeros((10, _N), dtype=np.complex128)
-        J = np.zeros((_N, _N), dtype=np.complex128)
-        piv = np.zeros(_N, dtype=np.int64)
-        for job in range(b * jobs // blocks, (b + 1) * jobs // blocks):
-            r = job // k
-            j = job % k
-            st, ns = _track(starts[j], mode, A, E, pidx, P0[r], p1, U, c, gamma, Z[r, j], V, J, piv)
-            status[r, j] = st
-            steps[r, j] = ns
+# start system: thresholds between the regular solutions and the degenerate component
+# (measured, see :func:`_regular`)
+_START_X = 1e-4          # |x| / |z| above this is not the degenerate component
+_START_COND = 1e-9       # sigma_min / sigma_max of the Jacobian above this is regular
 
 
 @dataclass(frozen=True)
@@ -438,21 +172,21 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
     pidx = np.ascontiguousarray(pidx, dtype=np.int64)
     m = A.shape[0]
     p_star = _random_complex(rng, nparams)
-    patch = _random_complex(rng, _N)
-    found = np.zeros((0, _N), dtype=complex)
+    patch = _random_complex(rng, DIM)
+    found = np.zeros((0, DIM), dtype=complex)
     paths = 0
     for _ in range(attempts):
-        U = _random_complex(rng, (m, _N))
+        U = _random_complex(rng, (m, DIM))
         gamma = np.exp(2j * np.pi * rng.random())
         signs = np.array(np.meshgrid(*[[1.0, -1.0]] * m, indexing="ij")).reshape(m, -1).T
         M = np.vstack([U, patch])
         starts = np.linalg.solve(M[None], np.concatenate([signs, np.ones((signs.shape[0], 1))], axis=1)
                                  .astype(complex)[..., None])[..., 0]
-        Z = np.zeros((1, starts.shape[0], _N), dtype=complex)
+        Z = np.zeros((1, starts.shape[0], DIM), dtype=complex)
         status = np.zeros((1, starts.shape[0]), dtype=np.int64)
         steps = np.zeros((1, starts.shape[0]), dtype=np.int64)
-        _track_many(np.ascontiguousarray(starts), 1, A, E, pidx, np.zeros((1, nparams), complex), p_star,
-                    U, patch, gamma, Z, status, steps)
+        track_many(np.ascontiguousarray(starts), 1, A, E, pidx, np.zeros((1, nparams), complex), p_star,
+                   U, patch, gamma, Z, status, steps)
         paths += starts.shape[0]
         good = [z for z, st in zip(Z[0], status[0]) if st == PATH_OK and _regular(A, E, pidx, p_star, patch,
                                                                                     z, tol)]
@@ -464,7 +198,39 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
     return StartSystem(A, E, pidx, p_star, patch, np.ascontiguousarray(found), paths)
 
 
-def track_parameters(start: StartSystem, P: npt.ArrayLike) -> tuple[npt.NDArray[np.complex128], npt.NDArray[np.integer], npt.NDArray[np.integer]]:
+#: the trackers of :func:`track_parameters`: ``"lanes"`` the lockstep tracker
+#: (:mod:`imagespace.spatial.lanes`), ``"scalar"`` the one-path tracker
+#: (:mod:`imagespace.spatial.tracker`); they take the same decisions on every path
+TRACK_KERNELS = ("lanes", "scalar")
+#: the default tracker (the faster one on the issue [18] benchmark, ``benchmarks/spatial_dk.py``)
+TRACK_KERNEL = "lanes"
+
+
+def check_kernel(kernel: object) -> str:
+    """``kernel`` if it names a tracker of :data:`TRACK_KERNELS`, else an error.
+
+    Raises
+    ------
+    InputError
+        Naming the parameter, the value given and the trackers expected.
+
+    Examples
+    --------
+    >>> check_kernel("lanes")
+    'lanes'
+    >>> check_kernel("simd")
+    Traceback (most recent call last):
+    ...
+    imagespace.exceptions.InputError: kernel must be one of 'lanes', 'scalar', got 'simd'
+    """
+    if not isinstance(kernel, str) or kernel not in TRACK_KERNELS:
+        from ..exceptions import InputError
+        raise InputError(f"kernel must be one of {', '.join(map(repr, TRACK_KERNELS))}, got {kernel!r}")
+    return kernel
+
+
+def track_parameters(start: StartSystem, P: npt.ArrayLike, kernel: str = TRACK_KERNEL
+                     ) -> tuple[npt.NDArray[np.complex128], npt.NDArray[np.integer], npt.NDArray[np.integer]]:
     """Track the start solutions to real (or complex) target parameters, row by row.
 
     Parameters
@@ -472,6 +238,11 @@ def track_parameters(start: StartSystem, P: npt.ArrayLike) -> tuple[npt.NDArray[
     start : StartSystem
     P : (n, p) float or complex
         Target parameters (squared leg lengths).
+    kernel : {"lanes", "scalar"}, optional
+        ``"lanes"``: the lockstep tracker (:mod:`imagespace.spatial.lanes`, ``LANES`` paths
+        advanced together, vectorised); ``"scalar"``: one path at a time
+        (:mod:`imagespace.spatial.tracker`). Both take the same decisions on every path; the
+        endpoints agree to rounding. Default :data:`TRACK_KERNEL`.
 
     Returns
     -------
@@ -493,15 +264,25 @@ def track_parameters(start: StartSystem, P: npt.ArrayLike) -> tuple[npt.NDArray[
     >>> Z, status, steps = track_parameters(st, np.full((1, 6), 4.0))
     >>> Z.shape
     (1, 40, 8)
+    >>> Zl, status_l, _ = track_parameters(st, np.full((1, 6), 4.0), kernel="lanes")
+    >>> bool(np.array_equal(status, status_l) and np.allclose(Z, Zl, rtol=1e-9, atol=1e-12))
+    True
     """
+    kernel = check_kernel(kernel)
     P = np.ascontiguousarray(np.atleast_2d(P), dtype=complex)
     n, k = P.shape[0], start.solutions.shape[0]
-    Z = np.zeros((n, k, _N), dtype=complex)
+    Z = np.zeros((n, k, DIM), dtype=complex)
     status = np.zeros((n, k), dtype=np.int64)
     steps = np.zeros((n, k), dtype=np.int64)
-    if k:
-        _track_many(start.solutions, 0, start.A, start.E, start.pidx, P, start.p_star,
-                    np.zeros((start.A.shape[0], _N), complex), start.patch, 1.0 + 0j, Z, status, steps)
+    if not n or not k:
+        return Z, status, steps
+    if kernel == "lanes":
+        from .lanes import track_lanes
+        track_lanes(start.solutions, start.A, start.E, start.pidx, P, start.p_star, start.patch, Z, status,
+                    steps)
+    else:
+        track_many(start.solutions, 0, start.A, start.E, start.pidx, P, start.p_star,
+                   np.zeros((start.A.shape[0], DIM), complex), start.patch, 1.0 + 0j, Z, status, steps)
     return Z, status, steps
 
 
@@ -513,7 +294,7 @@ def _classify_rows(Z, status, real_imag, nonreal_imag, distinct_tol, W, real, di
     the number of pairwise distinct arrived endpoints and ``reliable[r]`` the float checks.
     """
     n, k = status.shape
-    U = np.zeros((k, _N), dtype=np.complex128)
+    U = np.zeros((k, DIM), dtype=np.complex128)
     for r in range(n):
         ok = True
         for j in range(k):
@@ -531,7 +312,7 @@ def _classify_rows(Z, status, real_imag, nonreal_imag, distinct_tol, W, real, di
             piv = Z[r, j, jj]
             size = 0.0
             im = 0.0
-            for i in range(_N):
+            for i in range(DIM):
                 v = Z[r, j, i] / piv
                 U[j, i] = v
                 size = max(size, abs(v))
@@ -540,20 +321,20 @@ def _classify_rows(Z, status, real_imag, nonreal_imag, distinct_tol, W, real, di
             real[r, j] = rel <= real_imag
             if rel > real_imag and rel < nonreal_imag:
                 ok = False
-            for i in range(_N):
+            for i in range(DIM):
                 W[r, j, i] = U[j, i].real
         count = 0
         for j in range(k):
             if status[r, j] != PATH_OK:
                 continue
-            nj = _norm(U[j])
+            nj = complex_norm(U[j])
             dup = False
             for l in range(j + 1, k):
                 if status[r, l] != PATH_OK:
                     continue
-                nl = _norm(U[l])
+                nl = complex_norm(U[l])
                 acc = 0.0
-                for i in range(_N):
+                for i in range(DIM):
                     d = U[j, i] / nj - U[l, i] / nl
                     acc += d.real * d.real + d.imag * d.imag
                 if np.sqrt(acc) <= distinct_tol:
@@ -596,7 +377,7 @@ def classify_batch(Z: npt.NDArray[np.complex128], status: npt.NDArray[np.integer
     ([[True, False]], [2], [True])
     """
     n, k = status.shape
-    W = np.zeros((n, k, _N))
+    W = np.zeros((n, k, DIM))
     real = np.zeros((n, k), dtype=np.bool_)
     distinct = np.zeros(n, dtype=np.int64)
     reliable = np.zeros(n, dtype=np.bool_)
@@ -613,7 +394,8 @@ def classify_batch(Z: npt.NDArray[np.complex128], status: npt.NDArray[np.integer
 RECENTRE_SPREAD = 0.3
 
 
-def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0) -> StartSystem:
+def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0, kernel: str = TRACK_KERNEL
+             ) -> StartSystem:
     """Move the start system to generic complex parameters near ``centre`` (fewer steps to targets).
 
     The new parameters are ``centre * (1 + RECENTRE_SPREAD * g)`` with ``g`` seeded complex normal:
@@ -626,6 +408,8 @@ def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0) -> StartS
     centre : (p,) float
         Typical target parameters (e.g. a batch's median).
     seed : int
+    kernel : {"lanes", "scalar"}, optional
+        The tracker (:func:`track_parameters`).
 
     Returns
     -------
@@ -648,7 +432,7 @@ def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0) -> StartS
     rng = np.random.default_rng(seed)
     centre = np.asarray(centre, dtype=float)
     p_new = centre * (1.0 + RECENTRE_SPREAD * _random_complex(rng, centre.shape[0]))
-    Z, status, _ = track_parameters(start, p_new[None])
+    Z, status, _ = track_parameters(start, p_new[None], kernel=kernel)
     Z = Z[0]
     if np.any(status[0] != PATH_OK) or not np.all(np.isfinite(Z)):
         return start

@@ -28,7 +28,8 @@ import numpy as np
 import numpy.typing as npt
 
 from ..exceptions import NearSingularWarning
-from .homotopy import PATH_OK, classify_batch, recentre, solve_start_system, track_parameters
+from .homotopy import (PATH_OK, TRACK_KERNEL, check_kernel, classify_batch, recentre, solve_start_system,
+                       track_parameters)
 from .results import SpatialDKBatch, SpatialDKResult
 from .study import normalize_study
 
@@ -217,7 +218,8 @@ def _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr, with
 
 
 def solve_rows(family: QuadricFamily, start: StartSystem, P: npt.ArrayLike, tolerances: Tolerances,
-               valid: Optional[npt.ArrayLike] = None, lengths: Optional[npt.ArrayLike] = None) -> SpatialDKBatch:
+               valid: Optional[npt.ArrayLike] = None, lengths: Optional[npt.ArrayLike] = None,
+               kernel: str = TRACK_KERNEL) -> SpatialDKBatch:
     """The fast path on many rows: track, certify (compiled), classify, residuals and aspects.
 
     Parameters
@@ -233,6 +235,9 @@ def solve_rows(family: QuadricFamily, start: StartSystem, P: npt.ArrayLike, tole
         The leg lengths whose exact squares are the parameters (``P = lengths ** 2`` rounded):
         the certificate then proves the user's problem. Without it the floats ``P`` are taken as
         the exact parameters.
+    kernel : {"lanes", "scalar"}, optional
+        The tracker (:func:`~imagespace.spatial.homotopy.track_parameters`); the answers do not
+        depend on it beyond rounding.
 
     Returns
     -------
@@ -256,14 +261,15 @@ def solve_rows(family: QuadricFamily, start: StartSystem, P: npt.ArrayLike, tole
     >>> len(b)
     2
     """
+    kernel = check_kernel(kernel)
     pm, pr = _parameters_enclosure(family, P, lengths)
     P = np.atleast_2d(np.asarray(P, dtype=float)) / family.scale ** 2
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
     rows = np.flatnonzero(valid)
     if rows.size >= RECENTRE_MIN_ROWS:
-        start = recentre(start, np.median(P[rows], axis=0))
-    Z, status, _ = track_parameters(start, P[rows])
+        start = recentre(start, np.median(P[rows], axis=0), kernel=kernel)
+    Z, status, _ = track_parameters(start, P[rows], kernel=kernel)
     return _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr)
 
 
