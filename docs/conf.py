@@ -55,6 +55,9 @@ nb_execution_timeout = 600  # seconds per notebook (the meshing notebooks take a
 nb_execution_raise_on_error = True  # a failing notebook fails the build
 nb_execution_show_tb = True
 nb_merge_streams = True
+# plotly figures (the atlas in 3D) as HTML pages load plotly.js from its CDN when the page is viewed;
+# without this the executing kernel emits only plotly's own MIME type, which a static page cannot show
+os.environ.setdefault("PLOTLY_RENDERER", "notebook_connected")
 
 # --- autodoc / autosummary / numpydoc ---------------------------------------------------------
 autosummary_generate = True

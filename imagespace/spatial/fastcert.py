@@ -21,8 +21,8 @@ rho}`` around the polished float point ``m`` and a float matrix ``Y`` (an approx
   (i) ``beta + kappa rho + 2 mu rho^2 < rho``: ``N(X)`` lies in ``X``, so (Brouwer) ``N`` has a
       fixed point in ``X``, a zero of ``G`` (``Y`` is non-singular by (ii));
   (ii) ``kappa + 4 mu rho < 1``: ``J`` is non-singular on all of ``X``, so that zero is the only
-      one in ``X`` (``0 = G(z_1) - G(z_2) = J((z_1 + z_2) / 2)(z_1 - z_2)``) and it is
-      non-singular (Krawczyk 1969, Moore 1977, Rump 1983 in this norm form).
+       one in ``X`` (``0 = G(z_1) - G(z_2) = J((z_1 + z_2) / 2)(z_1 - z_2)``) and it is
+       non-singular (Krawczyk 1969, Moore 1977, Rump 1983 in this norm form).
 
 * **Real**: ``m`` and ``Y`` real (exactly: imaginary parts zero) — ``N`` maps the real points of
   ``X`` to real points, so the fixed point can be found among them and, unique, is real.

@@ -1,6 +1,6 @@
 r"""The one-path tracker of the spatial fast path (:mod:`imagespace.spatial.homotopy`): a compiled
 predictor-corrector for the homotopies ``H(z, s)`` of a quadric family on the affine patch
-``c . z = 1`` of ``P^7``, one path at a time, from ``s = 1`` to ``s = 0``.
+``c.z = 1`` of ``P^7``, one path at a time, from ``s = 1`` to ``s = 0``.
 
 Its numerical knobs and path status codes are public names (outside ``__all__``) because the
 lockstep twin, :mod:`imagespace.spatial.lanes`, takes the same decisions with them; the
