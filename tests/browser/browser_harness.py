@@ -6,6 +6,7 @@ Screenshots and the measured timings (``timings.json``) go to ``$IMAGESPACE_ARTI
 (default ``artifacts/browser`` in the repository); the folder is printed.
 """
 
+import contextlib
 import json
 import os
 import shutil
@@ -130,6 +131,33 @@ def open_page(served, notebook_label, timings, ready_js):
     pg.wait_for_timeout(500)
     assert not errors, errors        # e.g. "[anywidget] Failed to initialize model."
     return pw, browser, pg, errors
+
+
+def one_cell_notebook(path, cell, cell_id):
+    """Write a notebook of one code cell ``cell`` to ``path`` (for Voila) and return ``path``."""
+    path.write_text(json.dumps({"cells": [{"cell_type": "code", "execution_count": None, "id": cell_id,
+                                           "metadata": {}, "outputs": [], "source": cell}],
+                                "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python",
+                                                            "name": "python3"}},
+                                "nbformat": 4, "nbformat_minor": 5}))
+    return path
+
+
+@contextlib.contextmanager
+def served_page(notebook, log_name, notebook_label, timings, ready_js):
+    """Voila on ``notebook`` (its log ``ARTIFACTS / log_name``) and Chromium on its page, ready
+    (:func:`open_page`); yields the page; after the block, no page error may have occurred."""
+    served = Served(notebook, ARTIFACTS / log_name)
+    try:
+        pw, browser, pg, errors = open_page(served, notebook_label, timings, ready_js)
+        try:
+            yield pg
+            assert not errors, errors
+        finally:
+            browser.close()
+            pw.stop()
+    finally:
+        served.close()
 
 
 # -- measuring what the user sees -------------------------------------------------------------------

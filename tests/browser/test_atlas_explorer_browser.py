@@ -9,12 +9,10 @@ test_explorer_browser.py, the same measurement without it) and key press to the 
 redraw (plotly's ``plotly_afterplot`` on that panel).
 """
 
-import json
-
 import numpy as np
 import pytest
 
-from browser_harness import ARTIFACTS, INSTALL_PROBE, Served, key_to_repaint, open_page, summary
+from browser_harness import INSTALL_PROBE, key_to_repaint, one_cell_notebook, served_page, summary
 from browser_harness import artifacts, timings  # noqa: F401  (fixtures)
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
@@ -46,24 +44,10 @@ _AFTERPLOT = """() => { const gd = document.querySelector('.isp-panel-atlas');
 
 @pytest.fixture(scope="module")
 def page(artifacts, timings, tmp_path_factory):
-    nb = tmp_path_factory.mktemp("atlas") / "explore_atlas.ipynb"
-    nb.write_text(json.dumps({"cells": [{"cell_type": "code", "execution_count": None, "id": "atlas-explorer",
-                                         "metadata": {}, "outputs": [], "source": CELL}],
-                              "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python",
-                                                          "name": "python3"}},
-                              "nbformat": 4, "nbformat_minor": 5}))
-    served = Served(nb, ARTIFACTS / "voila_atlas.log")
-    try:
-        pw, browser, pg, errors = open_page(served, "planar_atlas", timings, READY)
-        try:
-            pg.wait_for_function(ATLAS_READY, timeout=240_000, polling=200)
-            yield pg
-            assert not errors, errors
-        finally:
-            browser.close()
-            pw.stop()
-    finally:
-        served.close()
+    nb = one_cell_notebook(tmp_path_factory.mktemp("atlas") / "explore_atlas.ipynb", CELL, "atlas-explorer")
+    with served_page(nb, "voila_atlas.log", "planar_atlas", timings, READY) as pg:
+        pg.wait_for_function(ATLAS_READY, timeout=240_000, polling=200)
+        yield pg
 
 
 def _settled(pg, tries=60):

@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 
-from browser_harness import ARTIFACTS, INSTALL_PROBE, ROOT, Served, key_to_repaint, open_page, summary
+from browser_harness import INSTALL_PROBE, ROOT, key_to_repaint, served_page, summary
 from browser_harness import artifacts, timings  # noqa: F401  (fixtures)
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
@@ -22,17 +22,8 @@ READY = ("() => document.querySelector('.isp-status .isp-count') && "
 
 @pytest.fixture(scope="module")
 def page(artifacts, timings):
-    served = Served(NOTEBOOK, ARTIFACTS / "voila.log")
-    try:
-        pw, browser, pg, errors = open_page(served, "planar", timings, READY)
-        try:
-            yield pg
-            assert not errors, errors
-        finally:
-            browser.close()
-            pw.stop()
-    finally:
-        served.close()
+    with served_page(NOTEBOOK, "voila.log", "planar", timings, READY) as pg:
+        yield pg
 
 
 _READ_STATUS = """() => { const el = document.querySelector('.isp-status');

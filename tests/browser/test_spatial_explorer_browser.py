@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from browser_harness import ARTIFACTS, INSTALL_PROBE, Served, key_to_repaint, open_page, summary
+from browser_harness import INSTALL_PROBE, key_to_repaint, one_cell_notebook, served_page, summary
 from browser_harness import artifacts, timings  # noqa: F401  (fixtures)
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
@@ -23,23 +23,9 @@ READY = ("() => document.querySelector('.isp-status .isp-count') && "
 
 @pytest.fixture(scope="module")
 def page(artifacts, timings, tmp_path_factory):
-    nb = tmp_path_factory.mktemp("gs") / "explore_gough_stewart.ipynb"
-    nb.write_text(json.dumps({"cells": [{"cell_type": "code", "execution_count": None, "id": "gs-explorer",
-                                         "metadata": {}, "outputs": [], "source": CELL}],
-                              "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python",
-                                                          "name": "python3"}},
-                              "nbformat": 4, "nbformat_minor": 5}))
-    served = Served(nb, ARTIFACTS / "voila_spatial.log")
-    try:
-        pw, browser, pg, errors = open_page(served, "gough_stewart", timings, READY)
-        try:
-            yield pg
-            assert not errors, errors
-        finally:
-            browser.close()
-            pw.stop()
-    finally:
-        served.close()
+    nb = one_cell_notebook(tmp_path_factory.mktemp("gs") / "explore_gough_stewart.ipynb", CELL, "gs-explorer")
+    with served_page(nb, "voila_spatial.log", "gough_stewart", timings, READY) as pg:
+        yield pg
 
 
 _READ = """() => { const el = document.querySelector('.isp-status');
