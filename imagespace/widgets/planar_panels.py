@@ -10,7 +10,7 @@ import numpy as np
 
 from ..drawing import ASPECT_COLOURS
 
-__all__ = ["merged_labels", "joined_polylines", "planar_panels", "section_regions", "status_html", "GREY"]
+__all__ = ["merged_labels", "joined_polylines", "planar_panels", "GREY"]   # section_regions, status_html: the explorer's helpers, not API
 
 GREY = "#9a9a9a"
 """Colour of the last drawing kept, greyed, when no real mode is left."""

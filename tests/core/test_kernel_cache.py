@@ -12,6 +12,7 @@ about 15 s where the lockstep loops take about 80 s) and compare their counts, D
 with the numpy path's counts computed once under the default cache.
 """
 
+import functools
 import os
 import pickle
 import shutil
@@ -41,16 +42,12 @@ def joint_rows(m=None, n=ROWS):
     return np.asarray(q) * (1 + 0.1 * rng.standard_normal((n, 3)))
 
 
-_REFERENCE = {}
-
-
+@functools.cache
 def numpy_counts():
     """The numpy path's counts on :func:`joint_rows` (eigenvalues; computed once, under the cache
     in effect at the first call: the default one, see the ``template`` fixture)."""
-    if "counts" not in _REFERENCE:
-        m = isp.examples.general_3rpr()
-        _REFERENCE["counts"] = m.direct_kinematics_batch(joint_rows(m), method="numpy").count
-    return _REFERENCE["counts"]
+    m = isp.examples.general_3rpr()
+    return m.direct_kinematics_batch(joint_rows(m), method="numpy").count
 
 
 def kernel_counts_match_numpy(m):
