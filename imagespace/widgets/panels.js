@@ -69,6 +69,9 @@ function render({ model, el }) {
   let frames = null;         // {n, interval, panels: {panel: {trace: {prop: rows}}}}
   let playing = false, frameNo = 0, raf = null;
   const pending = {};        // panel -> true: a deferred redraw is queued
+  // a panel's content revision (the kernel's count of its changes; -1: changed here, by a frame)
+  // and the revision last drawn: a new state redraws only the panels whose content changed
+  const knownRev = {}, drawnRev = {};
   let flushQueued = false;
   const controls = document.createElement("div");
   controls.className = "isp-animation";
@@ -86,6 +89,8 @@ function render({ model, el }) {
   function draw(panel) {
     const s = state[panel];
     if (!s || !divs[panel]) return Promise.resolve();
+    const rev = knownRev[panel];
+    drawnRev[panel] = rev;
     return Plotly.react(divs[panel], s.data, s.layout, s.config || { displaylogo: false });
   }
 
@@ -111,10 +116,18 @@ function render({ model, el }) {
         }
       }
     }
+    // the urgent panels (the pose) now; the others after the browser has painted them (a first
+    // WebGL scene costs about a second in a software renderer); unchanged panels are not redrawn
+    const revs = spec.revs || {}, urgent = spec.urgent || [];
+    let later = false;
     for (const name of spec.order) {
       state[name] = spec.panels[name];
-      draw(name);
+      knownRev[name] = revs[name] === undefined ? -1 : revs[name];
+      if (same && knownRev[name] !== -1 && drawnRev[name] === knownRev[name]) continue;
+      if (urgent.includes(name)) draw(name);
+      else { pending[name] = true; later = true; }
     }
+    if (later) scheduleOthers(true);
     el.dataset.version = String(spec.version);
   }
 
@@ -135,7 +148,9 @@ function render({ model, el }) {
       if (gap > 0) { wait = Math.max(wait, gap); continue; }
       delete pending[p];
       const t = performance.now();
-      draw(p).then(() => { lastDone[p] = performance.now(); cost[p] = lastDone[p] - t; });
+      const first = lastDone[p] === undefined;
+      // a panel's first draw (a WebGL scene's context and shaders) does not predict its redraws
+      draw(p).then(() => { lastDone[p] = performance.now(); if (!first) cost[p] = lastDone[p] - t; });
     }
     if (Object.keys(pending).length) {
       flushQueued = true;
@@ -151,10 +166,11 @@ function render({ model, el }) {
     requestAnimationFrame(() => setTimeout(flushPending, 0));
   }
 
-  function applyUpdate(panels, urgent) {
+  function applyUpdate(panels, urgent, revs) {
     for (const [panel, change] of Object.entries(panels)) {
       const s = state[panel];
       if (!s) continue;
+      knownRev[panel] = revs && revs[panel] !== undefined ? revs[panel] : -1;
       for (const [idx, props] of Object.entries(change.traces || {})) {
         s.data[Number(idx)] = Object.assign({}, s.data[Number(idx)], props);
       }
@@ -185,6 +201,7 @@ function render({ model, el }) {
       const flat = idxs.every((idx) => (s.data[idx].type || "scatter") === "scatter");
       if (fast && flat) {
         idxs.forEach((idx, j) => { s.data[idx] = Object.assign({}, s.data[idx], upd[j]); });
+        knownRev[panel] = -1;
         Plotly.animate(divs[panel], { data: upd, traces: idxs },
                        { mode: "immediate", transition: { duration: 0 }, frame: { duration: 0, redraw: false } });
       } else {
@@ -242,10 +259,13 @@ function render({ model, el }) {
 
   function onMessage(msg, buffers) {
     const m = decode(msg, buffers || []);
-    if (m.type === "update") applyUpdate(m.panels, m.urgent || []);
+    if (m.type === "update") applyUpdate(m.panels, m.urgent || [], m.revs);
     else if (m.type === "full") { build(m.spec); setFrames(null); }
     else if (m.type === "frames") setFrames(m.frames);
-    else if (m.type === "frame") { playing = false; showFrame(m.k); }
+    else if (m.type === "frame") {
+      playing = false; showFrame(m.k);
+      if (frames) for (const [p, r] of Object.entries(m.revs || {})) if (p in frames.panels) knownRev[p] = r;
+    }
     else if (m.type === "play") { if (frames && !playing) playButton.click(); }
   }
 

@@ -169,6 +169,7 @@ class PanelView(anywidget.AnyWidget):
         self._depth = 0
         self._lock = threading.RLock()
         self._version = 0
+        self._revs = {p: 0 for p in self.order}   # per panel: bumped by each change of its content
         self._frames = None
         self._hold = False
         super().__init__(_esm=_esm())
@@ -188,7 +189,8 @@ class PanelView(anywidget.AnyWidget):
 
     def _spec(self):
         return {"order": self.order, "columns": self.columns, "controls": self.controls,
-                "version": self._version, "panels": self.panels}
+                "version": self._version, "revs": dict(self._revs), "urgent": self.urgent,
+                "panels": self.panels}
 
     def publish(self):
         """Send the whole state (on construction, and after a big change such as a new mesh)."""
@@ -226,6 +228,7 @@ class PanelView(anywidget.AnyWidget):
         with self._lock:
             p, k = self.names[trace]
             self.panels[p]["data"][k].update(props)
+            self._revs[p] += 1
             self._pending.setdefault(p, {"traces": {}, "layout": {}})["traces"].setdefault(k, {}).update(props)
             if self._depth == 0:
                 self.flush()
@@ -242,6 +245,7 @@ class PanelView(anywidget.AnyWidget):
                 target[int(last)] = value
             else:
                 target[last] = value
+            self._revs[panel] += 1
             self._pending.setdefault(panel, {"traces": {}, "layout": {}})["layout"][path] = value
             if self._depth == 0:
                 self.flush()
@@ -257,7 +261,8 @@ class PanelView(anywidget.AnyWidget):
             # the urgent panels first in the message: the browser draws them before painting
             ordered = {p: pending[p] for p in sorted(pending, key=lambda p: p not in self.urgent)}
             buffers = []
-            content = {"type": "update", "urgent": self.urgent, "panels": _pack(ordered, buffers)}
+            content = {"type": "update", "urgent": self.urgent, "panels": _pack(ordered, buffers),
+                       "revs": {p: self._revs[p] for p in ordered}}
             if self.comm is not None:
                 self.send(content, buffers)
 
@@ -305,9 +310,10 @@ class PanelView(anywidget.AnyWidget):
             for p, traces in self._frames["panels"].items():
                 for idx, props in traces.items():
                     self.panels[p]["data"][idx].update({prop: rows[k] for prop, rows in props.items()})
+                self._revs[p] += 1
             self._version += 1
             if self.comm is not None:
-                self.send({"type": "frame", "k": int(k)})
+                self.send({"type": "frame", "k": int(k), "revs": dict(self._revs)})
 
     def _on_front(self, widget, content, buffers):
         if isinstance(content, dict) and content.get("type") == "hello":
