@@ -47,6 +47,12 @@ __all__ = ["QuadricFamily", "solve_rows", "certify_row", "certify_rows", "comple
 #: speed choice, the answers do not depend on it
 RECENTRE_MIN_ROWS = 32
 
+#: rows whose endpoints the compiled certificate does not prove (a path lost or two paths merged
+#: on the way, far more often than a true double mode) are tracked again from this many other
+#: generic start systems (the design's own, then re-centred ones with fresh random offsets), each
+#: time certified anew; a speed choice before arb and msolve, the answers do not depend on it
+RETRY_STARTS = 3
+
 
 @dataclass(frozen=True, eq=False)
 class QuadricFamily:
@@ -176,19 +182,62 @@ def _parameters_enclosure(family, P, lengths):
     return np.ascontiguousarray(pm), np.ascontiguousarray(pr)
 
 
-def _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr, with_certificate=False):
+def _second_chances(family, start, tracked, P, pm, pr, Z, status, cert, target, kernel):
+    """Track the rows ``cert`` leaves incomplete again from other generic starts (the design's own
+    ``start`` unless they were ``tracked`` from it, then re-centred ones near those rows, up to
+    :data:`RETRY_STARTS` starts) and certify them anew;
+    ``Z``, ``status`` and ``cert`` are updated in place on every row that becomes complete.
+
+    Sound whichever start the endpoints come from: a row counts as complete only when the compiled
+    certificate proves ``target`` distinct solutions on its own endpoints.
+    """
+    from .fastcert import certify_endpoints, family_enclosure
+
+    enclosure = family_enclosure(family)
+    for attempt in range(RETRY_STARTS):
+        todo = np.flatnonzero(~cert.complete)
+        if todo.size == 0:
+            return
+        if attempt == 0:
+            if tracked is start:
+                continue
+            other = start
+        else:
+            other = recentre(start, np.median(P[todo], axis=0), seed=attempt, kernel=kernel)
+            if other is start:
+                continue                       # the move did not carry every solution across
+        Z2, st2, _ = track_parameters(other, P[todo], kernel=kernel)
+        if Z2.shape[1] != Z.shape[1]:
+            return
+        c2 = certify_endpoints(enclosure, Z2, st2, pm[todo], pr[todo], target)
+        won = np.flatnonzero(c2.complete)
+        if won.size == 0:
+            continue
+        Z[todo[won]], status[todo[won]] = Z2[won], st2[won]
+        for f in cert.__dataclass_fields__:
+            getattr(cert, f)[todo[won]] = getattr(c2, f)[won]
+
+
+def _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr, with_certificate=False,
+           retry=None, tracked=None, kernel=TRACK_KERNEL):
     """Classify tracked rows into a :class:`SpatialDKBatch` (``P`` already divided by scale^2).
 
     ``reliable`` is the compiled certificate (:mod:`imagespace.spatial.fastcert`) on the exact
     parameters ``pm +- pr``: where it is complete, the real modes are its proven real boxes'
     centres, and the row is ``certified`` too when the completeness target is a theorem's bound;
     elsewhere the float classification gives the (unproven) count. With ``with_certificate`` the
-    :class:`~imagespace.spatial.fastcert.FastCertificate` of the rows is returned as well.
+    :class:`~imagespace.spatial.fastcert.FastCertificate` of the rows is returned as well. With
+    ``retry`` (the design's start system; ``tracked``: the start the rows were tracked from) the
+    rows the certificate leaves incomplete get second chances (:func:`_second_chances`) before the
+    float classification.
     """
     from .fastcert import certify_endpoints, family_enclosure
 
     target, theorem = completeness_target(family, start)
     cert = certify_endpoints(family_enclosure(family), Z, status, pm[rows], pr[rows], target)
+    if retry is not None and not np.all(cert.complete):
+        Z, status = Z.copy(), status.copy()
+        _second_chances(family, retry, tracked, P[rows], pm[rows], pr[rows], Z, status, cert, target, kernel)
     done = cert.complete
     W = cert.points.real.copy()
     real = cert.certified & (cert.real == 1)
@@ -267,10 +316,12 @@ def solve_rows(family: QuadricFamily, start: StartSystem, P: npt.ArrayLike, tole
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
     rows = np.flatnonzero(valid)
+    own = start
     if rows.size >= RECENTRE_MIN_ROWS:
         start = recentre(start, np.median(P[rows], axis=0), kernel=kernel)
     Z, status, _ = track_parameters(start, P[rows], kernel=kernel)
-    return _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr)
+    return _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr, retry=own, tracked=start,
+                  kernel=kernel)
 
 
 def _exact_params(lengths, scale=1.0):
@@ -405,7 +456,7 @@ def certify_rows(family: QuadricFamily, start: StartSystem, lengths: npt.ArrayLi
         start_rows = recentre(start, np.median(P[rows], axis=0))
     Z, status, _ = track_parameters(start_rows, P[rows])
     batch, fc = _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr,
-                       with_certificate=True)
+                       with_certificate=True, retry=start, tracked=start_rows)
     if np.all(batch.certified[rows]):
         return batch
     from .fastcert import FastCertificate
