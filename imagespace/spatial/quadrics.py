@@ -58,6 +58,7 @@ __all__ = [
     "sphere_quadric_symbolic",
     "sphere_quadric",
     "sphere_quadric_exact",
+    "sphere_quadric_linear",
     "point_on_plane_quadric",
     "point_on_line_quadrics",
     "landed_point_times_n",
@@ -362,6 +363,79 @@ def sphere_quadric(base_point, platform_point, length):
         raise _too_large("base_point, platform_point or length",
                          "the quadric's entries (squares and products of the coordinates)")
     return out
+
+
+@lru_cache(maxsize=1)
+def _sphere_basis():
+    """The sphere quadric's coefficient matrices, read off the compiled derivation (exact: at
+    coordinates 0 and 1 every entry is a small integer)."""
+    z, e = np.zeros(3), np.eye(3)
+    K0 = sphere_quadric(z, z, 0.0)
+    N = K0 - sphere_quadric(z, z, 1.0)                     # c = -L^2 = -1
+    Ka = np.array([sphere_quadric(e[i], z, 0.0) - K0 - N for i in range(3)])
+    Kb = np.array([sphere_quadric(z, e[j], 0.0) - K0 - N for j in range(3)])
+    KW = np.array([[sphere_quadric(e[i], e[j], 0.0) - K0 - 2 * N - Ka[i] - Kb[j] for j in range(3)]
+                   for i in range(3)])
+    for M in (K0, N, Ka, Kb, KW):
+        M.setflags(write=False)
+    return K0, N, Ka, Kb, KW
+
+
+def sphere_quadric_linear(base_point: npt.ArrayLike, platform_point: npt.ArrayLike, products: npt.ArrayLike,
+                          constant: npt.ArrayLike) -> npt.NDArray[Any]:
+    """The sphere quadric written linearly in its coefficients ``(a, b, W, c)``.
+
+    The form of :func:`sphere_quadric` is ``c N + 4 y.y + 4 (x b).y - 4 a.(y x~) - 2 a.(x b x~)``
+    with ``c = |a|^2 + |b|^2 - L^2``; its last term is bilinear in ``a`` and ``b``, so the matrix is
+    an affine function of ``a``, ``b``, the products ``W = a b^T`` and ``c``. Taken with any ``W``
+    and ``c`` (not only ``a b^T`` and ``|a|^2 + |b|^2 - L^2``) it spans the linear family that the
+    start systems of :mod:`imagespace.spatial.families` move in.
+
+    Parameters
+    ----------
+    base_point, platform_point : (3,) or (n, 3) float or complex
+    products : (3, 3) or (n, 3, 3) float or complex
+        ``W``; ``np.outer(a, b)`` gives the sphere quadric.
+    constant : float or (n,) float or complex
+        ``c``, the coefficient of ``N = x . x``.
+
+    Returns
+    -------
+    (8, 8) or (n, 8, 8) float or complex
+
+    Raises
+    ------
+    InputError
+        On shapes that do not match or non-finite entries.
+
+    Examples
+    --------
+    >>> a, b, L = np.array([0.5, -1.0, 2.0]), np.array([1.0, 0.25, -0.5]), 1.5
+    >>> Q = sphere_quadric_linear(a, b, np.outer(a, b), a @ a + b @ b - L ** 2)
+    >>> bool(np.allclose(Q, sphere_quadric(a, b, L), rtol=0, atol=1e-14))
+    True
+    """
+    vals = []
+    for name, v, tail in (("base_point", base_point, (3,)), ("platform_point", platform_point, (3,)),
+                          ("products", products, (3, 3)), ("constant", constant, ())):
+        arr = np.asarray(v)
+        if arr.dtype.kind not in "biufc":
+            raise InputError(f"{name} must be numeric, got dtype {arr.dtype}")
+        if arr.shape[arr.ndim - len(tail):] != tail or arr.ndim - len(tail) > 1:
+            raise InputError(f"{name} must have shape {tail} or (n,) + {tail}, got {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{name} must be finite")
+        vals.append(arr)
+    try:
+        shape = np.broadcast_shapes(*(v.shape[:v.ndim - t] for v, t in zip(vals, (1, 1, 2, 0))))
+    except ValueError:
+        raise InputError("base_point, platform_point, products and constant must have the same batch "
+                         f"size, got shapes {[v.shape for v in vals]}") from None
+    a, b, W, c = vals
+    K0, N, Ka, Kb, KW = _sphere_basis()
+    out = (K0 + np.einsum("...i,ikl->...kl", a, Ka) + np.einsum("...j,jkl->...kl", b, Kb)
+           + np.einsum("...ij,ijkl->...kl", W, KW) + np.asarray(c)[..., None, None] * N)
+    return np.broadcast_to(out, shape + (8, 8)).copy()
 
 
 def _too_large(names, what):
