@@ -45,7 +45,7 @@ if TYPE_CHECKING:
     from ..core.kinematic_map import FloatArray
     from ..tolerances import Tolerances
 
-__all__ = ["StartSystem", "solve_start_system", "track_parameters", "classify_batch", "recentre",
+__all__ = ["StartSystem", "solve_start_system", "move_start_system", "track_parameters", "classify_batch", "recentre",
            "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED", "TRACK_KERNELS", "TRACK_KERNEL"]
 
 # start system: thresholds between the regular solutions and the degenerate component
@@ -186,7 +186,7 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
         status = np.zeros((1, starts.shape[0]), dtype=np.int64)
         steps = np.zeros((1, starts.shape[0]), dtype=np.int64)
         track_many(np.ascontiguousarray(starts), 1, A, E, pidx, np.zeros((1, nparams), complex), p_star,
-                   U, patch, gamma, Z, status, steps)
+                   U, A, patch, gamma, Z, status, steps)
         paths += starts.shape[0]
         good = [z for z, st in zip(Z[0], status[0]) if st == PATH_OK and _regular(A, E, pidx, p_star, patch,
                                                                                     z, tol)]
@@ -196,6 +196,78 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
         if expected is not None and len(found) >= expected:
             break
     return StartSystem(A, E, pidx, p_star, patch, np.ascontiguousarray(found), paths)
+
+
+def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: float = 1e-10) -> StartSystem:
+    """Carry a start system to another member of its family (coefficient-parameter homotopy).
+
+    ``start`` holds the solutions of one member ``z^T (A1_k - p*_k E) z`` (``A1 = start.A``) of a
+    family whose matrices depend LINEARLY on coefficients (:mod:`imagespace.spatial.families`); the
+    target is the member ``A`` at the same parameters ``p*``. The homotopy is
+    ``H = (1 - s) F_A + s gamma F_A1`` with ``gamma`` a seeded random unit complex number: a path
+    in the complex line through the two members (every scalar multiple of a member's equations is
+    that member again), which avoids the finitely many degenerate members of that line for
+    ``0 < s <= 1`` with probability one when ``start`` is a generic member (Morgan & Sommese 1989).
+    Every isolated solution of the target is then an endpoint; the regular finite ones are kept
+    (the same test as :func:`solve_start_system`). The caller compares their count with the
+    family's bound: fewer means a special member or a lost path, never to be used silently.
+
+    Parameters
+    ----------
+    start : StartSystem
+        A generic member's solutions.
+    A : (m, 8, 8) float
+        The target member's parameter-free parts (same ``E``, ``pidx``, ``p_star`` and patch).
+    seed : int
+        Seeds ``gamma``.
+    tol : float
+        As in :func:`solve_start_system`.
+
+    Returns
+    -------
+    StartSystem
+        ``A``'s regular finite solutions at ``start.p_star``; ``paths`` is the number tracked.
+
+    Raises
+    ------
+    InputError
+        If ``A`` is not a finite real array of ``start.A``'s shape.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.spatial.quadrics import sphere_quadric, study_quadric_matrix
+    >>> rng = np.random.default_rng(1)
+    >>> legs = lambda: np.concatenate([sphere_quadric(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)),
+    ...                                               0.0), study_quadric_matrix()[None]])
+    >>> st = solve_start_system(legs(), np.diag([1.0, 1, 1, 1, 0, 0, 0, 0]), np.r_[np.arange(6), -1], 6,
+    ...                         expected=40)
+    >>> moved = move_start_system(st, legs())
+    >>> len(moved.solutions), moved.paths
+    (40, 40)
+    """
+    from ..exceptions import InputError
+
+    A = np.asarray(A)
+    if A.shape != start.A.shape or A.dtype.kind not in "biuf" or not np.all(np.isfinite(A)):
+        raise InputError(f"A must be a finite real array of shape {start.A.shape} (the start member's), "
+                         f"got shape {A.shape} and dtype {A.dtype}")
+    A = np.ascontiguousarray(A, dtype=float)
+    rng = np.random.default_rng(seed)
+    gamma = np.exp(2j * np.pi * rng.random())
+    k = start.solutions.shape[0]
+    Z = np.zeros((1, k, DIM), dtype=complex)
+    status = np.zeros((1, k), dtype=np.int64)
+    steps = np.zeros((1, k), dtype=np.int64)
+    if k:
+        track_many(start.solutions, 2, A, start.E, start.pidx,
+                   np.ascontiguousarray(start.p_star, dtype=complex)[None], start.p_star,
+                   np.zeros((A.shape[0], DIM), complex), start.A, start.patch, gamma, Z, status, steps)
+    good = [z for z, st in zip(Z[0], status[0])
+            if st == PATH_OK and _regular(A, start.E, start.pidx, start.p_star, start.patch, z, tol)]
+    found = np.array(good).reshape(-1, DIM)
+    found = found[_distinct(found, 1e-6)] if len(found) else found
+    return StartSystem(A, start.E, start.pidx, start.p_star, start.patch, np.ascontiguousarray(found), k)
 
 
 #: the trackers of :func:`track_parameters`: ``"lanes"`` the lockstep tracker
@@ -282,7 +354,8 @@ def track_parameters(start: StartSystem, P: npt.ArrayLike, kernel: str = TRACK_K
                     steps)
     else:
         track_many(start.solutions, 0, start.A, start.E, start.pidx, P, start.p_star,
-                   np.zeros((start.A.shape[0], DIM), complex), start.patch, 1.0 + 0j, Z, status, steps)
+                   np.zeros((start.A.shape[0], DIM), complex), start.A, start.patch, 1.0 + 0j, Z, status,
+                   steps)
     return Z, status, steps
 
 
