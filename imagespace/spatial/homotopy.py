@@ -52,6 +52,7 @@ __all__ = ["StartSystem", "solve_start_system", "move_start_system", "track_para
 # (measured, see :func:`_regular`)
 _START_X = 1e-4          # |x| / |z| above this is not the degenerate component
 _START_COND = 1e-9       # sigma_min / sigma_max of the Jacobian above this is regular
+_START_DISTINCT = 1e-6   # two solutions closer than this relative to their size are one
 
 
 @dataclass(frozen=True)
@@ -90,34 +91,47 @@ def _random_complex(rng, shape):
 
 
 def _distinct(Z, scale_tol):
-    """Indices of pairwise distinct rows (relative distance above ``scale_tol``)."""
-    keep = []
+    """Indices of pairwise distinct rows (relative distance above ``scale_tol``): each row is kept
+    when it is farther than ``scale_tol * (1 + |z_i|)`` from every row kept before it."""
+    keep: list[int] = []
+    if not Z.shape[0]:
+        return keep
+    D = np.linalg.norm(Z[:, None, :] - Z[None, :, :], axis=2)
+    thr = scale_tol * (1 + np.linalg.norm(Z, axis=1))
     for i in range(Z.shape[0]):
-        zi = Z[i]
-        if all(np.linalg.norm(zi - Z[j]) > scale_tol * (1 + np.linalg.norm(zi)) for j in keep):
+        if np.all(D[i, keep] > thr[i]):
             keep.append(i)
     return keep
 
 
-def _regular(A, E, pidx, p, patch, z, tol):
-    """Residual small, ``x`` not tiny and the Jacobian not singular (not the degenerate part).
+def _regular(A, E, pidx, p, patch, Z, tol):
+    """Per row of ``Z`` (k, 8): residual small, ``x`` not tiny and the Jacobian not singular (not
+    the degenerate part); a (k,) bool mask.
 
     Measured on general 6-6 designs (anchors of unit size, the family's scaling): endpoints on the
     degenerate component have ``|x| / |z| <= 1.3e-6`` and ``sigma_min / sigma_max <= 2.3e-12``;
     the 40 regular solutions ``|x| / |z| >= 3e-2`` and ``sigma_min / sigma_max >= 1.5e-6``.
     The thresholds sit between: ``_START_X`` and ``_START_COND``.
     """
-    H = np.array([z @ (A[k] - (p[pidx[k]] if pidx[k] >= 0 else 0) * E) @ z for k in range(A.shape[0])]
-                 + [patch @ z - 1])
-    J = np.array([2 * (A[k] - (p[pidx[k]] if pidx[k] >= 0 else 0) * E) @ z for k in range(A.shape[0])]
-                 + [patch])
-    nz = np.linalg.norm(z)
-    if not np.all(np.isfinite(z)) or np.linalg.norm(H) > tol * (1 + nz) ** 2:
-        return False
-    if np.linalg.norm(z[:4]) <= _START_X * nz:
-        return False
-    sv = np.linalg.svd(J, compute_uv=False)
-    return sv[-1] > _START_COND * sv[0]
+    Z = np.asarray(Z, dtype=complex).reshape(-1, DIM)
+    n = Z.shape[0]
+    ok = np.all(np.isfinite(Z), axis=1)
+    if not np.any(ok):
+        return ok
+    W = Z[ok]
+    pk = np.where(pidx >= 0, np.asarray(p)[np.maximum(pidx, 0)], 0.0)
+    M = A - pk[:, None, None] * E
+    MW = np.einsum("kij,nj->nki", M, W)
+    H = np.concatenate([np.einsum("ni,nki->nk", W, MW), (W @ patch - 1)[:, None]], axis=1)
+    J = np.concatenate([2 * MW, np.broadcast_to(patch, (W.shape[0], 1, DIM))], axis=1)
+    nz = np.linalg.norm(W, axis=1)
+    good = (np.linalg.norm(H, axis=1) <= tol * (1 + nz) ** 2) & (np.linalg.norm(W[:, :4], axis=1) > _START_X * nz)
+    if np.any(good):
+        sv = np.linalg.svd(J[good], compute_uv=False)
+        good[good] = sv[:, -1] > _START_COND * sv[:, 0]
+    out = np.zeros(n, dtype=bool)
+    out[ok] = good
+    return out
 
 
 def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, nparams: int, seed: int = 0,
@@ -188,11 +202,11 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
         track_many(np.ascontiguousarray(starts), 1, A, E, pidx, np.zeros((1, nparams), complex), p_star,
                    U, A, patch, gamma, Z, status, steps)
         paths += starts.shape[0]
-        good = [z for z, st in zip(Z[0], status[0]) if st == PATH_OK and _regular(A, E, pidx, p_star, patch,
-                                                                                    z, tol)]
-        if good:
-            allz = np.vstack([found, np.array(good)])
-            found = allz[_distinct(allz, 1e-6)]
+        arrived = Z[0][status[0] == PATH_OK]
+        good = arrived[_regular(A, E, pidx, p_star, patch, arrived, tol)]
+        if len(good):
+            allz = np.vstack([found, good])
+            found = allz[_distinct(allz, _START_DISTINCT)]
         if expected is not None and len(found) >= expected:
             break
     return StartSystem(A, E, pidx, p_star, patch, np.ascontiguousarray(found), paths)
@@ -263,10 +277,9 @@ def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: 
         track_many(start.solutions, 2, A, start.E, start.pidx,
                    np.ascontiguousarray(start.p_star, dtype=complex)[None], start.p_star,
                    np.zeros((A.shape[0], DIM), complex), start.A, start.patch, gamma, Z, status, steps)
-    good = [z for z, st in zip(Z[0], status[0])
-            if st == PATH_OK and _regular(A, start.E, start.pidx, start.p_star, start.patch, z, tol)]
-    found = np.array(good).reshape(-1, DIM)
-    found = found[_distinct(found, 1e-6)] if len(found) else found
+    arrived = Z[0][status[0] == PATH_OK]
+    found = arrived[_regular(A, start.E, start.pidx, start.p_star, start.patch, arrived, tol)]
+    found = found[_distinct(found, _START_DISTINCT)]
     return StartSystem(A, start.E, start.pidx, start.p_star, start.patch, np.ascontiguousarray(found), k)
 
 
@@ -509,7 +522,7 @@ def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0, kernel: s
     Z = Z[0]
     if np.any(status[0] != PATH_OK) or not np.all(np.isfinite(Z)):
         return start
-    if len(_distinct(Z, 1e-6)) != Z.shape[0]:
+    if len(_distinct(Z, _START_DISTINCT)) != Z.shape[0]:
         return start
     return StartSystem(start.A, start.E, start.pidx, p_new, start.patch, np.ascontiguousarray(Z),
                        start.paths)
