@@ -16,7 +16,11 @@ two-dimensional component ``x = 0, y . y = 0`` that every leg quadric contains) 
 is reached along the segment ``p(s) = (1 - s) p + s p*`` (:func:`track_parameters`). Because ``p*`` is
 generic and complex, the segment avoids the discriminant for ``0 < s <= 1`` with probability one
 (the "gamma trick" of Morgan & Sommese 1989), so the 40 paths are regular and end at every
-isolated solution of the target (coefficient-parameter homotopy). Husty's elimination instead builds
+isolated solution of the target (coefficient-parameter homotopy). The design's matrices may move
+too: :func:`move_start_system` carries the solutions of one member of a family LINEAR in its
+coefficients to another (the gamma trick between the two members), which is how a Gough-Stewart
+design gets its start system from its family kind's generic member in milliseconds
+(:mod:`imagespace.spatial.families`) instead of a total-degree homotopy of its own. Husty's elimination instead builds
 a degree-40 univariate per pose from ~20 symbolic resultant steps, and its coefficients lose
 accuracy exactly where modes come close; the tracker's per-path cost is fixed and small.
 
