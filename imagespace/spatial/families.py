@@ -119,6 +119,11 @@ def family_kind(family: Any) -> Optional[str]:
     -------
     str or None
 
+    Raises
+    ------
+    TypeError
+        If ``family`` lacks a QuadricFamily's fields.
+
     Examples
     --------
     >>> import numpy as np, imagespace as isp
@@ -128,6 +133,10 @@ def family_kind(family: Any) -> Optional[str]:
     >>> family_kind(isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3)).family()) is None
     True
     """
+    missing = [f for f in ("A", "E", "pidx", "nparams") if not hasattr(family, f)]
+    if missing:
+        raise TypeError(f"family must be a QuadricFamily (fields A, E, pidx, nparams), got "
+                        f"{type(family).__name__} without {', '.join(missing)}")
     A, E, pidx = (np.asarray(getattr(family, f)) for f in ("A", "E", "pidx"))
     if (A.shape != (7, 8, 8) or getattr(family, "nparams", None) != 6 or not np.array_equal(pidx, _PIDX)
             or not np.array_equal(E, _E) or not np.array_equal(A[6], study_quadric_matrix())):
@@ -284,6 +293,11 @@ def design_start_system(family: Any, seed: int = 0) -> Optional[StartSystem]:
     StartSystem or None
         The design's regular solutions at the same ``p*`` and patch as its total-degree start with
         this seed.
+
+    Raises
+    ------
+    TypeError
+        If ``family`` is not a QuadricFamily (:func:`family_kind`).
 
     Examples
     --------

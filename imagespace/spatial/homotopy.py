@@ -248,6 +248,8 @@ def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: 
 
     Raises
     ------
+    TypeError
+        If ``start`` is not a StartSystem.
     InputError
         If ``A`` is not a finite real array of ``start.A``'s shape.
 
@@ -266,6 +268,8 @@ def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: 
     """
     from ..exceptions import InputError
 
+    if not isinstance(start, StartSystem):
+        raise TypeError(f"start must be a StartSystem, got {type(start).__name__}")
     A = np.asarray(A)
     if A.shape != start.A.shape or A.dtype.kind not in "biuf" or not np.all(np.isfinite(A)):
         raise InputError(f"A must be a finite real array of shape {start.A.shape} (the start member's), "

@@ -99,6 +99,10 @@ def test_bad_input_refused():
     st = families.family_start_system("legs6")
     with pytest.raises(InputError, match="shape"):
         move_start_system(st, st.A[:6])
+    with pytest.raises(TypeError, match="StartSystem"):
+        move_start_system(st.solutions, st.A)
+    with pytest.raises(TypeError, match="QuadricFamily"):
+        families.design_start_system(np.zeros((7, 8, 8)))
 
 
 @pytest.mark.slow
