@@ -26,10 +26,15 @@ special design with fewer generic solutions, a lost path) the total-degree route
 before -- a missing start solution would be a missed assembly mode.
 
 Which families. ``"legs6"``: six sphere quadrics (parameters ``p_0 .. p_5``) and Study's quadric,
-i.e. every :class:`~imagespace.spatial.GoughStewart`. The 3-RPS (:class:`~imagespace.spatial.ThreeRPS`)
-keeps its per-design start: its plane quadrics send 24 of the 40 solutions of seven general
-quadrics to ``x = 0`` by their special structure, which a linear family through them would have to
-keep (not done here), and its total-degree start costs the same ``2^7`` paths.
+i.e. every :class:`~imagespace.spatial.GoughStewart`. ``"rps3"``: three sphere quadrics
+(parameters ``p_0 .. p_2``), three plane quadrics and Study's quadric, i.e. every
+:class:`~imagespace.spatial.ThreeRPS`: a plane quadric
+(:func:`~imagespace.spatial.quadrics.point_on_plane_quadric`) is linear in the normal ``n``, the
+products ``V = n b^T`` and ``d = n . a`` (:func:`~imagespace.spatial.quadrics.point_on_plane_quadric_linear`),
+and with ``V`` arbitrary the family's generic member has 40 regular finite solutions too
+(measured as above), of which a 3-RPS design keeps 16: the sphere and the plane of one leg share
+its points, and that sends 24 paths to ``x = 0``. So 40 carried paths replace the design's
+``2^7`` total-degree paths.
 
 References
 ----------
@@ -48,15 +53,17 @@ from typing import Any, Optional
 import numpy as np
 
 from .homotopy import StartSystem, move_start_system, solve_start_system
-from .quadrics import sphere_quadric_linear, study_quadric_matrix
+from .quadrics import point_on_plane_quadric_linear, sphere_quadric_linear, study_quadric_matrix
 
-__all__ = ["FAMILY_KINDS", "LEG_FAMILY_COUNT", "family_kind", "generic_member", "family_start_system",
+__all__ = ["FAMILY_KINDS", "FAMILY_COUNTS", "LEG_FAMILY_COUNT", "family_kind", "generic_member", "family_start_system",
            "design_start_system"]
 
 #: the family kinds with one start system for all their designs
-FAMILY_KINDS = ("legs6",)
+FAMILY_KINDS = ("legs6", "rps3")
 #: regular finite solutions of the generic member of the linear leg family (measured, see above)
 LEG_FAMILY_COUNT = 40
+#: ... of each kind's linear family (measured the same way; the 3-RPS's: 40 as well)
+FAMILY_COUNTS = {"legs6": LEG_FAMILY_COUNT, "rps3": 40}
 #: seeds the generic member's coefficients (a fixed choice: every process uses the same member)
 GENERIC_SEED = 20261203
 #: the generic member: anchors of size ``GENERIC_ANCHOR`` (the families are written for designs
@@ -74,7 +81,10 @@ MEMBER_TOL = 1e-12
 CACHE_VERSION = 1
 
 _E = np.diag([1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0])
-_PIDX = np.array([0, 1, 2, 3, 4, 5, -1])
+# per kind: the linear family of quadrics 0..5 ("leg": sphere, "plane": point on a plane), the
+# number of parameters and which parameter each quadric carries (quadric 6: Study's)
+_KINDS = {"legs6": (("leg",) * 6, 6, np.array([0, 1, 2, 3, 4, 5, -1])),
+          "rps3": (("leg",) * 3 + ("plane",) * 3, 3, np.array([0, 1, 2, -1, -1, -1, -1]))}
 
 
 def _check_kind(kind):
@@ -85,21 +95,32 @@ def _check_kind(kind):
 
 
 @functools.cache
-def _leg_basis():
-    """The linear family's basis ``(8 x 8)`` matrices minus its constant part, as columns."""
-    z = np.zeros(3)
-    K0 = sphere_quadric_linear(z, z, np.zeros((3, 3)), 0.0)
-    cols = []
-    for i in range(3):
-        e = np.eye(3)[i]
-        cols.append(sphere_quadric_linear(e, z, np.zeros((3, 3)), 0.0) - K0)
-        cols.append(sphere_quadric_linear(z, e, np.zeros((3, 3)), 0.0) - K0)
-        for j in range(3):
-            W = np.zeros((3, 3))
-            W[i, j] = 1.0
-            cols.append(sphere_quadric_linear(z, z, W, 0.0) - K0)
-    cols.append(sphere_quadric_linear(z, z, np.zeros((3, 3)), 1.0) - K0)
-    return K0, np.array([c.ravel() for c in cols]).T
+def _basis(block):
+    """A linear family's constant part and basis ``(8 x 8)`` matrices as columns (``"leg"``:
+    :func:`~imagespace.spatial.quadrics.sphere_quadric_linear`, ``"plane"``:
+    :func:`~imagespace.spatial.quadrics.point_on_plane_quadric_linear`)."""
+    z, e, Z = np.zeros(3), np.eye(3), np.zeros((3, 3))
+    units = [np.eye(9)[k].reshape(3, 3) for k in range(9)]
+    if block == "leg":
+        K0 = sphere_quadric_linear(z, z, Z, 0.0)
+        cols = ([sphere_quadric_linear(e[i], z, Z, 0.0) for i in range(3)]
+                + [sphere_quadric_linear(z, e[i], Z, 0.0) for i in range(3)]
+                + [sphere_quadric_linear(z, z, W, 0.0) for W in units] + [sphere_quadric_linear(z, z, Z, 1.0)])
+    else:
+        K0 = point_on_plane_quadric_linear(z, Z, 0.0)
+        cols = ([point_on_plane_quadric_linear(e[i], Z, 0.0) for i in range(3)]
+                + [point_on_plane_quadric_linear(z, V, 0.0) for V in units]
+                + [point_on_plane_quadric_linear(z, Z, 1.0)])
+    return K0, np.array([(c - K0).ravel() for c in cols]).T
+
+
+def _member_of(block, Q):
+    """True when the matrix ``Q`` lies in the linear family ``block`` (relative residual at most
+    ``MEMBER_TOL``)."""
+    K0, B = _basis(block)
+    r = (Q - K0).ravel()
+    res = np.abs(B @ np.linalg.lstsq(B, r, rcond=None)[0] - r).max()
+    return bool(res <= MEMBER_TOL * np.abs(Q).max())
 
 
 def family_kind(family: Any) -> Optional[str]:
@@ -107,7 +128,9 @@ def family_kind(family: Any) -> Optional[str]:
 
     ``"legs6"`` when the family is six quadrics of the linear leg family (checked on the matrices:
     least-squares residual on the basis of :func:`~imagespace.spatial.quadrics.sphere_quadric_linear`
-    at most ``MEMBER_TOL``), parameters ``0..5`` times ``x . x``, and Study's quadric.
+    at most ``MEMBER_TOL``), parameters ``0..5`` times ``x . x``, and Study's quadric; ``"rps3"``
+    for three of them (parameters ``0..2``), three of the linear plane family
+    (:func:`~imagespace.spatial.quadrics.point_on_plane_quadric_linear`) and Study's quadric.
 
     Parameters
     ----------
@@ -130,23 +153,22 @@ def family_kind(family: Any) -> Optional[str]:
     >>> rng = np.random.default_rng(0)
     >>> family_kind(isp.GoughStewart(rng.normal(size=(6, 3)), rng.normal(size=(6, 3))).family())
     'legs6'
-    >>> family_kind(isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3)).family()) is None
-    True
+    >>> family_kind(isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3)).family())
+    'rps3'
     """
     missing = [f for f in ("A", "E", "pidx", "nparams") if not hasattr(family, f)]
     if missing:
         raise TypeError(f"family must be a QuadricFamily (fields A, E, pidx, nparams), got "
                         f"{type(family).__name__} without {', '.join(missing)}")
     A, E, pidx = (np.asarray(getattr(family, f)) for f in ("A", "E", "pidx"))
-    if (A.shape != (7, 8, 8) or getattr(family, "nparams", None) != 6 or not np.array_equal(pidx, _PIDX)
-            or not np.array_equal(E, _E) or not np.array_equal(A[6], study_quadric_matrix())):
+    if (A.shape != (7, 8, 8) or not np.array_equal(E, _E) or not np.array_equal(A[6], study_quadric_matrix())
+            or not np.all(np.isfinite(A))):
         return None
-    K0, B = _leg_basis()
-    R = (A[:6] - K0).reshape(6, 64).T
-    coef = np.linalg.lstsq(B, R, rcond=None)[0]
-    res = np.abs(B @ coef - R).max(axis=0)
-    size = np.abs(A[:6]).reshape(6, 64).max(axis=1)
-    return "legs6" if np.all(res <= MEMBER_TOL * size) else None
+    for kind, (blocks, nparams, kpidx) in _KINDS.items():
+        if getattr(family, "nparams", None) == nparams and np.array_equal(pidx, kpidx) and all(
+                _member_of(block, A[k]) for k, block in enumerate(blocks)):
+            return kind
+    return None
 
 
 def generic_member(kind: str) -> np.ndarray:
@@ -172,13 +194,22 @@ def generic_member(kind: str) -> np.ndarray:
     >>> A.shape, bool(np.linalg.matrix_rank(A[0][np.ix_([0, 1, 2, 3], [0, 1, 2, 3])]) == 4)
     ((7, 8, 8), True)
     """
-    _check_kind(kind)
+    blocks = _KINDS[_check_kind(kind)][0]
+    legs = blocks.count("leg")
     rng = np.random.default_rng(GENERIC_SEED)
-    a = GENERIC_ANCHOR * rng.normal(size=(6, 3))
-    b = GENERIC_ANCHOR * rng.normal(size=(6, 3))
-    W = np.einsum("ni,nj->nij", a, b) + GENERIC_SPREAD * rng.normal(size=(6, 3, 3))
-    c = (a * a).sum(axis=1) + (b * b).sum(axis=1) - rng.random(6)
-    return np.concatenate([sphere_quadric_linear(a, b, W, c), study_quadric_matrix()[None]])
+    a = GENERIC_ANCHOR * rng.normal(size=(legs, 3))
+    b = GENERIC_ANCHOR * rng.normal(size=(legs, 3))
+    W = np.einsum("ni,nj->nij", a, b) + GENERIC_SPREAD * rng.normal(size=(legs, 3, 3))
+    c = (a * a).sum(axis=1) + (b * b).sum(axis=1) - rng.random(legs)
+    parts = [sphere_quadric_linear(a, b, W, c)]
+    planes = len(blocks) - legs
+    if planes:
+        # the planes through the legs' base points, normal n, carrying their platform points
+        n = rng.normal(size=(planes, 3))
+        V = np.einsum("ni,nj->nij", n, b[:planes]) + GENERIC_SPREAD * rng.normal(size=(planes, 3, 3))
+        parts.append(point_on_plane_quadric_linear(n, V, (n * a[:planes]).sum(axis=1) + GENERIC_SPREAD
+                                                   * rng.normal(size=planes)))
+    return np.concatenate(parts + [study_quadric_matrix()[None]])
 
 
 def _cache_file(kind, seed):
@@ -190,7 +221,7 @@ def _cache_file(kind, seed):
     return os.path.join(root, f"start_{kind}_{int(seed)}_v{CACHE_VERSION}.npz")
 
 
-def _load(path, A):
+def _load(path, A, kind):
     """The start system stored at ``path`` for the member ``A``, or None (missing, unreadable,
     another member, wrong shapes). A damaged file can only make designs fall back to the
     total-degree route: every moved solution is checked again (:func:`design_start_system`)."""
@@ -207,10 +238,11 @@ def _load(path, A):
     except (OSError, ValueError, KeyError):
         return None
     sol = data["solutions"]
-    if (not np.array_equal(data["A"], A) or data["p_star"].shape != (6,) or data["patch"].shape != (8,)
+    _, nparams, pidx = _KINDS[kind]
+    if (not np.array_equal(data["A"], A) or data["p_star"].shape != (nparams,) or data["patch"].shape != (8,)
             or sol.ndim != 2 or sol.shape[1] != 8 or not np.all(np.isfinite(sol))):
         return None
-    return StartSystem(A, _E, _PIDX, data["p_star"].astype(complex), data["patch"].astype(complex),
+    return StartSystem(A, _E, pidx, data["p_star"].astype(complex), data["patch"].astype(complex),
                        np.ascontiguousarray(sol, dtype=complex), int(data["paths"]))
 
 
@@ -246,7 +278,7 @@ def family_start_system(kind: str, seed: int = 0) -> StartSystem:
     Returns
     -------
     StartSystem
-        :data:`LEG_FAMILY_COUNT` solutions unless the total-degree runs missed some (then no
+        :data:`FAMILY_COUNTS` ``[kind]`` solutions unless the total-degree runs missed some (then no
         design uses it: :func:`design_start_system` falls back).
 
     Raises
@@ -265,11 +297,13 @@ def family_start_system(kind: str, seed: int = 0) -> StartSystem:
         raise InputError(f"seed must be an integer, got {seed!r}")
     A = generic_member(kind)
     path = _cache_file(kind, seed)
-    st = _load(path, A) if path else None
-    if st is None or len(st.solutions) < LEG_FAMILY_COUNT:
-        st = solve_start_system(A, _E, _PIDX, 6, seed=int(seed), attempts=GENERIC_ATTEMPTS,
-                                expected=LEG_FAMILY_COUNT)
-        if path and len(st.solutions) >= LEG_FAMILY_COUNT:
+    _, nparams, pidx = _KINDS[kind]
+    count = FAMILY_COUNTS[kind]
+    st = _load(path, A, kind) if path else None
+    if st is None or len(st.solutions) < count:
+        st = solve_start_system(A, _E, pidx, nparams, seed=int(seed), attempts=GENERIC_ATTEMPTS,
+                                expected=count)
+        if path and len(st.solutions) >= count:
             _store(path, st)
     return st
 
@@ -313,7 +347,7 @@ def design_start_system(family: Any, seed: int = 0) -> Optional[StartSystem]:
     if kind is None or bound is None:
         return None
     generic = family_start_system(kind, seed)
-    if len(generic.solutions) < LEG_FAMILY_COUNT:
+    if len(generic.solutions) < FAMILY_COUNTS[kind]:
         return None
     moved = move_start_system(generic, family.A, seed=seed)
     return moved if len(moved.solutions) == bound else None

@@ -14,7 +14,8 @@ import imagespace as isp
 from imagespace.exceptions import InputError
 from imagespace.spatial import families
 from imagespace.spatial.homotopy import StartSystem, move_start_system, solve_start_system
-from imagespace.spatial.quadrics import sphere_quadric, sphere_quadric_linear, study_quadric_matrix
+from imagespace.spatial.quadrics import (point_on_plane_quadric, point_on_plane_quadric_linear, sphere_quadric,
+                                        sphere_quadric_linear, study_quadric_matrix)
 from imagespace.spatial.solver import solve_rows, start_system
 from imagespace.spatial.tracker import PATH_OK, track_many
 
@@ -86,12 +87,20 @@ def test_linear_leg_family_has_40_regular_solutions():
 def test_family_kind():
     assert families.family_kind(_gs(D.random_design(1)).family()) == "legs6"
     assert families.family_kind(_gs(D.random_design_63(1)).family()) == "legs6"
-    assert families.family_kind(isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3)).family()) is None
+    assert families.family_kind(isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3)).family()) == "rps3"
+    # a Gough-Stewart family with one leg's matrix off the linear family: no kind
+    fam = _gs(D.random_design(1)).family()
+    A = fam.A.copy()
+    A[2, 0, 7] += 0.5
+    A[2, 7, 0] += 0.5
+    assert families.family_kind(type(fam)(A, fam.E, fam.pidx, 6, 40, fam.exact, fam.aspect)) is None
 
 
 def test_bad_input_refused():
     with pytest.raises(InputError, match="kind"):
         families.family_start_system("legs3")
+    with pytest.raises(InputError, match="kind"):
+        families.generic_member(6)
     with pytest.raises(InputError, match="seed"):
         families.family_start_system("legs6", 0.5)
     with pytest.raises(InputError, match="route"):
@@ -132,10 +141,49 @@ def test_short_carried_start_falls_back(monkeypatch):
     assert st.paths % 128 == 0 and len(st.solutions) == 40       # the total-degree route
 
 
-def test_three_rps_keeps_its_own_start():
-    m = isp.ThreeRPS(np.eye(3), 0.5 * np.eye(3))
-    assert families.design_start_system(m.family()) is None
-    assert m.start_system.paths % 128 == 0
+def _rps(seed):
+    r = np.random.default_rng(seed)
+    a, b = r.integers(-4, 5, (3, 3)) / 2.0, r.integers(-4, 5, (3, 3)) / 4.0
+    return isp.ThreeRPS(a, b, base_axes=r.integers(-3, 4, (3, 3)) if seed % 2 else None)
+
+
+@pytest.mark.slow
+def test_three_rps_carried_start_equals_total_degree_start():
+    done = 0
+    for seed in range(8):
+        try:
+            fam = _rps(seed).family()
+        except isp.DegenerateDesignError:
+            continue
+        new, old = start_system(fam, route="family"), start_system(fam, route="design")
+        assert new.paths == families.FAMILY_COUNTS["rps3"]            # carried, not the fallback
+        assert len(new.solutions) == len(old.solutions) == 16 == fam.bound
+        assert _same_sets(new.solutions, old.solutions)
+        done += 1
+    assert done >= 5
+
+
+@pytest.mark.slow
+def test_linear_three_rps_family_has_40_regular_solutions():
+    # the 3-RPS's linear family: spheres with free W and c, planes with free V = "n b^T", drawn here
+    for seed in range(2):
+        r = np.random.default_rng(2000 + seed)
+        A = np.concatenate([sphere_quadric_linear(r.normal(size=(3, 3)), r.normal(size=(3, 3)),
+                                                  r.normal(size=(3, 3, 3)), r.normal(size=3)),
+                            point_on_plane_quadric_linear(r.normal(size=(3, 3)), r.normal(size=(3, 3, 3)),
+                                                          r.normal(size=3)),
+                            study_quadric_matrix()[None]])
+        st = solve_start_system(A, E, np.array([0, 1, 2, -1, -1, -1, -1]), 3, seed=seed, attempts=8)
+        assert len(st.solutions) == families.FAMILY_COUNTS["rps3"] == 40
+
+
+def test_point_on_plane_quadric_linear_is_the_plane_quadric(rng):
+    for _ in range(3):
+        b, c, n = rng.normal(size=(3, 3))
+        Q = point_on_plane_quadric_linear(n, np.outer(n, b), n @ c)
+        assert np.allclose(Q, point_on_plane_quadric(b, c, n), rtol=0, atol=1e-13)
+    with pytest.raises(InputError, match="offset"):
+        point_on_plane_quadric_linear(np.ones(3), np.zeros((3, 3)), [np.inf])
 
 
 def test_family_start_on_disk(monkeypatch, tmp_path):
@@ -175,3 +223,23 @@ def test_certified_counts_agree_with_the_total_degree_route():
         # the generating pose is among the modes
         assert np.all(b_new.counts >= 1)
     assert rows >= 50          # most rows are certified (the comparison is not vacuous)
+
+
+@pytest.mark.slow
+def test_three_rps_certified_counts_agree_with_the_total_degree_route():
+    rows = designs = 0
+    for seed in range(10):
+        try:
+            m = _rps(seed)
+            fam = m.family()
+        except isp.DegenerateDesignError:
+            continue
+        L = np.random.default_rng(seed + 100).integers(4, 13, (3, 3)) / 4.0
+        starts = [start_system(fam, route=r) for r in ("family", "design")]
+        b_new, b_old = (solve_rows(fam, st, L ** 2, m.tolerances, lengths=L) for st in starts)
+        assert np.array_equal(b_new.certified, b_old.certified)
+        assert np.array_equal(b_new.reliable, b_old.reliable)
+        assert np.array_equal(b_new.counts, b_old.counts)
+        rows += int(b_new.certified.sum())
+        designs += 1
+    assert designs >= 6 and rows >= 12
