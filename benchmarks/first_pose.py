@@ -10,7 +10,8 @@ lengths) before its first pose. Two routes, interleaved on the same seeded desig
 
 Printed: the one-time costs (numba's compiled code loaded, the family's generic start solved
 in-process and read back from disk), then over ``N`` new seeded designs (general 6-6, anchors
-normal, a pose's lengths) the median per-design start time of both routes, and the median time
+normal, a pose's lengths; then 3-RPS, anchors normal, default axes, random lengths) the median
+per-design start time of both routes, and the median time
 from a new ``GoughStewart`` object to its first certified pose (``direct_kinematics`` with the
 start system built by each route), their ratio, and whether both routes certify the same counts.
 
@@ -34,23 +35,29 @@ def _design(seed):
     base, platform = rng.normal(size=(6, 3)), rng.normal(size=(6, 3))
     q = np.r_[1.0, 0.3 * rng.normal(size=3)]
     s = study_point(q / np.linalg.norm(q), [0.2 * rng.normal(), 0.2 * rng.normal(), 1.5 + rng.random()])
-    return base, platform, isp.GoughStewart(base, platform).inverse_kinematics(s)
+    return (base, platform), isp.GoughStewart(base, platform).inverse_kinematics(s)
 
 
-def _first_pose(base, platform, L, route):
+def _design_3rps(seed):
+    rng = np.random.default_rng(seed)
+    return (rng.normal(size=(3, 3)), rng.normal(size=(3, 3))), 1.0 + 2.0 * rng.random(3)
+
+
+def _first_pose(cls, args, L, route):
     """Seconds from a new design object to its first certified pose; the result."""
     t = time.perf_counter()
-    gs = isp.GoughStewart(base, platform)
-    gs.cached("start_system", lambda: start_system(gs.family(), route=route))
-    res = gs.direct_kinematics(L)
+    m = cls(*args)
+    m.cached("start_system", lambda: start_system(m.family(), route=route))
+    res = m.direct_kinematics(L)
     return time.perf_counter() - t, res
 
 
 def main(n=20):
     t = time.perf_counter()
-    base, platform, L = _design(10 ** 6)
-    for route in ("design", "family"):
-        _first_pose(base, platform, L, route)
+    for cls, make in ((isp.GoughStewart, _design), (isp.ThreeRPS, _design_3rps)):
+        args, L = make(10 ** 6)
+        for route in ("design", "family"):
+            _first_pose(cls, args, L, route)
     print(f"warm-up (compiled code loaded or compiled, first family start): {time.perf_counter() - t:.2f} s")
     A = families.generic_member("legs6")
     t = time.perf_counter()
@@ -64,28 +71,37 @@ def main(n=20):
     print(f"family start, once per process: solved {t_solve * 1e3:.0f} ms ({len(g.solutions)} solutions, "
           f"{g.paths} paths), read from the kernel cache {t_disk * 1e3:.1f} ms")
 
+    for cls, make, title in ((isp.GoughStewart, _design, "6-6 Gough-Stewart designs"),
+                             (isp.ThreeRPS, _design_3rps, "3-RPS designs (random lengths)")):
+        _compare(cls, make, title, n)
+
+
+def _compare(cls, make, title, n):
     starts = {"design": [], "family": []}
     first = {"design": [], "family": []}
     counts = {"design": [], "family": []}
     certified = {"design": 0, "family": 0}
+    carried = 0
     for i in range(n):
-        base, platform, L = _design(i)
-        fam = isp.GoughStewart(base, platform).family()
+        args, L = make(i)
+        fam = cls(*args).family()
         for route in ("design", "family") if i % 2 else ("family", "design"):
             t = time.perf_counter()
             st = start_system(fam, route=route)
             starts[route].append(time.perf_counter() - t)
-            dt, res = _first_pose(base, platform, L, route)
+            carried += route == "family" and st.paths == families.FAMILY_COUNTS[families.family_kind(fam)]
+            dt, res = _first_pose(cls, args, L, route)
             first[route].append(dt)
             counts[route].append((res.count, res.complex_count, len(st.solutions)))
             certified[route] += bool(res.certified)
     med = {k: {r: float(np.median(v[r])) * 1e3 for r in v} for k, v in (("start", starts), ("first", first))}
-    print(f"\n{n} new seeded 6-6 designs, medians [range] in ms:")
-    for what, title in (("start", "per-design start"), ("first", "new design -> first certified pose")):
+    print(f"\n{n} new seeded {title}, medians [range] in ms ({carried}/{n} starts carried, "
+          "the others fell back to the total-degree route):")
+    for what, label in (("start", "per-design start"), ("first", "new design -> first certified pose")):
         src = starts if what == "start" else first
         row = "  ".join(f"{r}: {med[what][r]:7.1f} [{min(src[r]) * 1e3:.1f}-{max(src[r]) * 1e3:.1f}]"
                         for r in ("design", "family"))
-        print(f"  {title:36s} {row}   design / family: {med[what]['design'] / med[what]['family']:.2f}x")
+        print(f"  {label:36s} {row}   design / family: {med[what]['design'] / med[what]['family']:.2f}x")
     same = counts["design"] == counts["family"]
     print(f"  certified first poses: design {certified['design']}/{n}, family {certified['family']}/{n}; "
           f"same counts (real, complex, start solutions) on every design: {'yes' if same else 'NO'}")
