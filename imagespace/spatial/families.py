@@ -223,8 +223,9 @@ def _cache_file(kind, seed):
 
 def _load(path, A, kind):
     """The start system stored at ``path`` for the member ``A``, or None (missing, unreadable,
-    another member, wrong shapes). A damaged file can only make designs fall back to the
-    total-degree route: every moved solution is checked again (:func:`design_start_system`)."""
+    another member, wrong shapes, or points that are not the member's regular solutions: each is
+    carried from the member to itself, which polishes it and checks it as the solver's own
+    endpoints are; the checked points are returned)."""
     from ..core.codegen import read_regular_file
 
     raw = read_regular_file(path)
@@ -232,18 +233,24 @@ def _load(path, A, kind):
         return None
     import io
 
+    _, nparams, pidx = _KINDS[kind]
     try:
         with np.load(io.BytesIO(raw), allow_pickle=False) as f:
             data = {k: f[k] for k in ("A", "p_star", "patch", "solutions", "paths")}
-    except (OSError, ValueError, KeyError):
+        sol = np.ascontiguousarray(data["solutions"], dtype=complex)
+        p_star = np.ascontiguousarray(data["p_star"], dtype=complex)
+        patch = np.ascontiguousarray(data["patch"], dtype=complex)
+        paths = int(data["paths"])
+    except Exception:      # any unreadable file (bad zip, CRC, dtype, missing key): solve again
         return None
-    sol = data["solutions"]
-    _, nparams, pidx = _KINDS[kind]
-    if (not np.array_equal(data["A"], A) or data["p_star"].shape != (nparams,) or data["patch"].shape != (8,)
-            or sol.ndim != 2 or sol.shape[1] != 8 or not np.all(np.isfinite(sol))):
+    if (not np.array_equal(data["A"], A) or p_star.shape != (nparams,) or patch.shape != (8,)
+            or sol.ndim != 2 or sol.shape[1] != 8 or not np.all(np.isfinite(sol))
+            or not np.all(np.isfinite(p_star)) or not np.all(np.isfinite(patch))):
         return None
-    return StartSystem(A, _E, pidx, data["p_star"].astype(complex), data["patch"].astype(complex),
-                       np.ascontiguousarray(sol, dtype=complex), int(data["paths"]))
+    checked = move_start_system(StartSystem(A, _E, pidx, p_star, patch, sol, paths), A)
+    if len(checked.solutions) != len(sol):
+        return None
+    return StartSystem(A, _E, pidx, p_star, patch, checked.solutions, paths)
 
 
 def _store(path, st):
