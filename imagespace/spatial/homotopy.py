@@ -16,7 +16,11 @@ two-dimensional component ``x = 0, y . y = 0`` that every leg quadric contains) 
 is reached along the segment ``p(s) = (1 - s) p + s p*`` (:func:`track_parameters`). Because ``p*`` is
 generic and complex, the segment avoids the discriminant for ``0 < s <= 1`` with probability one
 (the "gamma trick" of Morgan & Sommese 1989), so the 40 paths are regular and end at every
-isolated solution of the target (coefficient-parameter homotopy). Husty's elimination instead builds
+isolated solution of the target (coefficient-parameter homotopy). The design's matrices may move
+too: :func:`move_start_system` carries the solutions of one member of a family LINEAR in its
+coefficients to another (the gamma trick between the two members), which is how a Gough-Stewart
+design gets its start system from its family kind's generic member in milliseconds
+(:mod:`imagespace.spatial.families`) instead of a total-degree homotopy of its own. Husty's elimination instead builds
 a degree-40 univariate per pose from ~20 symbolic resultant steps, and its coefficients lose
 accuracy exactly where modes come close; the tracker's per-path cost is fixed and small.
 
@@ -45,13 +49,14 @@ if TYPE_CHECKING:
     from ..core.kinematic_map import FloatArray
     from ..tolerances import Tolerances
 
-__all__ = ["StartSystem", "solve_start_system", "track_parameters", "classify_batch", "recentre",
+__all__ = ["StartSystem", "solve_start_system", "move_start_system", "track_parameters", "classify_batch", "recentre",
            "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED", "TRACK_KERNELS", "TRACK_KERNEL"]
 
 # start system: thresholds between the regular solutions and the degenerate component
 # (measured, see :func:`_regular`)
 _START_X = 1e-4          # |x| / |z| above this is not the degenerate component
 _START_COND = 1e-9       # sigma_min / sigma_max of the Jacobian above this is regular
+_START_DISTINCT = 1e-6   # two solutions closer than this relative to their size are one
 
 
 @dataclass(frozen=True)
@@ -90,34 +95,47 @@ def _random_complex(rng, shape):
 
 
 def _distinct(Z, scale_tol):
-    """Indices of pairwise distinct rows (relative distance above ``scale_tol``)."""
-    keep = []
+    """Indices of pairwise distinct rows (relative distance above ``scale_tol``): each row is kept
+    when it is farther than ``scale_tol * (1 + |z_i|)`` from every row kept before it."""
+    keep: list[int] = []
+    if not Z.shape[0]:
+        return keep
+    D = np.linalg.norm(Z[:, None, :] - Z[None, :, :], axis=2)
+    thr = scale_tol * (1 + np.linalg.norm(Z, axis=1))
     for i in range(Z.shape[0]):
-        zi = Z[i]
-        if all(np.linalg.norm(zi - Z[j]) > scale_tol * (1 + np.linalg.norm(zi)) for j in keep):
+        if np.all(D[i, keep] > thr[i]):
             keep.append(i)
     return keep
 
 
-def _regular(A, E, pidx, p, patch, z, tol):
-    """Residual small, ``x`` not tiny and the Jacobian not singular (not the degenerate part).
+def _regular(A, E, pidx, p, patch, Z, tol):
+    """Per row of ``Z`` (k, 8): residual small, ``x`` not tiny and the Jacobian not singular (not
+    the degenerate part); a (k,) bool mask.
 
     Measured on general 6-6 designs (anchors of unit size, the family's scaling): endpoints on the
     degenerate component have ``|x| / |z| <= 1.3e-6`` and ``sigma_min / sigma_max <= 2.3e-12``;
     the 40 regular solutions ``|x| / |z| >= 3e-2`` and ``sigma_min / sigma_max >= 1.5e-6``.
     The thresholds sit between: ``_START_X`` and ``_START_COND``.
     """
-    H = np.array([z @ (A[k] - (p[pidx[k]] if pidx[k] >= 0 else 0) * E) @ z for k in range(A.shape[0])]
-                 + [patch @ z - 1])
-    J = np.array([2 * (A[k] - (p[pidx[k]] if pidx[k] >= 0 else 0) * E) @ z for k in range(A.shape[0])]
-                 + [patch])
-    nz = np.linalg.norm(z)
-    if not np.all(np.isfinite(z)) or np.linalg.norm(H) > tol * (1 + nz) ** 2:
-        return False
-    if np.linalg.norm(z[:4]) <= _START_X * nz:
-        return False
-    sv = np.linalg.svd(J, compute_uv=False)
-    return sv[-1] > _START_COND * sv[0]
+    Z = np.asarray(Z, dtype=complex).reshape(-1, DIM)
+    n = Z.shape[0]
+    ok = np.all(np.isfinite(Z), axis=1)
+    if not np.any(ok):
+        return ok
+    W = Z[ok]
+    pk = np.where(pidx >= 0, np.asarray(p)[np.maximum(pidx, 0)], 0.0)
+    M = A - pk[:, None, None] * E
+    MW = np.einsum("kij,nj->nki", M, W)
+    H = np.concatenate([np.einsum("ni,nki->nk", W, MW), (W @ patch - 1)[:, None]], axis=1)
+    J = np.concatenate([2 * MW, np.broadcast_to(patch, (W.shape[0], 1, DIM))], axis=1)
+    nz = np.linalg.norm(W, axis=1)
+    good = (np.linalg.norm(H, axis=1) <= tol * (1 + nz) ** 2) & (np.linalg.norm(W[:, :4], axis=1) > _START_X * nz)
+    if np.any(good):
+        sv = np.linalg.svd(J[good], compute_uv=False)
+        good[good] = sv[:, -1] > _START_COND * sv[:, 0]
+    out = np.zeros(n, dtype=bool)
+    out[ok] = good
+    return out
 
 
 def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, nparams: int, seed: int = 0,
@@ -186,16 +204,91 @@ def solve_start_system(A: npt.ArrayLike, E: npt.ArrayLike, pidx: npt.ArrayLike, 
         status = np.zeros((1, starts.shape[0]), dtype=np.int64)
         steps = np.zeros((1, starts.shape[0]), dtype=np.int64)
         track_many(np.ascontiguousarray(starts), 1, A, E, pidx, np.zeros((1, nparams), complex), p_star,
-                   U, patch, gamma, Z, status, steps)
+                   U, A, patch, gamma, Z, status, steps)
         paths += starts.shape[0]
-        good = [z for z, st in zip(Z[0], status[0]) if st == PATH_OK and _regular(A, E, pidx, p_star, patch,
-                                                                                    z, tol)]
-        if good:
-            allz = np.vstack([found, np.array(good)])
-            found = allz[_distinct(allz, 1e-6)]
+        arrived = Z[0][status[0] == PATH_OK]
+        good = arrived[_regular(A, E, pidx, p_star, patch, arrived, tol)]
+        if len(good):
+            allz = np.vstack([found, good])
+            found = allz[_distinct(allz, _START_DISTINCT)]
         if expected is not None and len(found) >= expected:
             break
     return StartSystem(A, E, pidx, p_star, patch, np.ascontiguousarray(found), paths)
+
+
+def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: float = 1e-10) -> StartSystem:
+    """Carry a start system to another member of its family (coefficient-parameter homotopy).
+
+    ``start`` holds the solutions of one member ``z^T (A1_k - p*_k E) z`` (``A1 = start.A``) of a
+    family whose matrices depend LINEARLY on coefficients (:mod:`imagespace.spatial.families`); the
+    target is the member ``A`` at the same parameters ``p*``. The homotopy is
+    ``H = (1 - s) F_A + s gamma F_A1`` with ``gamma`` a seeded random unit complex number: a path
+    in the complex line through the two members (every scalar multiple of a member's equations is
+    that member again), which avoids the finitely many degenerate members of that line for
+    ``0 < s <= 1`` with probability one when ``start`` is a generic member (Morgan & Sommese 1989).
+    Every isolated solution of the target is then an endpoint; the regular finite ones are kept
+    (the same test as :func:`solve_start_system`). The caller compares their count with the
+    family's bound: fewer means a special member or a lost path, never to be used silently.
+
+    Parameters
+    ----------
+    start : StartSystem
+        A generic member's solutions.
+    A : (m, 8, 8) float
+        The target member's parameter-free parts (same ``E``, ``pidx``, ``p_star`` and patch).
+    seed : int
+        Seeds ``gamma``.
+    tol : float
+        As in :func:`solve_start_system`.
+
+    Returns
+    -------
+    StartSystem
+        ``A``'s regular finite solutions at ``start.p_star``; ``paths`` is the number tracked.
+
+    Raises
+    ------
+    TypeError
+        If ``start`` is not a StartSystem.
+    InputError
+        If ``A`` is not a finite real array of ``start.A``'s shape.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from imagespace.spatial.quadrics import sphere_quadric, study_quadric_matrix
+    >>> rng = np.random.default_rng(1)
+    >>> legs = lambda: np.concatenate([sphere_quadric(rng.normal(size=(6, 3)), rng.normal(size=(6, 3)),
+    ...                                               0.0), study_quadric_matrix()[None]])
+    >>> st = solve_start_system(legs(), np.diag([1.0, 1, 1, 1, 0, 0, 0, 0]), np.r_[np.arange(6), -1], 6,
+    ...                         expected=40)
+    >>> moved = move_start_system(st, legs())
+    >>> len(moved.solutions), moved.paths
+    (40, 40)
+    """
+    from ..exceptions import InputError
+
+    if not isinstance(start, StartSystem):
+        raise TypeError(f"start must be a StartSystem, got {type(start).__name__}")
+    A = np.asarray(A)
+    if A.shape != start.A.shape or A.dtype.kind not in "biuf" or not np.all(np.isfinite(A)):
+        raise InputError(f"A must be a finite real array of shape {start.A.shape} (the start member's), "
+                         f"got shape {A.shape} and dtype {A.dtype}")
+    A = np.ascontiguousarray(A, dtype=float)
+    rng = np.random.default_rng(seed)
+    gamma = np.exp(2j * np.pi * rng.random())
+    k = start.solutions.shape[0]
+    Z = np.zeros((1, k, DIM), dtype=complex)
+    status = np.zeros((1, k), dtype=np.int64)
+    steps = np.zeros((1, k), dtype=np.int64)
+    if k:
+        track_many(start.solutions, 2, A, start.E, start.pidx,
+                   np.ascontiguousarray(start.p_star, dtype=complex)[None], start.p_star,
+                   np.zeros((A.shape[0], DIM), complex), start.A, start.patch, gamma, Z, status, steps)
+    arrived = Z[0][status[0] == PATH_OK]
+    found = arrived[_regular(A, start.E, start.pidx, start.p_star, start.patch, arrived, tol)]
+    found = found[_distinct(found, _START_DISTINCT)]
+    return StartSystem(A, start.E, start.pidx, start.p_star, start.patch, np.ascontiguousarray(found), k)
 
 
 #: the trackers of :func:`track_parameters`: ``"lanes"`` the lockstep tracker
@@ -282,7 +375,8 @@ def track_parameters(start: StartSystem, P: npt.ArrayLike, kernel: str = TRACK_K
                     steps)
     else:
         track_many(start.solutions, 0, start.A, start.E, start.pidx, P, start.p_star,
-                   np.zeros((start.A.shape[0], DIM), complex), start.patch, 1.0 + 0j, Z, status, steps)
+                   np.zeros((start.A.shape[0], DIM), complex), start.A, start.patch, 1.0 + 0j, Z, status,
+                   steps)
     return Z, status, steps
 
 
@@ -436,7 +530,7 @@ def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0, kernel: s
     Z = Z[0]
     if np.any(status[0] != PATH_OK) or not np.all(np.isfinite(Z)):
         return start
-    if len(_distinct(Z, 1e-6)) != Z.shape[0]:
+    if len(_distinct(Z, _START_DISTINCT)) != Z.shape[0]:
         return start
     return StartSystem(start.A, start.E, start.pidx, p_new, start.patch, np.ascontiguousarray(Z),
                        start.paths)

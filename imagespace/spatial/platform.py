@@ -261,6 +261,9 @@ class QuadricPlatform(Mechanism):
         """The family's solutions at generic complex lengths, computed once per design.
 
         40 for a general Gough-Stewart platform, 16 for a 6-3 or 3-3 one or a general 3-RPS.
+        Carried from the family kind's generic start in milliseconds
+        (:mod:`imagespace.spatial.families`); a design whose carried start falls short of its
+        bound is solved by a total-degree homotopy (:func:`imagespace.spatial.solver.start_system`).
 
         Returns
         -------

@@ -58,6 +58,8 @@ __all__ = [
     "sphere_quadric_symbolic",
     "sphere_quadric",
     "sphere_quadric_exact",
+    "sphere_quadric_linear",
+    "point_on_plane_quadric_linear",
     "point_on_plane_quadric",
     "point_on_line_quadrics",
     "landed_point_times_n",
@@ -364,6 +366,87 @@ def sphere_quadric(base_point, platform_point, length):
     return out
 
 
+@lru_cache(maxsize=1)
+def _sphere_basis():
+    """The sphere quadric's coefficient matrices, read off the compiled derivation (exact: at
+    coordinates 0 and 1 every entry is a small integer)."""
+    z, e = np.zeros(3), np.eye(3)
+    K0 = sphere_quadric(z, z, 0.0)
+    N = K0 - sphere_quadric(z, z, 1.0)                     # c = -L^2 = -1
+    Ka = np.array([sphere_quadric(e[i], z, 0.0) - K0 - N for i in range(3)])
+    Kb = np.array([sphere_quadric(z, e[j], 0.0) - K0 - N for j in range(3)])
+    KW = np.array([[sphere_quadric(e[i], e[j], 0.0) - K0 - 2 * N - Ka[i] - Kb[j] for j in range(3)]
+                   for i in range(3)])
+    for M in (K0, N, Ka, Kb, KW):
+        M.setflags(write=False)
+    return K0, N, Ka, Kb, KW
+
+
+def _linear_coefficients(args):
+    """Check ``(name, value, tail shape)`` coefficient arguments of the linear quadric families:
+    numeric, finite, shape ``tail`` or ``(n,) + tail``, one batch size. Returns the arrays and the
+    broadcast batch shape."""
+    vals = []
+    for name, v, tail in args:
+        arr = np.asarray(v)
+        if arr.dtype.kind not in "biufc":
+            raise InputError(f"{name} must be numeric, got dtype {arr.dtype}")
+        if arr.shape[arr.ndim - len(tail):] != tail or arr.ndim - len(tail) > 1:
+            raise InputError(f"{name} must have shape {tail} or (n,) + {tail}, got {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{name} must be finite")
+        vals.append(arr)
+    try:
+        shape = np.broadcast_shapes(*(v.shape[:v.ndim - len(t)] for v, (_, _, t) in zip(vals, args)))
+    except ValueError:
+        raise InputError(f"{', '.join(a[0] for a in args)} must have the same batch size, got shapes "
+                         f"{[v.shape for v in vals]}") from None
+    return vals, shape
+
+
+def sphere_quadric_linear(base_point: npt.ArrayLike, platform_point: npt.ArrayLike, products: npt.ArrayLike,
+                          constant: npt.ArrayLike) -> npt.NDArray[Any]:
+    """The sphere quadric written linearly in its coefficients ``(a, b, W, c)``.
+
+    The form of :func:`sphere_quadric` is ``c N + 4 y.y + 4 (x b).y - 4 a.(y x~) - 2 a.(x b x~)``
+    with ``c = |a|^2 + |b|^2 - L^2``; its last term is bilinear in ``a`` and ``b``, so the matrix is
+    an affine function of ``a``, ``b``, the products ``W = a b^T`` and ``c``. Taken with any ``W``
+    and ``c`` (not only ``a b^T`` and ``|a|^2 + |b|^2 - L^2``) it spans the linear family that the
+    start systems of :mod:`imagespace.spatial.families` move in.
+
+    Parameters
+    ----------
+    base_point, platform_point : (3,) or (n, 3) float or complex
+    products : (3, 3) or (n, 3, 3) float or complex
+        ``W``; ``np.outer(a, b)`` gives the sphere quadric.
+    constant : float or (n,) float or complex
+        ``c``, the coefficient of ``N = x . x``.
+
+    Returns
+    -------
+    (8, 8) or (n, 8, 8) float or complex
+
+    Raises
+    ------
+    InputError
+        On shapes that do not match or non-finite entries.
+
+    Examples
+    --------
+    >>> a, b, L = np.array([0.5, -1.0, 2.0]), np.array([1.0, 0.25, -0.5]), 1.5
+    >>> Q = sphere_quadric_linear(a, b, np.outer(a, b), a @ a + b @ b - L ** 2)
+    >>> bool(np.allclose(Q, sphere_quadric(a, b, L), rtol=0, atol=1e-14))
+    True
+    """
+    (a, b, W, c), shape = _linear_coefficients((("base_point", base_point, (3,)),
+                                                ("platform_point", platform_point, (3,)),
+                                                ("products", products, (3, 3)), ("constant", constant, ())))
+    K0, N, Ka, Kb, KW = _sphere_basis()
+    out = (K0 + np.einsum("...i,ikl->...kl", a, Ka) + np.einsum("...j,jkl->...kl", b, Kb)
+           + np.einsum("...ij,ijkl->...kl", W, KW) + np.asarray(c)[..., None, None] * N)
+    return np.broadcast_to(out, shape + (8, 8)).copy()
+
+
 def _too_large(names, what):
     return InputError(f"{names} is too large: {what} are outside the float range (about 1.8e308); "
                       "expected coordinates whose squares a float can hold (below about 1e154)")
@@ -435,6 +518,60 @@ def point_on_plane_quadric(platform_point, plane_point, plane_normal):
     N = _dot(z[:4], z[:4])
     Q = form_matrix(sum(ni * Xi for ni, Xi in zip(n, X[1:])) - _dot(n, c) * N)
     return Q if symbolic else _as_float_matrix(Q, "platform_point, plane_point or plane_normal")
+
+
+@lru_cache(maxsize=1)
+def _plane_basis():
+    """The plane quadric's coefficient matrices, from :func:`point_on_plane_quadric` (13 exact
+    derivations, once per process; every entry a small integer)."""
+    z, e = np.zeros(3), np.eye(3)
+    T = np.array([point_on_plane_quadric(z, z, e[i]) for i in range(3)])
+    V = np.array([[point_on_plane_quadric(e[j], z, e[i]) - T[i] for j in range(3)] for i in range(3)])
+    N = T[0] - point_on_plane_quadric(z, e[0], e[0])           # n . c = 1
+    for M in (T, V, N):
+        M.setflags(write=False)
+    return T, V, N
+
+
+def point_on_plane_quadric_linear(normal: npt.ArrayLike, products: npt.ArrayLike, offset: npt.ArrayLike
+                                  ) -> npt.NDArray[Any]:
+    """The plane quadric written linearly in its coefficients ``(n, V, d)``.
+
+    The form of :func:`point_on_plane_quadric` is ``n . vec(x b x~) + 2 n . vec(y x~) - d N`` with
+    ``d = n . c``: linear in the normal ``n``, the products ``V = n b^T`` and ``d``. Taken with
+    any ``V`` (not only ``n b^T``) it spans the linear family that the 3-RPS start systems move in
+    (:mod:`imagespace.spatial.families`).
+
+    Parameters
+    ----------
+    normal : (3,) or (n, 3) float
+    products : (3, 3) or (n, 3, 3) float
+        ``V``; ``np.outer(n, b)`` gives the plane quadric of the platform point ``b``.
+    offset : float or (n,) float
+        ``d``, the coefficient of ``-N``.
+
+    Returns
+    -------
+    (8, 8) or (n, 8, 8) float
+
+    Raises
+    ------
+    InputError
+        On shapes that do not match or non-finite entries.
+
+    Examples
+    --------
+    >>> b, c, n = np.array([0.5, -1.0, 2.0]), np.array([1.0, 0.25, -0.5]), np.array([0.0, 1.0, 1.0])
+    >>> Q = point_on_plane_quadric_linear(n, np.outer(n, b), n @ c)
+    >>> bool(np.allclose(Q, point_on_plane_quadric(b, c, n), rtol=0, atol=1e-14))
+    True
+    """
+    (n, V, d), shape = _linear_coefficients((("normal", normal, (3,)), ("products", products, (3, 3)),
+                                             ("offset", offset, ())))
+    T, B, N = _plane_basis()
+    out = (np.einsum("...i,ikl->...kl", n, T) + np.einsum("...ij,ijkl->...kl", V, B)
+           - np.asarray(d)[..., None, None] * N)
+    return np.broadcast_to(out, shape + (8, 8)).copy()
 
 
 @overload

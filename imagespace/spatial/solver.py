@@ -4,7 +4,9 @@ A mechanism (:class:`~imagespace.spatial.GoughStewart`, :class:`~imagespace.spat
 describes itself as a :class:`QuadricFamily`: ``m = 7`` quadrics ``z^T (A_k - p_k E) z = 0`` whose
 parameters ``p`` are its squared leg lengths. This module
 
-* solves the family once at generic complex parameters (:func:`~imagespace.spatial.homotopy.solve_start_system`),
+* solves the family once at generic complex parameters (:func:`start_system`: carried from the
+  family kind's generic member, :mod:`imagespace.spatial.families`, or by a total-degree homotopy,
+  :func:`~imagespace.spatial.homotopy.solve_start_system`),
 * tracks those solutions to every target row in the compiled tracker (the fast path),
 * proves each row's endpoints with a compiled Krawczyk test on rigorous error bounds
   (:mod:`imagespace.spatial.fastcert`): ``reliable`` means it proved as many distinct solutions
@@ -28,6 +30,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..exceptions import NearSingularWarning
+from .families import design_start_system
 from .homotopy import (PATH_OK, TRACK_KERNEL, check_kernel, classify_batch, recentre, solve_start_system,
                        track_parameters)
 from .results import SpatialDKBatch, SpatialDKResult
@@ -97,26 +100,50 @@ class QuadricFamily:
         return out
 
 
-def start_system(family: QuadricFamily, seed: int = 0) -> StartSystem:
+#: the routes of :func:`start_system`: ``"family"`` carries the family kind's generic start to the
+#: design (:mod:`imagespace.spatial.families`), ``"design"`` solves the design by a total-degree
+#: homotopy; they give the same solutions (``tests/spatial/test_families.py``)
+START_ROUTES = ("family", "design")
+
+
+def start_system(family: QuadricFamily, seed: int = 0, route: str = "family") -> StartSystem:
     """The family's solutions at generic complex parameters (computed once per design).
 
     Parameters
     ----------
     family : QuadricFamily
     seed : int
+    route : {"family", "design"}, optional
+        ``"family"`` (default): the family kind's generic start carried to the design
+        (:func:`~imagespace.spatial.families.design_start_system`, milliseconds), where the family
+        has a kind and the moved start holds the family's bound; the total-degree route
+        otherwise. ``"design"``: always the total-degree route
+        (:func:`~imagespace.spatial.homotopy.solve_start_system`).
 
     Returns
     -------
     StartSystem
+
+    Raises
+    ------
+    InputError
+        On an unknown route.
 
     Examples
     --------
     >>> import numpy as np, imagespace as isp
     >>> gs = isp.GoughStewart(np.random.default_rng(0).normal(size=(6, 3)),
     ...                       np.random.default_rng(1).normal(size=(6, 3)))
-    >>> len(start_system(gs.family()).solutions)
-    40
+    >>> len(start_system(gs.family()).solutions), len(start_system(gs.family(), route="design").solutions)
+    (40, 40)
     """
+    if not isinstance(route, str) or route not in START_ROUTES:
+        from ..exceptions import InputError
+        raise InputError(f"route must be one of {', '.join(map(repr, START_ROUTES))}, got {route!r}")
+    if route == "family":
+        st = design_start_system(family, seed=seed)
+        if st is not None:
+            return st
     return solve_start_system(family.A, family.E, family.pidx, family.nparams, seed=seed,
                               expected=family.bound)
 

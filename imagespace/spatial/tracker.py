@@ -96,12 +96,14 @@ def _lu_solve(M, piv, b, out, sign):
 
 
 @njit(cache=True, fastmath=True)
-def _evaluate(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az):
+def _evaluate(z, s, mode, A, E, pidx, p0, p1, U, A1, c, gamma, H, J, Hs, Ez, Az):
     """Value ``H``, Jacobian ``J`` and ``dH/ds`` of the homotopy at ``(z, s)``.
 
     mode 0 (parameters): ``H_k = z^T A_k z - p_k(s) z^T E z`` with ``p(s) = (1 - s) p0 + s p1``.
     mode 1 (start): ``H = (1 - s) F(z; p1) + s gamma G(z)``, ``G_k = (u_k . z)^2 - (c . z)^2``.
-    The last row is the patch ``c . z - 1``.
+    mode 2 (coefficients): ``H = (1 - s) F(z; p1) + s gamma G(z)``, ``G_k = z^T A1_k z - p0_k z^T E z``
+    (another member of a family linear in its coefficients: the gamma trick between two members).
+    ``F(z; p)_k = z^T A_k z - p_k z^T E z``. The last row is the patch ``c . z - 1``.
     """
     m = A.shape[0]
     # E is diagonal (x . x for legs): Ez = diag(E) z
@@ -138,7 +140,7 @@ def _evaluate(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az):
             Hs[k] = -dp * zEz
             for i in range(DIM):
                 J[k, i] = 2.0 * (Az[i] - pk * Ez[i])
-        else:
+        elif mode == 1:
             pk = p1[q] if q >= 0 else 0j
             F = zAz - pk * zEz
             uz = 0j
@@ -151,6 +153,26 @@ def _evaluate(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az):
                 dF = 2.0 * (Az[i] - pk * Ez[i])
                 dG = 2.0 * (uz * U[k, i] - cz * c[i])
                 J[k, i] = (1.0 - s) * dF + s * gamma * dG
+        else:
+            pk = p1[q] if q >= 0 else 0j
+            gk = p0[q] if q >= 0 else 0j
+            F = zAz - pk * zEz
+            G = -gk * zEz
+            for i in range(DIM):
+                ar = 0.0
+                ai = 0.0
+                for j in range(DIM):
+                    a = A1[k, i, j]
+                    ar += a * z[j].real
+                    ai += a * z[j].imag
+                w = complex(ar, ai)
+                G += z[i] * w
+                # J row: the start member's gradient part, then the target's below
+                J[k, i] = s * gamma * 2.0 * (w - gk * Ez[i])
+            H[k] = (1.0 - s) * F + s * gamma * G
+            Hs[k] = gamma * G - F
+            for i in range(DIM):
+                J[k, i] += (1.0 - s) * 2.0 * (Az[i] - pk * Ez[i])
     H[m] = cz - 1.0
     Hs[m] = 0j
     for i in range(DIM):
@@ -175,7 +197,7 @@ def complex_norm(v):
 
 
 @njit(cache=True, fastmath=True)
-def _track(z0, mode, A, E, pidx, p0, p1, U, c, gamma, z, V, J, piv):
+def _track(z0, mode, A, E, pidx, p0, p1, U, A1, c, gamma, z, V, J, piv):
     """Track one path from ``s = 1`` to ``s = 0``; ``z`` receives the endpoint. Returns (status,
     Jacobian evaluations). ``V`` (10, 8) complex, ``J`` (8, 8) complex and ``piv`` (8,) int are
     work arrays (allocated once per thread by the caller).
@@ -196,7 +218,7 @@ def _track(z0, mode, A, E, pidx, p0, p1, U, c, gamma, z, V, J, piv):
     for i in range(DIM):
         z[i] = z0[i]
     s = 1.0
-    _evaluate(z, s, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
+    _evaluate(z, s, mode, A, E, pidx, p0, p1, U, A1, c, gamma, H, J, Hs, Ez, Az)
     if not _lu(J, piv):
         return PATH_FAILED, 0
     _lu_solve(J, piv, Hs, dz, -1.0)
@@ -231,7 +253,7 @@ def _track(z0, mode, A, E, pidx, p0, p1, U, c, gamma, z, V, J, piv):
         for it in range(NEWTON_STEPS):
             used = it + 1
             evals += 1
-            _evaluate(w, t, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
+            _evaluate(w, t, mode, A, E, pidx, p0, p1, U, A1, c, gamma, H, J, Hs, Ez, Az)
             if not _lu(J, piv):
                 break
             _lu_solve(J, piv, H, step, 1.0)
@@ -266,7 +288,7 @@ def _track(z0, mode, A, E, pidx, p0, p1, U, c, gamma, z, V, J, piv):
             if h < STEP_MIN:
                 return PATH_FAILED, steps
     for it in range(FINAL_NEWTON):
-        _evaluate(z, 0.0, mode, A, E, pidx, p0, p1, U, c, gamma, H, J, Hs, Ez, Az)
+        _evaluate(z, 0.0, mode, A, E, pidx, p0, p1, U, A1, c, gamma, H, J, Hs, Ez, Az)
         if not _lu(J, piv):
             break
         _lu_solve(J, piv, H, step, 1.0)
@@ -278,7 +300,7 @@ def _track(z0, mode, A, E, pidx, p0, p1, U, c, gamma, z, V, J, piv):
 
 
 @njit(cache=True, parallel=True)
-def track_many(starts, mode, A, E, pidx, P0, p1, U, c, gamma, Z, status, steps):
+def track_many(starts, mode, A, E, pidx, P0, p1, U, A1, c, gamma, Z, status, steps):
     """Track every (row, path) pair, one path at a time: row ``r`` takes the start points
     ``starts`` to the parameters ``P0[r]`` (compiled, parallel over blocks of pairs).
 
@@ -288,7 +310,9 @@ def track_many(starts, mode, A, E, pidx, P0, p1, U, c, gamma, Z, status, steps):
         Start points on the patch.
     mode : int
         0: the parameter homotopy ``p(s) = (1 - s) P0[r] + s p1``; 1: the total-degree homotopy
-        from ``(u_k . z)^2 - (c . z)^2`` to the family at ``p1`` (``P0`` unused).
+        from ``(u_k . z)^2 - (c . z)^2`` to the family at ``p1`` (``P0`` unused); 2: the
+        coefficient homotopy from the member ``(A1, P0[r])`` (at ``s = 1``) to ``(A, p1)``, both
+        of one family linear in its coefficients (``gamma`` times the start member).
     A : (m, 8, 8) float
     E : (8, 8) float
         Diagonal (only its diagonal is read).
@@ -297,6 +321,8 @@ def track_many(starts, mode, A, E, pidx, P0, p1, U, c, gamma, Z, status, steps):
     p1 : (p,) complex
     U : (m, 8) complex
         The start system's linear forms (mode 1).
+    A1 : (m, 8, 8) float
+        The start member's parameter-free parts (mode 2; any array of that shape otherwise).
     c : (8,) complex
         The patch.
     gamma : complex
@@ -321,7 +347,7 @@ def track_many(starts, mode, A, E, pidx, P0, p1, U, c, gamma, Z, status, steps):
     >>> Z = np.zeros((1, 40, 8), complex)
     >>> status, steps = np.zeros((1, 40), np.int64), np.zeros((1, 40), np.int64)
     >>> track_many(st.solutions, 0, st.A, st.E, st.pidx, np.full((1, 6), 4.0 + 0j), st.p_star,
-    ...            np.zeros((7, 8), complex), st.patch, 1 + 0j, Z, status, steps)
+    ...            np.zeros((7, 8), complex), st.A, st.patch, 1 + 0j, Z, status, steps)
     >>> bool(np.all(status == PATH_OK))
     True
     """
@@ -338,6 +364,6 @@ def track_many(starts, mode, A, E, pidx, P0, p1, U, c, gamma, Z, status, steps):
         for job in range(b * jobs // blocks, (b + 1) * jobs // blocks):
             r = job // k
             j = job % k
-            st, ns = _track(starts[j], mode, A, E, pidx, P0[r], p1, U, c, gamma, Z[r, j], V, J, piv)
+            st, ns = _track(starts[j], mode, A, E, pidx, P0[r], p1, U, A1, c, gamma, Z[r, j], V, J, piv)
             status[r, j] = st
             steps[r, j] = ns
