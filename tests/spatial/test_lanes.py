@@ -107,8 +107,9 @@ def test_lanes_and_scalar_paths_agree(runs, name):
     r = runs[name]
     Zs, ss, _, calls_s = r["scalar"]
     Zl, sl, _, calls_l = r["lanes"]
-    # lanes: the re-centring and tracking here, and the same two in solve_rows (>= 32 rows)
-    assert calls_s == 0 and calls_l == 4
+    # lanes: the re-centring and tracking here, the same two in solve_rows (>= 32 rows), and the
+    # second chances of rows the certificate left unproven (solver.RETRY_STARTS), all by lanes
+    assert calls_s == 0 and calls_l >= 4
     assert Zs.shape == Zl.shape and np.all(np.isfinite(Zs[ss == PATH_OK]))
     assert endpoint_mismatches(Zs, ss, Zl, sl) == (0, 0)
 
