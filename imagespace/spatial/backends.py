@@ -17,7 +17,7 @@ method.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Optional
 
 import numpy as np
 
@@ -111,11 +111,30 @@ def solve(m: Any, L: np.ndarray, rows: np.ndarray, method: str, per_call: bool) 
 
 
 def prove(m: Any, L: np.ndarray, batch: SpatialDKBatch, rows: np.ndarray, method: str) -> SpatialDKBatch:
-    """The proof stage: every row of ``rows`` proven (compiled pass, arb, msolve), the batch
-    solved again in one certified pass."""
+    """The proof stage: every row of ``rows`` proven. The rows :func:`solve` already certified
+    (the compiled certificate on the exact squares of the lengths, reaching the family's bound)
+    are kept; the others go through :func:`~imagespace.spatial.solver.certify_rows` (second
+    starts, arb, msolve).
+
+    Examples
+    --------
+    >>> import numpy as np, imagespace as isp
+    >>> from imagespace.spatial.backends import prove, solve
+    >>> gs, L = isp.examples.dietmaier_1998()
+    >>> rows = np.array([True])
+    >>> prove(gs, np.array([L]), solve(gs, np.array([L]), rows, "fast", False), rows, "fast").certified.tolist()
+    [True]
+    """
     m.check_design()
-    return certify_rows(m.family(), m.start_system, L, m.tolerances, valid=np.asarray(rows, bool),
-                        exact_solver=_exact_solver(m))
+    rows = np.asarray(rows, bool)
+    todo = rows & ~np.asarray(batch.certified, bool)
+    if not np.any(todo):
+        return batch
+    sub = certify_rows(m.family(), m.start_system, L[todo], m.tolerances, exact_solver=_exact_solver(m))
+    results: list[Optional[SpatialDKResult]] = [batch[i] if rows[i] else None for i in range(len(batch))]
+    for j, i in enumerate(np.flatnonzero(todo)):
+        results[i] = sub[j]
+    return SpatialDKBatch.from_results(results)
 
 
 def exact(m: Any, q: Any, qf: np.ndarray, method: str, certify: bool) -> SpatialDKResult:

@@ -55,6 +55,8 @@ _REAL_PROPOSAL = 1e-7            # |Im m| below this (relative) proposes a real 
 _CHART_MIN = 0.05                # the chart vector must satisfy |r . x| >= this * |x| on every solution
 _CHART_TRIES = 40
 _POLISH = 6                      # float Newton iterations in the chart before the proof
+_REFINE = 4                      # Newton iterations at CERT_PRECISION for a point the float boxes miss
+_REFINED_RADII = (1e-24, 1e-18)  # box half-widths tried around a refined centre, relative to 1 + |m|
 
 
 @dataclass(frozen=True)
@@ -272,19 +274,60 @@ def krawczyk_certify(Q_exact: npt.NDArray[np.object_], Z: npt.ArrayLike, chart: 
                     real[i] = is_real
                     displacement[i] = disp
                     break
+            if not certified[i]:
+                # an ill-conditioned solution (Jacobian condition ~1e7 near a double mode): the float
+                # centre is too far off for any box the float Jacobian contracts; its centre refined
+                # by Newton in arb at CERT_PRECISION bits, tiny boxes around it
+                mid = _refine(flint, Qs, rrow, m_eq, z)
+                if mid is not None:
+                    size = 1.0 + np.abs(z).max()
+                    for rel in _REFINED_RADII:
+                        rho = rel * size
+                        ok, is_real, disp = _krawczyk_once(flint, Qs, rrow, m_eq, z, rho, Y, mid=mid)
+                        if ok:
+                            # the float centre recorded is the refined one rounded: the radius
+                            # recorded covers that rounding (disjointness is checked on it)
+                            points[i] = np.array([complex(float(v.real.mid()), float(v.imag.mid())) for v in mid])
+                            radii[i] = rho + 2.0 ** -50 * (1.0 + np.abs(points[i]).max())
+                            certified[i] = True
+                            real[i] = is_real
+                            displacement[i] = disp
+                            break
     finally:
         flint.ctx.prec = old
     disjoint = _pairwise_disjoint(points[certified], radii[certified])
     return KrawczykResult(points, radii, certified, real, disjoint, r, displacement)
 
 
-def _krawczyk_once(flint, Qs, rrow, m_eq, z, rho, Y):
-    """One Krawczyk test on the box ``z +- rho`` (real and imaginary parts); (proved, real flag,
-    x . x excludes 0 on the box)."""
+def _refine(flint, Qs, rrow, m_eq, z):
+    """Newton's iterations on the chart's system at the context precision from the float point
+    ``z`` (real points stay real): the centres as exact acb midpoints, or None where a Jacobian is
+    not invertible. Only a proposal: the Krawczyk test decides."""
+    real_centre = bool(np.all(z.imag == 0.0))
+    mid = [flint.acb(float(v.real), float(v.imag)) for v in z]
+    for _ in range(_REFINE):
+        M = flint.acb_mat([[v] for v in mid])
+        QM = Qs * M
+        G = [sum((mid[j] * QM[8 * q + j, 0] for j in range(8)), flint.acb(0)) for q in range(m_eq)]
+        G.append(sum((rrow[j] * mid[j] for j in range(8)), flint.acb(0)) - 1)
+        J = flint.acb_mat([[2 * QM[8 * q + j, 0] for j in range(8)] for q in range(m_eq)] + [rrow])
+        try:
+            step = J.solve(flint.acb_mat([[g] for g in G]))
+        except ZeroDivisionError:
+            return None
+        mid = [mid[j] - step[j, 0] for j in range(8)]
+        mid = [flint.acb(v.real.mid(), 0 if real_centre else v.imag.mid()) for v in mid]
+    return mid
+
+
+def _krawczyk_once(flint, Qs, rrow, m_eq, z, rho, Y, mid=None):
+    """One Krawczyk test on the box ``z +- rho`` (real and imaginary parts; centred at ``mid``,
+    exact acb points, when given); (proved, real flag, x . x excludes 0 on the box)."""
     real_centre = bool(np.all(z.imag == 0.0))
     rad = flint.arb(0, rho)
-    mid = [flint.acb(float(v.real), float(v.imag)) for v in z]
-    box = [flint.acb(float(v.real) + rad, float(v.imag) + rad) for v in z]
+    if mid is None:
+        mid = [flint.acb(float(v.real), float(v.imag)) for v in z]
+    box = [flint.acb(v.real + rad, v.imag + rad) for v in mid]
     M = flint.acb_mat([[v] for v in mid])
     B = flint.acb_mat([[v] for v in box])
     QM = Qs * M                                     # (7*8, 1): Q_k m stacked
