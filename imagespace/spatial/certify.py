@@ -26,6 +26,10 @@ that ``X`` holds exactly one solution, and that it is non-singular (Krawczyk 196
   family), a 6-3, 3-3 or 3-RPS at most 16: that many certified disjoint boxes of displacements are
   all of them, so the number of real ones is the number of real modes.
 
+Centres are float points polished by Newton's method; where no box around one contracts (a solution
+whose Jacobian has condition ~1e7, near a double mode), the centre is refined by Newton's method in
+arb at :data:`CERT_PRECISION` bits and tiny boxes around the refined centre are tried.
+
 Everything decided here is decided in ball arithmetic on the exact input; floats only propose.
 
 References

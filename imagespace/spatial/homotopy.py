@@ -50,7 +50,8 @@ if TYPE_CHECKING:
     from ..tolerances import Tolerances
 
 __all__ = ["StartSystem", "solve_start_system", "move_start_system", "track_parameters", "classify_batch", "recentre",
-           "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED", "TRACK_KERNELS", "TRACK_KERNEL"]
+           "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED", "TRACK_KERNELS", "TRACK_KERNEL",
+           "LANES_MIN_ROWS"]
 
 # start system: thresholds between the regular solutions and the degenerate component
 # (measured, see :func:`_regular`)
@@ -293,10 +294,15 @@ def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: 
 
 #: the trackers of :func:`track_parameters`: ``"lanes"`` the lockstep tracker
 #: (:mod:`imagespace.spatial.lanes`), ``"scalar"`` the one-path tracker
-#: (:mod:`imagespace.spatial.tracker`); they take the same decisions on every path
-TRACK_KERNELS = ("lanes", "scalar")
-#: the default tracker (the faster one on the issue [18] benchmark, ``benchmarks/spatial_dk.py``)
-TRACK_KERNEL = "lanes"
+#: (:mod:`imagespace.spatial.tracker`), ``"auto"`` the lockstep one from :data:`LANES_MIN_ROWS`
+#: rows on, the one-path one below (a lone row fills a block of lanes poorly); they take the same
+#: decisions on every path
+TRACK_KERNELS = ("auto", "lanes", "scalar")
+#: the default tracker
+TRACK_KERNEL = "auto"
+#: rows from which ``kernel="auto"`` tracks in lockstep (measured: one and two rows are faster one
+#: path at a time, four and more in lockstep; ``benchmarks/first_pose.py``)
+LANES_MIN_ROWS = 3
 
 
 def check_kernel(kernel: object) -> str:
@@ -314,7 +320,7 @@ def check_kernel(kernel: object) -> str:
     >>> check_kernel("simd")
     Traceback (most recent call last):
     ...
-    imagespace.exceptions.InputError: kernel must be one of 'lanes', 'scalar', got 'simd'
+    imagespace.exceptions.InputError: kernel must be one of 'auto', 'lanes', 'scalar', got 'simd'
     """
     if not isinstance(kernel, str) or kernel not in TRACK_KERNELS:
         from ..exceptions import InputError
@@ -331,11 +337,12 @@ def track_parameters(start: StartSystem, P: npt.ArrayLike, kernel: str = TRACK_K
     start : StartSystem
     P : (n, p) float or complex
         Target parameters (squared leg lengths).
-    kernel : {"lanes", "scalar"}, optional
+    kernel : {"auto", "lanes", "scalar"}, optional
         ``"lanes"``: the lockstep tracker (:mod:`imagespace.spatial.lanes`, ``LANES`` paths
         advanced together, vectorised); ``"scalar"``: one path at a time
-        (:mod:`imagespace.spatial.tracker`). Both take the same decisions on every path; the
-        endpoints agree to rounding. Default :data:`TRACK_KERNEL`.
+        (:mod:`imagespace.spatial.tracker`); ``"auto"`` (default, :data:`TRACK_KERNEL`): lanes from
+        :data:`LANES_MIN_ROWS` rows on. Both take the same decisions on every path; the
+        endpoints agree to rounding.
 
     Returns
     -------
@@ -369,6 +376,8 @@ def track_parameters(start: StartSystem, P: npt.ArrayLike, kernel: str = TRACK_K
     steps = np.zeros((n, k), dtype=np.int64)
     if not n or not k:
         return Z, status, steps
+    if kernel == "auto":
+        kernel = "lanes" if n >= LANES_MIN_ROWS else "scalar"
     if kernel == "lanes":
         from .lanes import track_lanes
         track_lanes(start.solutions, start.A, start.E, start.pidx, P, start.p_star, start.patch, Z, status,
@@ -502,7 +511,7 @@ def recentre(start: StartSystem, centre: npt.ArrayLike, seed: int = 0, kernel: s
     centre : (p,) float
         Typical target parameters (e.g. a batch's median).
     seed : int
-    kernel : {"lanes", "scalar"}, optional
+    kernel : {"auto", "lanes", "scalar"}, optional
         The tracker (:func:`track_parameters`).
 
     Returns

@@ -11,8 +11,10 @@ parameters ``p`` are its squared leg lengths. This module
 * proves each row's endpoints with a compiled Krawczyk test on rigorous error bounds
   (:mod:`imagespace.spatial.fastcert`): ``reliable`` means it proved as many distinct solutions
   as :func:`completeness_target` asks (the family's theorem bound), each real or not real, so
-  the count is right; where it fails (near a double mode, a lost path), float checks sort the
-  endpoints and the row is flagged (``reliable`` False, a warning per call),
+  the count is right; where it fails, the row is tracked again from other generic starts (a lost
+  or merged path is far more common than a true double mode: :data:`RETRY_STARTS`) and certified
+  anew; where that fails too (near a double mode), float checks sort the endpoints and the row is
+  flagged (``reliable`` False, a warning per call),
 * marks the rows whose certificate reached the family's theorem bound ``certified`` (a certified
   answer at the fast path's cost); ``certify=True`` proves the other rows one by one: Krawczyk
   boxes in arb on the exact quadrics (:mod:`imagespace.spatial.certify`), otherwise msolve
@@ -55,6 +57,10 @@ RECENTRE_MIN_ROWS = 32
 #: generic start systems (the design's own, then re-centred ones with fresh random offsets), each
 #: time certified anew; a speed choice before arb and msolve, the answers do not depend on it
 RETRY_STARTS = 3
+
+#: the real modes of a batch are normalised, checked and given their aspects this many at a time
+#: (a speed choice: 160,000 modes at once spent 3x longer in fresh large temporaries)
+MODE_CHUNK = 8192
 
 
 @dataclass(frozen=True, eq=False)
@@ -209,6 +215,21 @@ def _parameters_enclosure(family, P, lengths):
     return np.ascontiguousarray(pm), np.ascontiguousarray(pr)
 
 
+def _modes(family, pts, P_rows, mode_rows):
+    """The real modes' normalised Study points (unscaled), residuals and aspects, in chunks of
+    :data:`MODE_CHUNK` modes (the per-mode arrays of a large batch stay small)."""
+    if pts.shape[0] == 0:
+        return np.zeros((0, 8)), np.zeros(0), np.zeros(0, np.int8)
+    out_p, out_r, out_a = [], [], []
+    for a in range(0, pts.shape[0], MODE_CHUNK):
+        p = normalize_study(pts[a:a + MODE_CHUNK])
+        out_r.append(_mode_residuals(family, P_rows[mode_rows[a:a + MODE_CHUNK]], p))
+        p = family.unscale(p)
+        out_p.append(p)
+        out_a.append(np.atleast_1d(np.asarray(family.aspect(p), np.int8)))
+    return np.concatenate(out_p), np.concatenate(out_r), np.concatenate(out_a)
+
+
 def _second_chances(family, start, tracked, P, pm, pr, Z, status, cert, target, kernel):
     """Track the rows ``cert`` leaves incomplete again from other generic starts (the design's own
     ``start`` unless they were ``tracked`` from it, then re-centred ones near those rows, up to
@@ -281,12 +302,7 @@ def _batch(family, start, P, rows, n, Z, status, tolerances, valid, pm, pr, with
     reliable[rows] = done
     certified = np.zeros(n, bool)
     certified[rows] = done & theorem
-    pts = W[real]
-    pts = normalize_study(pts) if pts.shape[0] else np.zeros((0, 8))
-    mode_rows = np.repeat(np.arange(len(rows)), real.sum(axis=1))
-    res = _mode_residuals(family, P[rows][mode_rows], pts)
-    pts = family.unscale(pts)
-    asp = family.aspect(pts) if pts.shape[0] else np.zeros(0, np.int8)
+    pts, res, asp = _modes(family, W[real], P[rows], np.repeat(np.arange(len(rows)), real.sum(axis=1)))
     offsets = np.concatenate([[0], np.cumsum(counts)])
     batch = SpatialDKBatch(counts, offsets, pts, res, np.asarray(asp, np.int8), cplx, reliable,
                            certified, valid)
@@ -311,7 +327,7 @@ def solve_rows(family: QuadricFamily, start: StartSystem, P: npt.ArrayLike, tole
         The leg lengths whose exact squares are the parameters (``P = lengths ** 2`` rounded):
         the certificate then proves the user's problem. Without it the floats ``P`` are taken as
         the exact parameters.
-    kernel : {"lanes", "scalar"}, optional
+    kernel : {"auto", "lanes", "scalar"}, optional
         The tracker (:func:`~imagespace.spatial.homotopy.track_parameters`); the answers do not
         depend on it beyond rounding.
 

@@ -144,10 +144,24 @@ def test_the_comparison_can_fail(runs):
 
 def test_the_kernel_is_validated():
     gs, L = isp.examples.dietmaier_1998()
-    with pytest.raises(InputError, match=r"kernel must be one of 'lanes', 'scalar', got 'simd'"):
+    with pytest.raises(InputError, match=r"kernel must be one of 'auto', 'lanes', 'scalar', got 'simd'"):
         track_parameters(gs.start_system, np.ones((1, 6)), kernel="simd")
     with pytest.raises(InputError, match=r"kernel must be one of .*, got None"):
         solve_rows(gs.family(), gs.start_system, np.ones((1, 6)), gs.tolerances, kernel=None)
+
+
+def test_auto_tracks_few_rows_one_path_at_a_time_and_more_in_lockstep():
+    from imagespace.spatial.homotopy import LANES_MIN_ROWS
+
+    gs, L = isp.examples.dietmaier_1998()
+    P = (np.asarray(L)[None] / gs.family().scale) ** 2 * np.linspace(0.95, 1.05, LANES_MIN_ROWS)[:, None]
+    with mock.patch.object(lanes, "track_lanes", wraps=lanes.track_lanes) as spy:
+        _, s_few, _ = track_parameters(gs.start_system, P[:LANES_MIN_ROWS - 1])
+        assert spy.call_count == 0
+        _, s_many, _ = track_parameters(gs.start_system, P)
+        assert spy.call_count == 1
+    _, s_scalar, _ = track_parameters(gs.start_system, P, kernel="scalar")
+    assert np.array_equal(s_many, s_scalar) and np.array_equal(s_few, s_scalar[:LANES_MIN_ROWS - 1])
 
 
 def test_lanes_refuses_what_its_buffer_cannot_hold():
