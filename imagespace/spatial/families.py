@@ -299,9 +299,9 @@ def family_start_system(kind: str, seed: int = 0) -> StartSystem:
     40
     """
     _check_kind(kind)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2 ** 63:
         from ..exceptions import InputError
-        raise InputError(f"seed must be an integer, got {seed!r}")
+        raise InputError(f"seed must be an integer in [0, 2**63), got {seed!r}")
     A = generic_member(kind)
     path = _cache_file(kind, seed)
     _, nparams, pidx = _KINDS[kind]

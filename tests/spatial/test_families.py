@@ -103,6 +103,8 @@ def test_bad_input_refused():
         families.generic_member(6)
     with pytest.raises(InputError, match="seed"):
         families.family_start_system("legs6", 0.5)
+    with pytest.raises(InputError, match=r"seed must be an integer in \[0, 2\*\*63\), got -1"):
+        families.family_start_system("legs6", -1)
     with pytest.raises(InputError, match="route"):
         start_system(_gs(D.random_design(1)).family(), route="fast")
     A = families.generic_member("legs6")
