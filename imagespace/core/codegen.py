@@ -425,7 +425,9 @@ def kernel_cache_dir():
     except OSError:
         return None
     if reason is None:
-        try:   # numba caches a file's machine code in __pycache__ next to it: private too
+        # numba caches a file's machine code in __pycache__ next to it (unless NUMBA_CACHE_DIR
+        # names another directory: then that one, the user's choice): private too
+        try:
             _make_private_dirs(os.path.join(path, "__pycache__"))
         except OSError:
             pass

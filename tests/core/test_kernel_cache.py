@@ -31,7 +31,11 @@ from imagespace import fastdk
 from imagespace.core import codegen
 from imagespace.solve.kernel import HAVE_NUMBA
 
-pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel cache needs numba")
+pytestmark = [pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel cache needs numba"),
+              # these tests plant and damage numba's files in the kernel cache's __pycache__; with
+              # NUMBA_CACHE_DIR set numba keeps them in that directory instead (the user's choice)
+              pytest.mark.skipif(bool(os.environ.get("NUMBA_CACHE_DIR")),
+                                 reason="NUMBA_CACHE_DIR moves numba's cache files out of the kernel cache")]
 
 ROWS = 2000          # a batch of this size once failed on every later run with a broken cache
 
