@@ -303,6 +303,24 @@ def krawczyk_certify(Q_exact: npt.NDArray[np.object_], Z: npt.ArrayLike, chart: 
     return KrawczykResult(points, radii, certified, real, disjoint, r, displacement)
 
 
+def _stacked(flint, Qs, pts):
+    """The acb column of ``pts`` and ``Q_k pts`` for every quadric, stacked ``(7*8, 1)``."""
+    P = flint.acb_mat([[v] for v in pts])
+    return P, Qs * P
+
+
+def _values(flint, QP, rrow, m_eq, pts):
+    """The chart's system ``(z^T Q_k z, r . x - 1)`` at ``pts`` (``QP`` from :func:`_stacked`)."""
+    G = [sum((pts[j] * QP[8 * q + j, 0] for j in range(8)), flint.acb(0)) for q in range(m_eq)]
+    G.append(sum((rrow[j] * pts[j] for j in range(8)), flint.acb(0)) - 1)
+    return flint.acb_mat([[g] for g in G])
+
+
+def _jacobian(flint, QP, rrow, m_eq):
+    """The chart's Jacobian at the points (or box) whose stacked products are ``QP``."""
+    return flint.acb_mat([[2 * QP[8 * q + j, 0] for j in range(8)] for q in range(m_eq)] + [rrow])
+
+
 def _refine(flint, Qs, rrow, m_eq, z):
     """Newton's iterations on the chart's system at the context precision from the float point
     ``z`` (real points stay real): the centres as exact acb midpoints, or None where a Jacobian is
@@ -310,13 +328,9 @@ def _refine(flint, Qs, rrow, m_eq, z):
     real_centre = bool(np.all(z.imag == 0.0))
     mid = [flint.acb(float(v.real), float(v.imag)) for v in z]
     for _ in range(_REFINE):
-        M = flint.acb_mat([[v] for v in mid])
-        QM = Qs * M
-        G = [sum((mid[j] * QM[8 * q + j, 0] for j in range(8)), flint.acb(0)) for q in range(m_eq)]
-        G.append(sum((rrow[j] * mid[j] for j in range(8)), flint.acb(0)) - 1)
-        J = flint.acb_mat([[2 * QM[8 * q + j, 0] for j in range(8)] for q in range(m_eq)] + [rrow])
+        _, QM = _stacked(flint, Qs, mid)
         try:
-            step = J.solve(flint.acb_mat([[g] for g in G]))
+            step = _jacobian(flint, QM, rrow, m_eq).solve(_values(flint, QM, rrow, m_eq, mid))
         except ZeroDivisionError:
             return None
         mid = [mid[j] - step[j, 0] for j in range(8)]
@@ -332,16 +346,11 @@ def _krawczyk_once(flint, Qs, rrow, m_eq, z, rho, Y, mid=None):
     if mid is None:
         mid = [flint.acb(float(v.real), float(v.imag)) for v in z]
     box = [flint.acb(v.real + rad, v.imag + rad) for v in mid]
-    M = flint.acb_mat([[v] for v in mid])
-    B = flint.acb_mat([[v] for v in box])
-    QM = Qs * M                                     # (7*8, 1): Q_k m stacked
-    QB = Qs * B
-    G = [sum((mid[j] * QM[8 * q + j, 0] for j in range(8)), flint.acb(0)) for q in range(m_eq)]
-    G.append(sum((rrow[j] * mid[j] for j in range(8)), flint.acb(0)) - 1)
-    Jrows = [[2 * QB[8 * q + j, 0] for j in range(8)] for q in range(m_eq)] + [rrow]
-    JX = flint.acb_mat(Jrows)
+    M, QM = _stacked(flint, Qs, mid)
+    _, QB = _stacked(flint, Qs, box)
+    Gm = _values(flint, QM, rrow, m_eq, mid)
+    JX = _jacobian(flint, QB, rrow, m_eq)         # every Jacobian on the box (J is linear in z)
     Ya = flint.acb_mat([[flint.acb(float(v.real), float(v.imag)) for v in row] for row in Y])
-    Gm = flint.acb_mat([[g] for g in G])
     D = flint.acb_mat([[box[j] - mid[j]] for j in range(8)])
     ident = flint.acb_mat([[1 if i == j else 0 for j in range(8)] for i in range(8)])
     K = M - Ya * Gm + (ident - Ya * JX) * D
