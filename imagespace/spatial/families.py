@@ -52,7 +52,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from .homotopy import StartSystem, move_start_system, solve_start_system
+from .homotopy import StartSystem, check_seed, move_start_system, solve_start_system
 from .quadrics import point_on_plane_quadric_linear, sphere_quadric_linear, study_quadric_matrix
 
 __all__ = ["FAMILY_KINDS", "FAMILY_COUNTS", "LEG_FAMILY_COUNT", "family_kind", "generic_member", "family_start_system",
@@ -299,9 +299,7 @@ def family_start_system(kind: str, seed: int = 0) -> StartSystem:
     40
     """
     _check_kind(kind)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2 ** 63:
-        from ..exceptions import InputError
-        raise InputError(f"seed must be an integer in [0, 2**63), got {seed!r}")
+    seed = check_seed(seed)
     A = generic_member(kind)
     path = _cache_file(kind, seed)
     _, nparams, pidx = _KINDS[kind]

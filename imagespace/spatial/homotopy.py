@@ -51,13 +51,37 @@ if TYPE_CHECKING:
 
 __all__ = ["StartSystem", "solve_start_system", "move_start_system", "track_parameters", "classify_batch", "recentre",
            "RECENTRE_SPREAD", "PATH_OK", "PATH_FAILED", "TRACK_KERNELS", "TRACK_KERNEL",
-           "LANES_MIN_ROWS"]
+           "LANES_MIN_ROWS", "check_seed", "MOVE_MAX_ENTRY"]
 
 # start system: thresholds between the regular solutions and the degenerate component
 # (measured, see :func:`_regular`)
 _START_X = 1e-4          # |x| / |z| above this is not the degenerate component
 _START_COND = 1e-9       # sigma_min / sigma_max of the Jacobian above this is regular
 _START_DISTINCT = 1e-6   # two solutions closer than this relative to their size are one
+
+#: the largest entry a member's matrix may have in :func:`move_start_system`: the tracker forms
+#: products of entries (its LU), which must stay in the float range; a family's matrices are
+#: scaled to the design's length scale, so theirs are of order one
+MOVE_MAX_ENTRY = 1e150
+
+
+def check_seed(seed: object, name: str = "seed") -> int:
+    """``seed`` as an int in ``[0, 2**63)``, else an :class:`~imagespace.exceptions.InputError`
+    naming it (bools, floats, strings and negative numbers are refused).
+
+    Examples
+    --------
+    >>> check_seed(3)
+    3
+    >>> check_seed(-1)
+    Traceback (most recent call last):
+    ...
+    imagespace.exceptions.InputError: seed must be an integer in [0, 2**63), got -1
+    """
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2 ** 63:
+        from ..exceptions import InputError
+        raise InputError(f"{name} must be an integer in [0, 2**63), got {seed!r}")
+    return int(seed)
 
 
 @dataclass(frozen=True)
@@ -252,7 +276,9 @@ def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: 
     TypeError
         If ``start`` is not a StartSystem.
     InputError
-        If ``A`` is not a finite real array of ``start.A``'s shape.
+        If ``A`` is not a finite real array of ``start.A``'s shape with entries up to
+        :data:`MOVE_MAX_ENTRY`, on a bad ``seed`` (:func:`check_seed`) or a ``tol`` that is not
+        a positive number.
 
     Examples
     --------
@@ -272,9 +298,16 @@ def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: 
     if not isinstance(start, StartSystem):
         raise TypeError(f"start must be a StartSystem, got {type(start).__name__}")
     A = np.asarray(A)
-    if A.shape != start.A.shape or A.dtype.kind not in "biuf" or not np.all(np.isfinite(A)):
+    if A.shape != start.A.shape or A.dtype.kind not in "iuf" or not np.all(np.isfinite(A)):
         raise InputError(f"A must be a finite real array of shape {start.A.shape} (the start member's), "
                          f"got shape {A.shape} and dtype {A.dtype}")
+    if np.abs(A).max() > MOVE_MAX_ENTRY:
+        raise InputError(f"A's entries must be at most MOVE_MAX_ENTRY = {MOVE_MAX_ENTRY:g} in magnitude, got "
+                         f"{float(np.abs(A).max()):.3g} (a family's matrices are scaled to the design's size)")
+    seed = check_seed(seed)
+    if isinstance(tol, (bool, np.bool_)) or not isinstance(tol, (int, float, np.integer, np.floating)) \
+            or not 0 < tol < np.inf:
+        raise InputError(f"tol must be a positive number, got {tol!r}")
     A = np.ascontiguousarray(A, dtype=float)
     rng = np.random.default_rng(seed)
     gamma = np.exp(2j * np.pi * rng.random())
@@ -300,8 +333,9 @@ def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: 
 TRACK_KERNELS = ("auto", "lanes", "scalar")
 #: the default tracker
 TRACK_KERNEL = "auto"
-#: rows from which ``kernel="auto"`` tracks in lockstep (measured: one and two rows are faster one
-#: path at a time, four and more in lockstep; ``benchmarks/first_pose.py``)
+#: rows from which ``kernel="auto"`` tracks in lockstep (measured on Dietmaier's design, median of
+#: 15 calls on a loaded 2-core machine: 1 row 8.0 ms one path at a time vs 12.8 ms in lockstep, 2 rows
+#: 10.6 vs 12.8 ms, 4 rows 21.5 vs 17.3 ms, 16 rows 56 vs 29 ms)
 LANES_MIN_ROWS = 3
 
 

@@ -389,8 +389,8 @@ def _linear_coefficients(args):
     vals = []
     for name, v, tail in args:
         arr = np.asarray(v)
-        if arr.dtype.kind not in "biufc":
-            raise InputError(f"{name} must be numeric, got dtype {arr.dtype}")
+        if arr.dtype.kind not in "iufc":
+            raise InputError(f"{name} must be numeric (not bool), got dtype {arr.dtype}")
         if arr.shape[arr.ndim - len(tail):] != tail or arr.ndim - len(tail) > 1:
             raise InputError(f"{name} must have shape {tail} or (n,) + {tail}, got {arr.shape}")
         if not np.all(np.isfinite(arr)):
@@ -402,6 +402,15 @@ def _linear_coefficients(args):
         raise InputError(f"{', '.join(a[0] for a in args)} must have the same batch size, got shapes "
                          f"{[v.shape for v in vals]}") from None
     return vals, shape
+
+
+def _linear_result(out, shape, names):
+    """The linear families' matrix ``out`` broadcast to the batch ``shape`` (a copy); refuses
+    entries beyond the float range (sums of coefficients too large)."""
+    if not np.all(np.isfinite(out)):
+        raise InputError(f"{names} are too large: the quadric's entries (sums of these coefficients) are "
+                         "outside the float range (about 1.8e308)")
+    return np.broadcast_to(out, shape + (8, 8)).copy()
 
 
 def sphere_quadric_linear(base_point: npt.ArrayLike, platform_point: npt.ArrayLike, products: npt.ArrayLike,
@@ -429,7 +438,8 @@ def sphere_quadric_linear(base_point: npt.ArrayLike, platform_point: npt.ArrayLi
     Raises
     ------
     InputError
-        On shapes that do not match or non-finite entries.
+        On shapes that do not match, non-finite or bool entries, or entries whose sums leave the
+        float range.
 
     Examples
     --------
@@ -444,7 +454,7 @@ def sphere_quadric_linear(base_point: npt.ArrayLike, platform_point: npt.ArrayLi
     K0, N, Ka, Kb, KW = _sphere_basis()
     out = (K0 + np.einsum("...i,ikl->...kl", a, Ka) + np.einsum("...j,jkl->...kl", b, Kb)
            + np.einsum("...ij,ijkl->...kl", W, KW) + np.asarray(c)[..., None, None] * N)
-    return np.broadcast_to(out, shape + (8, 8)).copy()
+    return _linear_result(out, shape, "base_point, platform_point, products and constant")
 
 
 def _too_large(names, what):
@@ -557,7 +567,8 @@ def point_on_plane_quadric_linear(normal: npt.ArrayLike, products: npt.ArrayLike
     Raises
     ------
     InputError
-        On shapes that do not match or non-finite entries.
+        On shapes that do not match, non-finite or bool entries, or entries whose sums leave the
+        float range.
 
     Examples
     --------
@@ -571,7 +582,7 @@ def point_on_plane_quadric_linear(normal: npt.ArrayLike, products: npt.ArrayLike
     T, B, N = _plane_basis()
     out = (np.einsum("...i,ikl->...kl", n, T) + np.einsum("...ij,ijkl->...kl", V, B)
            - np.asarray(d)[..., None, None] * N)
-    return np.broadcast_to(out, shape + (8, 8)).copy()
+    return _linear_result(out, shape, "normal, products and offset")
 
 
 @overload

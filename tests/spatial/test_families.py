@@ -55,6 +55,12 @@ def test_sphere_quadric_linear_refuses_bad_input():
         sphere_quadric_linear([np.nan, 0, 0], np.zeros(3), np.zeros((3, 3)), 0.0)
     with pytest.raises(InputError, match="batch size"):
         sphere_quadric_linear(np.zeros((2, 3)), np.zeros((3, 3)), np.zeros((3, 3)), 0.0)
+    with pytest.raises(InputError, match="not bool"):
+        sphere_quadric_linear([True, False, True], np.zeros(3), np.zeros((3, 3)), 0.0)
+    with pytest.raises(InputError, match="too large"):                  # 1.5e308 + 1e308 overflows
+        sphere_quadric_linear(np.zeros(3), np.zeros(3), np.full((3, 3), 1.5e308), 1e308)
+    with pytest.raises(InputError, match="too large"):
+        point_on_plane_quadric_linear(np.zeros(3), np.full((3, 3), 1.5e308), -1.5e308)
 
 
 @pytest.mark.slow
@@ -113,6 +119,16 @@ def test_bad_input_refused():
         move_start_system(st, st.A[:6])
     with pytest.raises(TypeError, match="StartSystem"):
         move_start_system(st.solutions, st.A)
+    with pytest.raises(InputError, match="real array"):
+        move_start_system(st, st.A != 0)
+    with pytest.raises(InputError, match="MOVE_MAX_ENTRY"):
+        move_start_system(st, st.A * 1e200)
+    for seed in (True, "x", -1, 2.0):
+        with pytest.raises(InputError, match="seed must be an integer"):
+            move_start_system(st, st.A, seed=seed)
+    for tol in ("x", -1.0, np.nan, False):
+        with pytest.raises(InputError, match="tol must be a positive number"):
+            move_start_system(st, st.A, tol=tol)
     with pytest.raises(TypeError, match="QuadricFamily"):
         families.design_start_system(np.zeros((7, 8, 8)))
 
