@@ -25,6 +25,7 @@ sys.path.insert(0, str(ROOT / "tests" / "browser"))
 os.environ.setdefault("IMAGESPACE_BROWSER", "1")
 
 import browser_harness as bh  # noqa: E402
+from test_explorer_browser import READY as EXPLORER_READY  # noqa: E402  (the browser test's condition)
 
 FLOOR_CELL = (
     "import anywidget, traitlets, ipywidgets as W\n"
@@ -33,8 +34,6 @@ FLOOR_CELL = (
     " d.className = \"tiny-ready\"; el.appendChild(d); } }').tag(sync=True)\n"
     "W.VBox([W.HTML('<span class=\"tiny-status\">ready</span>'), Tiny()])")
 FLOOR_READY = "() => document.querySelector('.tiny-ready') && document.querySelector('.tiny-status')"
-EXPLORER_READY = ("() => document.querySelector('.isp-status .isp-count') && "
-                  "document.querySelectorAll('.isp-panel .main-svg').length >= 4")
 
 EVAL_PLOTLY = """(src) => { const t0 = performance.now(); (new Function("module", src))({exports: {}});
     return performance.now() - t0; }"""
@@ -45,23 +44,13 @@ FIRST_3D = """async () => { const d = document.createElement('div'); d.style.wid
     return performance.now() - t0; }"""
 
 
-def _page_ready(notebook, ready_js, log):
-    from playwright.sync_api import sync_playwright
-
-    served = bh.Served(notebook, log)
-    try:
-        pw = sync_playwright().start()
-        browser = pw.chromium.launch(executable_path=bh.CHROMIUM, args=bh.CHROMIUM_ARGS)
-        try:
-            pg = browser.new_page(viewport={"width": 1250, "height": 1500})
-            pg.goto(served.url, timeout=240_000, wait_until="commit")
-            pg.wait_for_function(ready_js, timeout=240_000, polling=20)
-            return time.time() - served.kernel_started
-        finally:
-            browser.close()
-            pw.stop()
-    finally:
-        served.close()
+def _page_ready(notebook, ready_js, label, folder):
+    """Seconds from "Kernel started" to ``ready_js`` (the browser tests' own measurement:
+    :func:`browser_harness.served_page`, which also fails on any page error)."""
+    timings = bh.Timings(folder / f"timings_{label}.json")
+    with bh.served_page(notebook, f"voila_{label}.log", label, timings, ready_js):
+        pass
+    return timings.data[f"{label}.page_ready_after_kernel_start_s"]
 
 
 def _in_blank_page():
@@ -87,12 +76,12 @@ def _in_blank_page():
 def main(runs=2):
     tmp = ROOT / "artifacts" / "page_ready"
     tmp.mkdir(parents=True, exist_ok=True)
+    bh.ARTIFACTS.mkdir(parents=True, exist_ok=True)          # the Voila logs go there
     floor_nb = bh.one_cell_notebook(tmp / "floor.ipynb", FLOOR_CELL, "floor")
     floor, explorer, plotly_eval, first_3d = [], [], [], []
     for _ in range(runs):                                    # alternating: the same load for both
-        floor.append(_page_ready(floor_nb, FLOOR_READY, tmp / "voila_floor.log"))
-        explorer.append(_page_ready(ROOT / "notebooks" / "00_explore.ipynb", EXPLORER_READY,
-                                    tmp / "voila_explorer.log"))
+        floor.append(_page_ready(floor_nb, FLOOR_READY, "floor", tmp))
+        explorer.append(_page_ready(ROOT / "notebooks" / "00_explore.ipynb", EXPLORER_READY, "explorer", tmp))
         e, f, size = _in_blank_page()
         plotly_eval.append(e)
         first_3d.append(f)
