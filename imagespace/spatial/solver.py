@@ -159,8 +159,9 @@ def _mode_residuals(family, P_modes, pts):
     parameters ``P_modes`` (k, p)."""
     if not pts.shape[0]:
         return np.zeros(0)
-    zAz = np.einsum("ni,kij,nj->nk", pts, family.A, pts)
-    zEz = np.einsum("ni,ij,nj->n", pts, family.E, pts)
+    # matrix products, then one row-wise dot (a three-operand einsum loops ~7x slower)
+    zAz = np.einsum("kni,ni->nk", pts @ family.A, pts)
+    zEz = np.einsum("ni,ni->n", pts @ family.E, pts)
     has = family.pidx >= 0
     p = np.where(has[None, :], P_modes[:, np.maximum(family.pidx, 0)], 0.0)
     return np.abs(zAz - p * zEz[:, None]).max(axis=1)
