@@ -85,7 +85,7 @@ from typing import TYPE_CHECKING, Any, Optional
 import numpy as np
 import numpy.typing as npt
 
-from ..core._numba import MIN_PART_ROWS, njit, run_parts
+from ..core._numba import njit, prange
 
 if TYPE_CHECKING:
     from ..core.kinematic_map import FloatArray
@@ -116,7 +116,7 @@ _POLISH = 1                 # Newton steps in the chart (the tracker polished th
 _POLISH_RETRY = 3           # ... and more where the first test fails (near a double mode)
 _REAL_PROPOSAL = 1e-7       # |Im m| / (1 + |m|) below this proposes a real solution
 _CHART_MIN = 0.05           # chart r: |r . x| >= this |r| |x| on every endpoint
-_BLOCKS = 256               # blocks of rows, run on threads by run_parts
+_BLOCKS = 256               # parallel blocks of rows
 # the float Newton steps and the approximate inverse only propose (the bounds decide): they may
 # reassociate and contract; no-NaN/no-inf assumptions are left out so finiteness checks hold
 _PROPOSAL_MATH = {"reassoc", "contract", "arcp", "nsz"}
@@ -657,11 +657,12 @@ def _choose_chart(Zr, ok, charts):
     return -1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, parallel=True)
 def _certify_rows(Z, status, rows_ok, pm, pr, Amid, Arad, Ed, pidx, charts, target,
-                  pts, rho, cert, real, null_ok, chart_used, complete, nreal, blocks, b0, b1):
+                  pts, rho, cert, real, null_ok, chart_used, complete, nreal):
     n, k = status.shape
-    for blk in range(b0, b1):
+    blocks = min(n, _BLOCKS)
+    for blk in prange(blocks):
         Qm = np.zeros((7, _N, _N))
         Qr = np.zeros((7, _N, _N))
         T = np.zeros(7)
@@ -827,9 +828,8 @@ def certify_endpoints(enclosure: FamilyEnclosure, Z: npt.NDArray[np.complex128],
     complete = np.zeros(n, np.bool_)
     nreal = np.zeros(n, np.int64)
     if n and k and enclosure.ok:
-        blocks = min(n, _BLOCKS)
-        run_parts(_certify_rows, blocks, Z, status, rows, np.ascontiguousarray(pm, dtype=float),
-                  np.ascontiguousarray(pr, dtype=float), enclosure.Amid, enclosure.Arad,
-                  enclosure.Ed, enclosure.pidx, CHARTS, int(target), pts, rho, cert, real,
-                  null_ok, chart, complete, nreal, blocks, rows_per_item=MIN_PART_ROWS)
+        _certify_rows(Z, status, rows, np.ascontiguousarray(pm, dtype=float),
+                      np.ascontiguousarray(pr, dtype=float), enclosure.Amid, enclosure.Arad,
+                      enclosure.Ed, enclosure.pidx, CHARTS, int(target), pts, rho, cert, real,
+                      null_ok, chart, complete, nreal)
     return FastCertificate(pts, rho, cert, real, null_ok, chart, complete, nreal)

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
-from ..core._numba import MIN_PART_ROWS, njit, run_parts
+from ..core._numba import njit, prange
 from .tracker import (CORRECT_TOL, DIM, DIVERGED, FINAL_NEWTON, FINAL_TOL, FIRST_CORRECTION, MAX_STEPS,
                       NEWTON_STEPS, PATH_FAILED, PATH_OK, STEP_CUT, STEP_FIRST, STEP_GROW, STEP_KEEP,
                       STEP_MAX, STEP_MIN, STEP_SHRINK)
@@ -34,8 +34,8 @@ LANES = 32
 #: the lane buffer holds the target parameters of up to this many parameters (the Gough-Stewart
 #: platform has 6, the 3-RPS 3)
 MAX_PARAMETERS = 8
-#: jobs are cut into at most this many blocks per thread (the threads take the blocks one by one,
-#: ``core._numba.run_parts``; several per thread even out paths of different lengths) ...
+#: jobs are cut into at most this many blocks per thread (numba's prange hands each thread a
+#: contiguous share of the blocks; several per thread even out paths of different lengths) ...
 BLOCKS_PER_THREAD = 4
 #: ... and into blocks of at least this many jobs per lane (a lane idles only in its block's last
 #: jobs: short blocks would leave most lanes idle most of the time)
@@ -500,14 +500,17 @@ def _lanes_block(starts, Ed, pidx, ptr, col, val, P0, p1r, p1i, cr, ci, lo, hi, 
                     active -= 1
 
 
-@njit(cache=True, nogil=True)
-def _track_lanes(starts, Ed, pidx, ptr, col, val, P0, p1r, p1i, cr, ci, Z, status, steps, blocks, b0, b1):
-    """The blocks ``b0`` to ``b1 - 1`` of every (row, path) job cut into ``blocks`` contiguous
-    blocks, each on its own lanes (the blocks run on threads by ``run_parts``)."""
+@njit(cache=True, parallel=True)
+def _track_lanes(starts, Ed, pidx, ptr, col, val, P0, p1, c, Z, status, steps, blocks):
+    """Every (row, path) job in ``blocks`` contiguous blocks, each on its own lanes."""
     n = P0.shape[0]
     k = starts.shape[0]
     jobs = n * k
-    for b in range(b0, b1):
+    p1r = np.ascontiguousarray(p1.real)
+    p1i = np.ascontiguousarray(p1.imag)
+    cr = np.ascontiguousarray(c.real)
+    ci = np.ascontiguousarray(c.imag)
+    for b in prange(blocks):
         _lanes_block(starts, Ed, pidx, ptr, col, val, P0, p1r, p1i, cr, ci, b * jobs // blocks,
                      (b + 1) * jobs // blocks, Z, status, steps)
 
@@ -593,9 +596,6 @@ def track_lanes(starts: npt.ArrayLike, A: npt.ArrayLike, E: npt.ArrayLike, pidx:
         return
     ptr, col, val = _sparse_rows(A)
     blocks = int(min(BLOCKS_PER_THREAD * _threads(), max(1, jobs // (JOBS_PER_LANE * LANES))))
-    p1 = np.asarray(p1, dtype=complex)
-    c = np.asarray(c, dtype=complex)
-    run_parts(_track_lanes, blocks, starts, np.ascontiguousarray(np.diag(np.asarray(E, dtype=float))), pidx, ptr,
-              col, val, P0, np.ascontiguousarray(p1.real), np.ascontiguousarray(p1.imag),
-              np.ascontiguousarray(c.real), np.ascontiguousarray(c.imag), Z, status, steps, blocks,
-              rows_per_item=MIN_PART_ROWS)
+    _track_lanes(starts, np.ascontiguousarray(np.diag(np.asarray(E, dtype=float))), pidx, ptr, col, val,
+                 P0, np.ascontiguousarray(p1, dtype=complex), np.ascontiguousarray(c, dtype=complex),
+                 Z, status, steps, blocks)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core._numba import MIN_PART_ROWS, njit, run_parts
+from ..core._numba import njit, prange
 
 __all__ = ["PATH_OK", "PATH_FAILED"]
 
@@ -40,7 +40,7 @@ FIRST_CORRECTION = 0.01  # the first corrector update must be below this times |
 FINAL_NEWTON = 4         # polishing iterations at the target
 FINAL_TOL = 1e-15        # ... stopped once |dz| <= FINAL_TOL * (1 + |z|) (a few units in the last place)
 DIVERGED = 1e8           # |z| beyond this on the patch: the path runs to the degenerate component
-_BLOCKS = 256            # blocks of (row, path) jobs, run on threads by run_parts
+_BLOCKS = 256            # parallel blocks of (row, path) jobs
 
 
 @njit(cache=True, fastmath=True)
@@ -299,30 +299,10 @@ def _track(z0, mode, A, E, pidx, p0, p1, U, A1, c, gamma, z, V, J, piv):
     return PATH_OK, evals
 
 
-@njit(cache=True, nogil=True)
-def _track_blocks(starts, mode, A, E, pidx, P0, p1, U, A1, c, gamma, Z, status, steps, blocks, b0, b1):
-    """The blocks ``b0`` to ``b1 - 1`` of :func:`track_many`'s (row, path) jobs cut into ``blocks``
-    contiguous blocks."""
-    n = P0.shape[0]
-    k = starts.shape[0]
-    jobs = n * k
-    for b in range(b0, b1):
-        # one set of work arrays per block: no allocation per path (allocations in parallel
-        # threads serialise on the allocator)
-        V = np.zeros((10, DIM), dtype=np.complex128)
-        J = np.zeros((DIM, DIM), dtype=np.complex128)
-        piv = np.zeros(DIM, dtype=np.int64)
-        for job in range(b * jobs // blocks, (b + 1) * jobs // blocks):
-            r = job // k
-            j = job % k
-            st, ns = _track(starts[j], mode, A, E, pidx, P0[r], p1, U, A1, c, gamma, Z[r, j], V, J, piv)
-            status[r, j] = st
-            steps[r, j] = ns
-
-
+@njit(cache=True, parallel=True)
 def track_many(starts, mode, A, E, pidx, P0, p1, U, A1, c, gamma, Z, status, steps):
     """Track every (row, path) pair, one path at a time: row ``r`` takes the start points
-    ``starts`` to the parameters ``P0[r]`` (compiled, blocks of pairs on numba's number of threads).
+    ``starts`` to the parameters ``P0[r]`` (compiled, parallel over blocks of pairs).
 
     Parameters
     ----------
@@ -371,7 +351,19 @@ def track_many(starts, mode, A, E, pidx, P0, p1, U, A1, c, gamma, Z, status, ste
     >>> bool(np.all(status == PATH_OK))
     True
     """
-    n = np.asarray(P0).shape[0]
-    blocks = min(n * np.asarray(starts).shape[0], _BLOCKS)
-    run_parts(_track_blocks, blocks, starts, mode, A, E, pidx, P0, p1, U, A1, c, gamma, Z, status, steps, blocks,
-              rows_per_item=MIN_PART_ROWS)
+    n = P0.shape[0]
+    k = starts.shape[0]
+    jobs = n * k
+    blocks = min(jobs, _BLOCKS)
+    for b in prange(blocks):
+        # one set of work arrays per block: no allocation per path (allocations in parallel
+        # threads serialise on the allocator)
+        V = np.zeros((10, DIM), dtype=np.complex128)
+        J = np.zeros((DIM, DIM), dtype=np.complex128)
+        piv = np.zeros(DIM, dtype=np.int64)
+        for job in range(b * jobs // blocks, (b + 1) * jobs // blocks):
+            r = job // k
+            j = job % k
+            st, ns = _track(starts[j], mode, A, E, pidx, P0[r], p1, U, A1, c, gamma, Z[r, j], V, J, piv)
+            status[r, j] = st
+            steps[r, j] = ns

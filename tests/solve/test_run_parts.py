@@ -11,7 +11,7 @@ import pytest
 
 import imagespace as isp
 from imagespace.solve.kernel import HAVE_NUMBA
-from imagespace.core._numba import MIN_PART_ROWS, PARTS_PER_THREAD, run_parts
+from imagespace.solve.kernel.loops import MIN_PART_ROWS, PARTS_PER_THREAD, run_parts
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the kernel needs numba")
 

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...core._numba import HAVE_NUMBA, run_parts
+from ...core._numba import HAVE_NUMBA
 from ...core.elimination import ELIMINATION_ROW_SIZE, ELIMINATION_WORK_SIZE, ROW_F
 from ...core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row
 from ...tolerances import TOLERANCES
 from .block_layout import LOCKSTEP_ROWS
-from .loops import _SOURCE, _SERIAL_ROWS, _generic_loop
+from .loops import _SOURCE, _SERIAL_ROWS, _generic_loop, run_parts
 from .row import _MAX, eliminate_row, kernel_tolerances
 from .tables import design_row, design_tables
 
