@@ -8,8 +8,7 @@ from ...core._numba import HAVE_NUMBA
 from ...core.elimination import ELIMINATION_ROW_SIZE, ELIMINATION_WORK_SIZE, ROW_F
 from ...core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row
 from ...tolerances import TOLERANCES
-from .block_layout import LOCKSTEP_ROWS
-from .loops import _SOURCE, _SERIAL_ROWS, _generic_loop, run_parts
+from .loops import _SOURCE, _SERIAL_ROWS, _generic_loop
 from .row import _MAX, eliminate_row, kernel_tolerances
 from .tables import design_row, design_tables
 
@@ -79,10 +78,8 @@ class BatchKernel:
         cnt = np.empty(n, dtype=np.int64)
         flag = np.empty(n, dtype=np.int8)
         if n:
-            items = (n + LOCKSTEP_ROWS - 1) // LOCKSTEP_ROWS if lockstep else n
-            run_parts(_generic_loop("run" if lockstep else "run_rows"), items, Q, *self.tables.arrays(),
-                      self.tolerances, bool(proof), X, P, R, A, cnt, flag,
-                      rows_per_item=LOCKSTEP_ROWS if lockstep else 1)
+            _generic_loop("run" if lockstep else "run_rows")(Q, *self.tables.arrays(), self.tolerances, bool(proof),
+                                                             X, P, R, A, cnt, flag)
         return X, P, R, A, cnt, flag
 
     def certified_counts(self, Q, lockstep=True):
@@ -124,9 +121,8 @@ class BatchKernel:
         hi = np.full((n, _MAX), np.nan)
         chart = np.full((n, _MAX), -1, dtype=np.int8)
         if n > _SERIAL_ROWS:
-            items = (n + LOCKSTEP_ROWS - 1) // LOCKSTEP_ROWS if lockstep else n
-            run_parts(_generic_loop("run_counts" if lockstep else "run_counts_rows"), items, Q, *self.tables.arrays(),
-                      counts, lo, hi, chart, rows_per_item=LOCKSTEP_ROWS if lockstep else 1)
+            _generic_loop("run_counts" if lockstep else "run_counts_rows")(Q, *self.tables.arrays(), counts, lo, hi,
+                                                                           chart)
         elif n:
             self._counts_serial(Q, counts, lo, hi, chart)
         return counts, lo, hi, chart

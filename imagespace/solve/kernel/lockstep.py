@@ -592,7 +592,7 @@ def store_block(r0, nb, counts, lflag, MD, MI, nm, tol, X, out_X, out_P, out_R, 
 
 @njit(cache=True)
 def block_workspace():
-    """The scratch arrays of one block (one set per part of a batch, see ``loops.run_parts``): ``S``, the split
+    """The scratch arrays of one block (one set per parallel chunk of blocks): ``S``, the split
     grid, per-row ints, intervals, the root columns and small per-mode arrays."""
     B = LOCKSTEP_ROWS
     M = _M_MAX

@@ -5,7 +5,6 @@ when a cache entry is corrupted (see the package docstring)."""
 from __future__ import annotations
 
 import hashlib
-import itertools
 import os
 from typing import Any, Callable, Optional
 
@@ -18,76 +17,92 @@ from .tables import MAX_MONOMIALS
 
 _LOCKSTEP_SOURCE = """
 
-@njit(nogil=True, cache=CACHE)
-def run(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, flag, b0, b1):
+@njit(parallel=True, cache=CACHE)
+def run(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, flag):
     n = Q.shape[0]
-    S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, x, val, J, dx, p = block_workspace()
-    for blk in range(b0, b1):
-        r0 = blk * BLOCK
-        solve_block(Q, r0, min(BLOCK, n - r0), expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A,
-                    cnt, flag, S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, x, val, J, dx, p)
+    nblk = (n + BLOCK - 1) // BLOCK
+    nchunks = min(nblk, 64)
+    for c in prange(nchunks):
+        S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, x, val, J, dx, p = block_workspace()
+        for blk in range(c * nblk // nchunks, (c + 1) * nblk // nchunks):
+            r0 = blk * BLOCK
+            solve_block(Q, r0, min(BLOCK, n - r0), expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A,
+                        cnt, flag, S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, x, val, J, dx, p)
 
 
-@njit(nogil=True, cache=CACHE)
-def run_counts(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart, b0, b1):
+@njit(parallel=True, cache=CACHE)
+def run_counts(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart):
     n = Q.shape[0]
-    S, grid, ints, kinds, blo, bhi, bchart, work, small, MD, MI, rows, x, val, J, dx, p = block_workspace()
-    for blk in range(b0, b1):
-        r0 = blk * BLOCK
-        counts_block(Q, r0, min(BLOCK, n - r0), expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart,
-                     S, grid, ints, kinds, blo, bhi, bchart, work, small)
+    nblk = (n + BLOCK - 1) // BLOCK
+    nchunks = min(nblk, 64)
+    for c in prange(nchunks):
+        S, grid, ints, kinds, blo, bhi, bchart, work, small, MD, MI, rows, x, val, J, dx, p = block_workspace()
+        for blk in range(c * nblk // nchunks, (c + 1) * nblk // nchunks):
+            r0 = blk * BLOCK
+            counts_block(Q, r0, min(BLOCK, n - r0), expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart,
+                         S, grid, ints, kinds, blo, bhi, bchart, work, small)
 """
 
 _LOOP_SOURCE = """
 
-@njit(nogil=True, cache=CACHE)
-def run_rows(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, flag, r0, r1):
+@njit(parallel=True, cache=CACHE)
+def run_rows(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, flag):
+    n = Q.shape[0]
+    nblocks = min(n, 64)
     dF = 4 if plan[6] == 1 else 6
-    buf = np.empty(48 + ROW_SIZE)
-    Ce = np.zeros(24)
-    eout = np.zeros(ROW_SIZE)
-    ework = np.empty(ELIM_WORK + 8)
-    work = np.empty(WORK_SIZE)
-    layout = np.empty(3, dtype=np.int64)
-    layout[0] = 2
-    layout[1] = 3
-    layout[2] = dF
-    for r in range(r0, r1):
-        design_row(Q[r], expo, coef, cerr, nmono, trig, proof, buf, Ce, ework)
-        eliminate_row(buf, Ce, plan, buf[48:], eout, ework, proof)
-        k, f = _solve_row(buf, eout[ROW_F:], layout, tol, X[r], P[r], R[r], A[r], work)
-        if f != 0:
-            k = 0
-        for j in range(k, X.shape[1]):
-            for i in range(4):
-                X[r, j, i] = np.nan
-            for i in range(3):
-                P[r, j, i] = np.nan
-            R[r, j] = np.nan
-            A[r, j] = 0
-        cnt[r] = k
-        flag[r] = f
+    for b in prange(nblocks):
+        lo = b * n // nblocks
+        hi = (b + 1) * n // nblocks
+        buf = np.empty(48 + ROW_SIZE)
+        Ce = np.zeros(24)
+        eout = np.zeros(ROW_SIZE)
+        ework = np.empty(ELIM_WORK + 8)
+        work = np.empty(WORK_SIZE)
+        layout = np.empty(3, dtype=np.int64)
+        layout[0] = 2
+        layout[1] = 3
+        layout[2] = dF
+        for r in range(lo, hi):
+            design_row(Q[r], expo, coef, cerr, nmono, trig, proof, buf, Ce, ework)
+            eliminate_row(buf, Ce, plan, buf[48:], eout, ework, proof)
+            k, f = _solve_row(buf, eout[ROW_F:], layout, tol, X[r], P[r], R[r], A[r], work)
+            if f != 0:
+                k = 0
+            for j in range(k, X.shape[1]):
+                for i in range(4):
+                    X[r, j, i] = np.nan
+                for i in range(3):
+                    P[r, j, i] = np.nan
+                R[r, j] = np.nan
+                A[r, j] = 0
+            cnt[r] = k
+            flag[r] = f
 """
 
 _COUNTS_SOURCE = """
 
-@njit(nogil=True, cache=CACHE)
-def run_counts_rows(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart, r0, r1):
-    buf = np.empty(48 + ROW_SIZE)
-    Ce = np.zeros(24)
-    eout = np.zeros(ROW_SIZE)
-    ework = np.empty(ELIM_WORK + 8)
-    iwork = np.empty(ISOLATE_WORK)
-    for r in range(r0, r1):
-        design_row(Q[r], expo, coef, cerr, nmono, trig, True, buf, Ce, ework)
-        d = eliminate_row(buf, Ce, plan, buf[48:], eout, ework, True)
-        counts[r] = count_real_roots_row(buf[48 + ROW_F:], eout[ROW_F:], d, lo[r], hi[r], chart[r], iwork)
+@njit(parallel=True, cache=CACHE)
+def run_counts_rows(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart):
+    n = Q.shape[0]
+    nblocks = min(n, 64)
+    for b in prange(nblocks):
+        r0 = b * n // nblocks
+        r1 = (b + 1) * n // nblocks
+        buf = np.empty(48 + ROW_SIZE)
+        Ce = np.zeros(24)
+        eout = np.zeros(ROW_SIZE)
+        ework = np.empty(ELIM_WORK + 8)
+        iwork = np.empty(ISOLATE_WORK)
+        for r in range(r0, r1):
+            design_row(Q[r], expo, coef, cerr, nmono, trig, True, buf, Ce, ework)
+            d = eliminate_row(buf, Ce, plan, buf[48:], eout, ework, True)
+            counts[r] = count_real_roots_row(buf[48 + ROW_F:], eout[ROW_F:], d, lo[r], hi[r], chart[r], iwork)
 """
 
 _HEADER = """# generated by imagespace.solve.kernel: the generic batch loop (one per installation); safe to delete
 import math
 import numpy as np
-from imagespace.core._numba import njit
+from imagespace.core._numba import njit, prange
 from imagespace.solve.kernel import (_solve_row, _WORK_SIZE as WORK_SIZE, design_row,
     eliminate_row, ELIMINATION_ROW_SIZE as ROW_SIZE, ELIMINATION_WORK_SIZE as ELIM_WORK, ROW_F,
     count_real_roots_row, ISOLATE_WORK_SIZE as ISOLATE_WORK)
@@ -95,11 +110,6 @@ from imagespace.solve.kernel.lockstep import (LOCKSTEP_ROWS as BLOCK, block_work
     counts_block)
 """
 
-#: Parts per thread a batch is cut into by :func:`run_parts` (a speed knob: the balance of the
-#: threads' loads against the cost of handing a part to a thread, tens of microseconds)
-PARTS_PER_THREAD = 4
-#: Rows below which a part is not split further (a speed knob: ~0.15 ms of work a part)
-MIN_PART_ROWS = 64
 _DISK_ATTEMPTS = 3         # loads from the disk cache before compiling in memory (see _compile)
 _SERIAL_ROWS = 16          # certified counts of at most this many rows run serially (a speed knob)
 
@@ -161,10 +171,10 @@ def _warm(mod, name):
     if name in ("run", "run_rows"):
         getattr(mod, name)(np.empty((0, 3)), *tables, np.zeros(len(kernel_tolerances(TOLERANCES))), True,
                 np.empty((0, _MAX, 4)), np.empty((0, _MAX, 3)), np.empty((0, _MAX)),
-                np.empty((0, _MAX), dtype=np.int8), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8), 0, 0)
+                np.empty((0, _MAX), dtype=np.int8), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int8))
     else:
         getattr(mod, name)(np.empty((0, 3)), *tables, np.empty(0, dtype=np.int8), np.empty((0, _MAX)),
-                       np.empty((0, _MAX)), np.empty((0, _MAX), dtype=np.int8), 0, 0)
+                       np.empty((0, _MAX)), np.empty((0, _MAX), dtype=np.int8))
     return getattr(mod, name)
 
 
@@ -243,72 +253,3 @@ def _generic_loop(name):
     if key not in _RUN:
         _RUN[key] = _compile(_SOURCE, name)
     return _RUN[key]
-
-
-_POOLS: dict[tuple[int, int], Any] = {}   # thread pools per (process, threads): a forked child makes its own
-
-
-def _pool(threads):
-    """This process's pool of ``threads`` helper threads for :func:`run_parts`."""
-    from concurrent.futures import ThreadPoolExecutor
-
-    key = (os.getpid(), threads)
-    if key not in _POOLS:
-        _POOLS[key] = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="imagespace-kernel")
-    return _POOLS[key]
-
-
-def run_parts(loop, items, *args, rows_per_item=1):
-    """Run a compiled loop over ``items`` (blocks or rows) on numba's number of threads.
-
-    The loops are serial functions of a range ``[a, b)`` of their items, compiled with
-    ``nogil``; the items are cut into at most :data:`PARTS_PER_THREAD` parts per thread, which
-    this thread and a pool of ``threads - 1`` Python threads take one by one. (A ``parallel=True`` loop over the same parts computes the same
-    answers, but numba's parallel lowering of the whole inlined block pipeline took ~60 s to
-    compile: once per installation, in front of a user's first batch.) ``numba.set_num_threads``
-    and ``NUMBA_NUM_THREADS`` set the number of threads, as for numba's own parallel loops.
-
-    Parameters
-    ----------
-    loop : callable
-        A compiled loop ``loop(*args, a, b)``.
-    items : int
-    *args
-        The loop's other arguments.
-    rows_per_item : int
-        Rows of an item (a block's rows for the lockstep loops): parts hold at least
-        :data:`MIN_PART_ROWS` rows.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from imagespace.solve.kernel.loops import run_parts
-    >>> out = np.zeros(10)
-    >>> def fill(o, a, b):
-    ...     o[a:b] = np.arange(a, b)
-    >>> run_parts(fill, 10, out, rows_per_item=1000)
-    >>> out.tolist() == list(range(10))
-    True
-    """
-    import numba
-
-    threads = max(1, int(numba.get_num_threads()))
-    parts = min(items // max(1, MIN_PART_ROWS // rows_per_item), threads * PARTS_PER_THREAD)
-    if parts > threads:               # whole rounds of parts: no thread left with one part more
-        parts -= parts % threads
-    if threads == 1 or parts <= 1:
-        loop(*args, 0, items)
-        return
-    cuts = [items * k // parts for k in range(parts + 1)]
-    taken = itertools.count()          # next() of a count is atomic: each part is run once
-
-    def work():
-        k = next(taken)
-        while k < parts:
-            loop(*args, cuts[k], cuts[k + 1])
-            k = next(taken)
-
-    helpers = [_pool(threads - 1).submit(work) for _ in range(threads - 1)]
-    work()                             # this thread takes parts too (no wait for a helper's start)
-    for f in helpers:
-        f.result()
