@@ -133,3 +133,68 @@ def test_lockstep_kernel_equals_the_row_kernel_exactly(name):
     ok = c >= 0
     assert np.array_equal(lo[ok], lo2[ok], equal_nan=True) and np.array_equal(hi[ok], hi2[ok], equal_nan=True)
     assert np.array_equal(ch[ok], ch2[ok])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["seed002", "mixed"])
+def test_backsub_block_equals_the_row_functions_root_by_root(name):
+    """The lane-wise back-substitution (:func:`backsub_block`) against :func:`_root_point`,
+    :func:`_mode_start` and :func:`_mode_finish` root by root, on the refined roots of real blocks
+    and on roots moved off (seeded) so that Newton runs, with thresholds moved so that the Cramer
+    check and the residual test fail: each mode bit for bit, a row flagged exactly when one of its
+    roots fails."""
+    from imagespace.core.elimination import ROW_D, ROW_F, ROW_X2, ROW_X3
+    from imagespace.solve.kernel import design_tables, kernel_tolerances
+    from imagespace.solve.kernel.block_layout import _M_DET, _M_JRES, _M_ST, _M_T, _M_X, _MI_CHART, _MI_LANE
+    from imagespace.solve.kernel.block_modes import ST_SCALAR, backsub_block
+    from imagespace.solve.kernel.lockstep import (GRID_LEVELS, LOCKSTEP_ROWS as B, _S_EL, _S_ELE, _S_FN,
+                                                  block_workspace, coefficients_block, eliminate_block,
+                                                  isolate_block, roots_block)
+    from imagespace.solve.kernel.row import _T_CRAMER_SMALL, _T_RESIDUAL, _mode_finish, _mode_start, _root_point
+
+    m = design(name)
+    t = design_tables(m)
+    Q = joint_rows(m, 320, 11)
+    rng = np.random.default_rng(12)
+    S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p = block_workspace()
+    seen = {"done": 0, "newton": 0, "cramer": 0, "residual": 0}
+    for r0 in range(0, len(Q), B):
+        tol = kernel_tolerances(isp.TOLERANCES)
+        if r0 // B % 3 == 1:
+            tol[_T_CRAMER_SMALL] = 0.3
+        elif r0 // B % 3 == 2:
+            tol[_T_RESIDUAL] = 1e-16
+        nb = min(B, len(Q) - r0)
+        coefficients_block(Q, r0, nb, t.expo, t.coef, t.cerr, t.nmono, t.trig, True, S)
+        d = eliminate_block(S, t.plan, nb, True)
+        isolate_block(S, _S_EL + ROW_F, _S_ELE + ROW_F, d, nb, grid, 2 ** GRID_LEVELS, ints[0], ints[1], lo, hi,
+                      chart, work, small[0], small[1], kinds)
+        lflag = ints[2]
+        nm = roots_block(S, d, nb, ints[1], lo, hi, chart, lflag, MD, MI, rows, p)
+        if r0 >= len(Q) // 2:     # the second half: roots moved by 1e-10 (Newton) to 1e-2 (failures)
+            MD[_M_T, :nm] += rng.choice([0.0, 1e-10, 1e-6, 1e-2], nm) * rng.standard_normal(nm)
+        before = lflag[:nb].copy()
+        backsub_block(S, nm, tol, lflag, MD, MI, rows, X, val, J, dx)
+        failed = np.zeros(nb, dtype=bool)
+        for j in range(nm):
+            l = MI[_MI_LANE, j]
+            x0, x1 = _root_point(MD[_M_T, j], MI[_MI_CHART, j])
+            buf = rows[l]
+            Xs, vs, Js, dxs = np.zeros(4), np.zeros(4), np.zeros((4, 4)), np.zeros(4)
+            ok, det, polished = _mode_start(buf, 48 + ROW_D, 48 + ROW_X2, 48 + ROW_X3, 2, 3, buf[:24], x0, x1,
+                                            S[_S_FN + 1, l], tol, Xs, vs, Js)
+            if not ok:
+                seen["cramer"] += 1
+            else:
+                assert (MD[_M_ST, j] == ST_SCALAR) == (not polished)
+                ok, det, jres = _mode_finish(buf[:24], buf[24:48], Xs, vs, Js, dxs, det, polished, tol)
+                seen["residual"] += not ok
+            if not ok:
+                failed[l] = True
+                continue
+            seen["done" if polished else "newton"] += 1
+            if lflag[l] == 0:
+                assert np.array_equal(MD[_M_X:_M_X + 4, j], Xs)
+                assert MD[_M_DET, j] == det and MD[_M_JRES, j] == jres
+        assert np.array_equal(lflag[:nb], np.where(failed, 1, before))
+    assert min(seen.values()) > 10, seen

@@ -1,11 +1,12 @@
 """The block layout of the lockstep kernel (:mod:`.lockstep`): rows per block, levels of the
-split grid, and the named rows of the block workspace ``S`` (one column per row of the block)."""
+split grid, the named rows of the block workspace ``S`` (one column per row of the block) and of
+the root columns ``MD`` (one column per root of the block)."""
 
 from __future__ import annotations
 
 import itertools
 
-from ...core.elimination import ELIMINATION_ROW_SIZE
+from ...core.elimination import ELIMINATION_ROW_SIZE, ROW_D, ROW_F
 from ...core.isolate import MAX_DEGREE
 
 __all__ = ["LOCKSTEP_ROWS", "GRID_LEVELS", "S_SIZE", "grid_rows"]
@@ -38,6 +39,25 @@ _S_SIZES = (3,      # Q: the block's joint values
  _S_SC, _S_BERN, _S_CS, _S_FN) = (0, *itertools.accumulate(_S_SIZES[:-1]))
 #: Rows of the block workspace.
 S_SIZE = sum(_S_SIZES)
+
+
+# the roots of a block (at most MAX_DEGREE per row), one column each: MD (_M_SIZE, MAX_DEGREE * rows)
+_M_SIZES = (MAX_DEGREE + 1,   # P: the polynomial of the root's chart, scaled by 1 / max |F|
+            6,                # A, B, FA, FB, T, W: bracket, values at its ends, iterate, width
+            MAX_DEGREE + 1,   # H: Horner's value, derivative and magnitude (scratch of refine_roots)
+            4, 2,             # X: the mode's image point; DET, JRES
+            ROW_F - ROW_D,    # F: D, X2, X3 of the root's row (core.elimination layout, from ROW_D)
+            24, 24,           # CS, G: the row's scaled quadrics and their scaled q-derivatives
+            3)                # DN, CH, ST: the row's max |D|, the root's chart, its status (block_modes)
+(_M_P, _M_A, _M_H, _M_X, _M_DET, _M_F, _M_CS, _M_G, _M_DN) = (0, *itertools.accumulate(_M_SIZES[:-1]))
+_M_B, _M_FA, _M_FB, _M_T, _M_W = _M_A + 1, _M_A + 2, _M_A + 3, _M_A + 4, _M_A + 5
+_M_JRES = _M_DET + 1
+_M_CH, _M_ST = _M_DN + 1, _M_DN + 2
+_M_SIZE = sum(_M_SIZES)
+_M_MAX = MAX_DEGREE * LOCKSTEP_ROWS    # columns of MD (the most roots of a block)
+# integer columns of the roots: MI (_MI_SIZE, MAX_DEGREE * rows)
+_MI_LANE, _MI_CHART, _MI_DEG, _MI_DONE = range(4)
+_MI_SIZE = 4
 
 
 def grid_rows(levels=GRID_LEVELS):

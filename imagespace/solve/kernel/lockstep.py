@@ -24,9 +24,9 @@ row, so the same floats bit for bit; ``tests/solve/test_lockstep.py`` holds them
 4. :func:`modes_block` -- the rest of :func:`.row._solve_row`: each isolated root refined by the
    safeguarded Newton iteration of :func:`.newton._monotone_root`, run for all roots of the block
    at once (:func:`refine_roots`; roots of a row whose form lost its leading coefficients take
-   the scalar routine), then back-substitution, the residual test of the point, Newton on the
-   4x4 system for the few points it does not prove accurate (the slow lane), checks, and the
-   modes sorted by ``phi``.
+   the scalar routine), then back-substitution, the residual test of the point and the checks
+   for all roots at once (:func:`.block_modes.backsub_block`), Newton on the 4x4 system for the
+   few points it does not prove accurate (the slow lane), and the modes sorted by ``phi``.
 
 A row that any stage cannot decide is flagged exactly as the row kernel flags it (the flag does
 not depend on the order in which its checks are met: 1 for any float decision that failed, 2 when
@@ -41,7 +41,6 @@ offsets need runtime overlap checks, of which LLVM allows only a few per loop.
 
 from __future__ import annotations
 
-import itertools
 import math
 
 import numpy as np
@@ -54,13 +53,15 @@ from ...core.isolate import GRID_FIELDS, ISOLATE_WORK_SIZE, MAX_DEGREE
 from .block_isolate import isolate_block
 from .block_layout import (GRID_LEVELS, LOCKSTEP_ROWS, S_SIZE, _S_ACC8, _S_BERN, _S_C, _S_CE, _S_CS, _S_DC,  # noqa: F401
                            _S_E, _S_EACC, _S_EE, _S_EL, _S_ELE, _S_FN, _S_LIN, _S_LINE, _S_MONO, _S_Q, _S_TRIG,
-                           grid_rows)
+                           _M_A, _M_B, _M_FA, _M_FB, _M_H, _M_MAX, _M_P, _M_SIZE, _M_T, _M_W, _M_X, _M_DET,
+                           _M_JRES, _MI_CHART, _MI_DEG, _MI_DONE, _MI_LANE, _MI_SIZE, grid_rows)
+from .block_modes import backsub_block
 from .newton import _BISECT_WIDTH, _HORNER_ZERO, _bracketed_newton, _horner, _monotone_root
-from .row import _duplicate_modes, _insert_mode, _mode_finish, _mode_start, _root_point
+from .row import _duplicate_modes, _insert_mode
 from .tables import _GAMMA_SUM, _INFLATE, _TINY, _U
 
 __all__ = ["LOCKSTEP_ROWS", "GRID_LEVELS", "LOCKSTEP_NEWTON_STEPS", "S_SIZE", "grid_rows", "coefficients_block",
-           "eliminate_block", "isolate_block", "refine_roots", "modes_block", "store_block", "block_workspace",
+           "eliminate_block", "isolate_block", "refine_roots", "roots_block", "modes_block", "store_block", "block_workspace",
            "solve_block", "counts_block"]
 
 
@@ -331,19 +332,6 @@ def eliminate_block(S, plan, nb, bounded):
 
 # --------------------------------------------------------------------------- 4. modes
 
-# the roots of a block (at most MAX_DEGREE per row), one column each: MD (_M_SIZE, MAX_DEGREE * rows)
-_M_SIZES = (MAX_DEGREE + 1,   # P: the polynomial of the root's chart, scaled by 1 / max |F|
-            6,                # A, B, FA, FB, T, W: bracket, values at its ends, iterate, width
-            MAX_DEGREE + 1,   # H: Horner's value, derivative and magnitude (scratch of refine_roots)
-            4, 2)             # X: the mode's image point; DET, JRES
-(_M_P, _M_A, _M_H, _M_X, _M_DET) = (0, *itertools.accumulate(_M_SIZES[:-1]))
-_M_B, _M_FA, _M_FB, _M_T, _M_W = _M_A + 1, _M_A + 2, _M_A + 3, _M_A + 4, _M_A + 5
-_M_JRES = _M_DET + 1
-_M_SIZE = sum(_M_SIZES)
-_M_MAX = MAX_DEGREE * LOCKSTEP_ROWS    # columns of MD (the most roots of a block)
-# integer columns of the roots: MI (_MI_SIZE, MAX_DEGREE * rows)
-_MI_LANE, _MI_CHART, _MI_DEG, _MI_DONE = range(4)
-_MI_SIZE = 4
 #: Steps of the safeguarded Newton iteration all roots of a block take together; roots that need
 #: more finish one by one (:func:`.newton._bracketed_newton`). A speed knob, not a decision.
 LOCKSTEP_NEWTON_STEPS = 12
@@ -447,13 +435,11 @@ def refine_roots(MD, MI, nm, deg):
 
 
 @njit(cache=True, error_model="numpy")
-def modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, rows, p, X, val, J, dx):
-    """The rest of :func:`.row._solve_row` for every row of the block, up to the modes: the scaled
-    quadrics, the checks of ``F`` and ``D``, each isolated root (``counts``, ``lo``, ``hi``,
-    ``chart`` of :func:`isolate_block`) refined (:func:`refine_roots`), back-substituted and
-    polished (:func:`.row._mode_start`, :func:`.row._mode_finish`). Each row's flag goes to
-    ``lflag[l]`` (0, 1 or 2, as the row kernel's), its modes to the columns of ``MD`` (image
-    point, ``det``, joint residual), in the order of its roots. Returns the number of roots."""
+def roots_block(S, d, nb, counts, lo, hi, chart, lflag, MD, MI, rows, p):
+    """The first part of :func:`modes_block`: the scaled quadrics, the checks of ``F`` and ``D``
+    (each row's flag into ``lflag[l]``), each isolated root refined into a column of ``MD`` and
+    ``MI`` (:func:`refine_roots`), each row's quadrics and forms into ``rows``. Returns the number
+    of roots."""
     F0 = _S_EL + ROW_F
     for l in range(nb):
         lflag[l] = 0
@@ -536,24 +522,19 @@ def modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, rows, p, X,
                 rows[l, 24 + k] = S[_S_DC + k, l]
             for k in range(ELIMINATION_ROW_SIZE):
                 rows[l, 48 + k] = S[_S_EL + k, l]
-    for j in range(nm):
-        l = MI[_MI_LANE, j]
-        if lflag[l] != 0:
-            continue
-        x0, x1 = _root_point(MD[_M_T, j], MI[_MI_CHART, j])
-        buf = rows[l]
-        Cs = buf[0:24]
-        ok, det, polished = _mode_start(buf, 48 + ROW_D, 48 + ROW_X2, 48 + ROW_X3, 2, 3, Cs, x0, x1, dn[l], tol,
-                                        X, val, J)
-        if ok:
-            ok, det, jres = _mode_finish(Cs, buf[24:48], X, val, J, dx, det, polished, tol)
-        if not ok:
-            lflag[l] = 1
-            continue
-        for i in range(4):
-            MD[_M_X + i, j] = X[i]
-        MD[_M_DET, j] = det
-        MD[_M_JRES, j] = jres
+    return nm
+
+
+@njit(cache=True, error_model="numpy")
+def modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, rows, p, X, val, J, dx):
+    """The rest of :func:`.row._solve_row` for every row of the block, up to the modes: the scaled
+    quadrics, the checks of ``F`` and ``D``, each isolated root (``counts``, ``lo``, ``hi``,
+    ``chart`` of :func:`isolate_block`) refined (:func:`refine_roots`), back-substituted and
+    polished (:func:`.block_modes.backsub_block`). Each row's flag goes to ``lflag[l]`` (0, 1 or 2,
+    as the row kernel's), its modes to the columns of ``MD`` (image point, ``det``, joint
+    residual), in the order of its roots. Returns the number of roots."""
+    nm = roots_block(S, d, nb, counts, lo, hi, chart, lflag, MD, MI, rows, p)
+    backsub_block(S, nm, tol, lflag, MD, MI, rows, X, val, J, dx)
     return nm
 
 

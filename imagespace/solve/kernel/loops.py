@@ -181,7 +181,7 @@ def _warm(mod, name):
 _INLINED_MODULES = ("imagespace.solve.kernel", "imagespace.solve.kernel.newton", "imagespace.solve.kernel.row",
                     "imagespace.solve.kernel.tables", "imagespace.solve.kernel.loops",
                     "imagespace.solve.kernel.lockstep", "imagespace.solve.kernel.block_layout",
-                    "imagespace.solve.kernel.block_isolate",
+                    "imagespace.solve.kernel.block_isolate", "imagespace.solve.kernel.block_modes",
                     "imagespace.core.elimination", "imagespace.core.quadrics", "imagespace.core.isolate",
                     "imagespace.core.bounded_trig")
 
