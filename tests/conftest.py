@@ -61,6 +61,7 @@ SLOW_DOCTESTS = {
     "imagespace.core.msolve.solve_real",
     "imagespace.core.planar.PlanarMechanism.compiled",
     "imagespace.core.quadratic_field.quadratic_field_count",
+    "imagespace.solve.kernel.block_modes.backsub_block",
     "imagespace.display.latex_form",
     "imagespace.dynamics.solve.consistent_acceleration",
     "imagespace.dynamics.solve.drive_singularity",

@@ -25,7 +25,7 @@ from .block_layout import (_M_CH, _M_CS, _M_DET, _M_DN, _M_F, _M_G, _M_JRES, _M_
 from .row import (_CONDITIONED, _POLISHED, _T_CRAMER_SMALL, _T_RESIDUAL, _mode_finish, _mode_start,
                   _root_point)
 
-__all__ = ["backsub_roots", "backsub_block", "ST_DONE", "ST_FAILED", "ST_SCALAR"]
+__all__ = ["backsub_block", "ST_DONE", "ST_FAILED", "ST_SCALAR"]
 
 #: Status of a root column after :func:`backsub_roots` (``MD[_M_ST]``): mode found and checked,
 #: ``ST_DONE``; its row must take the careful path, ``ST_FAILED``; Newton needed (not polished),
@@ -246,6 +246,31 @@ def backsub_block(S, nm, tol, lflag, MD, MI, rows, X, val, J, dx):
     -----
     A root failing flags its row; the row kernel stops at a row's first failing root, but the
     modes of a flagged row are discarded, so the outputs are the same.
+
+    Examples
+    --------
+    The six modes of the general 3-RPR example, one row through the block's stages:
+
+    >>> import numpy as np
+    >>> import imagespace as isp
+    >>> from imagespace.solve.kernel import design_tables, kernel_tolerances
+    >>> from imagespace.solve.kernel.lockstep import (block_workspace, coefficients_block, eliminate_block,
+    ...     isolate_block, roots_block, GRID_LEVELS, _S_EL, _S_ELE)
+    >>> from imagespace.solve.kernel.block_layout import _M_X
+    >>> from imagespace.core.elimination import ROW_F
+    >>> m = isp.examples.general_3rpr()
+    >>> t = design_tables(m)
+    >>> S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p = block_workspace()
+    >>> coefficients_block(np.array([m.q_example_float]), 0, 1, t.expo, t.coef, t.cerr, t.nmono, t.trig, True, S)
+    >>> d = eliminate_block(S, t.plan, 1, True)
+    >>> isolate_block(S, _S_EL + ROW_F, _S_ELE + ROW_F, d, 1, grid, 2 ** GRID_LEVELS, ints[0], ints[1], lo, hi,
+    ...               chart, work, small[0], small[1], kinds)
+    >>> nm = roots_block(S, d, 1, ints[1], lo, hi, chart, ints[2], MD, MI, rows, p)
+    >>> backsub_block(S, nm, kernel_tolerances(m.tolerances), ints[2], MD, MI, rows, X, val, J, dx)
+    >>> nm, int(ints[2][0])
+    (6, 0)
+    >>> bool(np.allclose(MD[_M_X, :6] ** 2 + MD[_M_X + 1, :6] ** 2, 1.0))
+    True
     """
     _gather_roots(S, MD, MI, nm)
     backsub_roots(MD, nm, tol)
