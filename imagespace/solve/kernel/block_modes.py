@@ -22,8 +22,8 @@ from ...core._numba import njit
 from ...core.elimination import ROW_D, ROW_F, ROW_X2, ROW_X3
 from .block_layout import (_M_CH, _M_CS, _M_DET, _M_DN, _M_F, _M_G, _M_JRES, _M_MAX, _M_ST, _M_T, _M_X,
                            _MI_CHART, _MI_LANE, _S_CS, _S_DC, _S_EL, _S_FN)
-from .row import (_CONDITIONED, _POLISHED, _T_CRAMER_SMALL, _T_RESIDUAL, _mode_finish, _mode_start,
-                  _root_point)
+from .row import (_CONDITIONED, _POLISHED, _T_CRAMER_SMALL, _T_RESIDUAL, _joint_derivative, _mode_finish,
+                  _mode_start, _root_point)
 
 __all__ = ["backsub_block", "ST_DONE", "ST_FAILED", "ST_SCALAR"]
 
@@ -72,14 +72,6 @@ def _quadric_lane(c, a0, a1, b0, b1, k0, k1, k2, x0, x1, x2, x3):
     j2 = 2 * c * x2 + a0 * x0 + a1 * x1
     j3 = 2 * c * x3 + b0 * x0 + b1 * x1
     return v, j0, j1, j2, j3
-
-
-@njit(cache=True)
-def _dq_lane(g0, g1, g2, g3, g4, g5, g6, g7, x0, x1, x2, x3):
-    """``dQ_i/dq_i`` at the point (``g0 .. g7``: the scaled derivatives of quadric ``i``), as
-    :func:`.row._mode_finish` computes it."""
-    return (g0 * (x2 * x2 + x3 * x3) + x2 * (g1 * x0 + g2 * x1) + x3 * (g3 * x0 + g4 * x1) + g5 * x0 * x0
-            + g6 * x0 * x1 + g7 * x1 * x1)
 
 
 @njit(cache=True)
@@ -196,16 +188,16 @@ def backsub_roots(MD, nm, tol):
         good = rel <= rtol
         jres = 0.0
         o = _M_G * M + j
-        dq = _dq_lane(md[o], md[o + M], md[o + 2 * M], md[o + 3 * M], md[o + 4 * M], md[o + 5 * M], md[o + 6 * M],
-                      md[o + 7 * M], x0, x1, x2, x3)
+        dq = _joint_derivative(md[o], md[o + M], md[o + 2 * M], md[o + 3 * M], md[o + 4 * M], md[o + 5 * M],
+                               md[o + 6 * M], md[o + 7 * M], x0, x1, x2, x3)
         jres = max(jres, abs(v0) / abs(dq) if dq != 0.0 else math.inf)
         o = (_M_G + 8) * M + j
-        dq = _dq_lane(md[o], md[o + M], md[o + 2 * M], md[o + 3 * M], md[o + 4 * M], md[o + 5 * M], md[o + 6 * M],
-                      md[o + 7 * M], x0, x1, x2, x3)
+        dq = _joint_derivative(md[o], md[o + M], md[o + 2 * M], md[o + 3 * M], md[o + 4 * M], md[o + 5 * M],
+                               md[o + 6 * M], md[o + 7 * M], x0, x1, x2, x3)
         jres = max(jres, abs(v1) / abs(dq) if dq != 0.0 else math.inf)
         o = (_M_G + 16) * M + j
-        dq = _dq_lane(md[o], md[o + M], md[o + 2 * M], md[o + 3 * M], md[o + 4 * M], md[o + 5 * M], md[o + 6 * M],
-                      md[o + 7 * M], x0, x1, x2, x3)
+        dq = _joint_derivative(md[o], md[o + M], md[o + 2 * M], md[o + 3 * M], md[o + 4 * M], md[o + 5 * M],
+                               md[o + 6 * M], md[o + 7 * M], x0, x1, x2, x3)
         jres = max(jres, abs(v2) / abs(dq) if dq != 0.0 else math.inf)
         md[_M_X * M + j] = x0
         md[(_M_X + 1) * M + j] = x1

@@ -201,11 +201,20 @@ def _mode_finish(Cs, g, X, val, J, dx, det, polished, tol):
         return False, det, 0.0
     jres = 0.0
     for i in range(3):
-        dq = (g[8 * i] * (X[2] * X[2] + X[3] * X[3]) + X[2] * (g[8 * i + 1] * X[0] + g[8 * i + 2] * X[1])
-              + X[3] * (g[8 * i + 3] * X[0] + g[8 * i + 4] * X[1]) + g[8 * i + 5] * X[0] * X[0]
-              + g[8 * i + 6] * X[0] * X[1] + g[8 * i + 7] * X[1] * X[1])
+        dq = _joint_derivative(g[8 * i], g[8 * i + 1], g[8 * i + 2], g[8 * i + 3], g[8 * i + 4], g[8 * i + 5],
+                               g[8 * i + 6], g[8 * i + 7], X[0], X[1], X[2], X[3])
         jres = max(jres, abs(val[i]) / abs(dq) if dq != 0.0 else math.inf)
     return True, det, jres
+
+
+@njit(cache=True)
+def _joint_derivative(g0, g1, g2, g3, g4, g5, g6, g7, x0, x1, x2, x3):
+    """``dQ_i/dq_i`` at the image point ``(x0, x1, x2, x3)`` from quadric ``i``'s derivatives
+    ``g0 .. g7`` in its joint value (the quadric's layout ``c, a0, a1, b0, b1, k0, k1, k2``):
+    the denominator of the joint residual (:func:`_mode_finish`, and the lockstep kernel's
+    ``block_modes.backsub_roots``, which passes scalars so that its loop vectorises)."""
+    return (g0 * (x2 * x2 + x3 * x3) + x2 * (g1 * x0 + g2 * x1) + x3 * (g3 * x0 + g4 * x1) + g5 * x0 * x0
+            + g6 * x0 * x1 + g7 * x1 * x1)
 
 
 @njit(cache=True)
