@@ -61,6 +61,7 @@ _CHART_TRIES = 40
 _POLISH = 6                      # float Newton iterations in the chart before the proof
 _REFINE = 4                      # Newton iterations at CERT_PRECISION for a point the float boxes miss
 _REFINED_RADII = (1e-24, 1e-18)  # box half-widths tried around a refined centre, relative to 1 + |m|
+_MID_ROUNDING = 2.0 ** -50       # bounds rounding a refined centre to complex floats (2**-53 relative a part)
 
 
 @dataclass(frozen=True)
@@ -292,7 +293,7 @@ def krawczyk_certify(Q_exact: npt.NDArray[np.object_], Z: npt.ArrayLike, chart: 
                             # the float centre recorded is the refined one rounded: the radius
                             # recorded covers that rounding (disjointness is checked on it)
                             points[i] = np.array([complex(float(v.real.mid()), float(v.imag.mid())) for v in mid])
-                            radii[i] = rho + 2.0 ** -50 * (1.0 + np.abs(points[i]).max())
+                            radii[i] = rho + _MID_ROUNDING * (1.0 + np.abs(points[i]).max())
                             certified[i] = True
                             real[i] = is_real
                             displacement[i] = disp
