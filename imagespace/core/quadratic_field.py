@@ -29,7 +29,8 @@ from fractions import Fraction
 
 import sympy as sp
 
-__all__ = ["QuadraticFieldForms", "quadratic_field_count", "count_distinct_real_roots", "PRECISIONS"]
+__all__ = ["QuadraticFieldForms", "quadratic_field_count", "count_distinct_real_roots", "poly_mul", "poly_sub",
+           "poly_gcd", "PRECISIONS"]
 
 #: Working precisions (bits) of the arb isolation, tried in turn.
 PRECISIONS = (64, 128, 256, 512, 1024, 2048, 4096)
@@ -202,6 +203,68 @@ def _gcd_degree(p, d):
     while b:
         a, b = b, _rem(a, b, d)
     return len(a) - 1
+
+
+def poly_mul(p, q, d):
+    """The product of two polynomials over ``Q(sqrt d)``, as ascending lists of ``(a, b)`` pairs
+    (the coefficient ``a + b sqrt d``), trimmed (``[]`` is the zero polynomial).
+
+    Examples
+    --------
+    >>> import flint
+    >>> from imagespace.core.quadratic_field import poly_mul
+    >>> z, one, r = flint.fmpq(0), flint.fmpq(1), flint.fmpq(1)
+    >>> poly_mul([(z, -r), (one, z)], [(z, r), (one, z)], 2)     # (t - sqrt 2)(t + sqrt 2)
+    [(-2, 0), (0, 0), (1, 0)]
+    """
+    if not p or not q:
+        return []
+    out = [(0, 0)] * (len(p) + len(q) - 1)
+    for i, x in enumerate(p):
+        for j, y in enumerate(q):
+            m = _mul(x, y, d)
+            out[i + j] = (out[i + j][0] + m[0], out[i + j][1] + m[1])
+    return _trimmed(out)
+
+
+def poly_sub(p, q):
+    """``p - q`` for polynomials over ``Q(sqrt d)`` (ascending lists of pairs), trimmed.
+
+    Examples
+    --------
+    >>> import flint
+    >>> from imagespace.core.quadratic_field import poly_sub
+    >>> one, z = flint.fmpq(1), flint.fmpq(0)
+    >>> poly_sub([(one, z), (one, one)], [(z, z), (one, one)])
+    [(1, 0)]
+    """
+    n = max(len(p), len(q))
+    p = list(p) + [(0, 0)] * (n - len(p))
+    q = list(q) + [(0, 0)] * (n - len(q))
+    return _trimmed([_sub(x, y) for x, y in zip(p, q)])
+
+
+def poly_gcd(p, q, d):
+    """A greatest common divisor of two polynomials over ``Q(sqrt d)`` (ascending lists of
+    ``(a, b)`` pairs, exact: Euclid's algorithm with the field's inverse
+    ``(a - b sqrt d) / (a**2 - d b**2)``), up to a unit; ``[]`` when both are zero. Its length
+    minus one is the degree of the gcd: 0 when the polynomials have no common root in ``C``.
+
+    Examples
+    --------
+    >>> import flint
+    >>> from imagespace.core.quadratic_field import poly_gcd, poly_mul
+    >>> z, one = flint.fmpq(0), flint.fmpq(1)
+    >>> a = [(z, -one), (one, z)]                    # t - sqrt 2
+    >>> len(poly_gcd(poly_mul(a, [(one, z), (one, z)], 2), poly_mul(a, [(z, one), (one, z)], 2), 2)) - 1
+    1
+    >>> len(poly_gcd(a, [(z, one), (one, z)], 2)) - 1   # t - sqrt 2 and t + sqrt 2
+    0
+    """
+    a, b = _trimmed(list(p)), _trimmed(list(q))
+    while b:
+        a, b = b, _rem(a, b, d)
+    return a
 
 
 def count_distinct_real_roots(coeffs, d):

@@ -258,6 +258,69 @@ def _transcendental_verdict(m, q):
     return None, None
 
 
+def _quadratic_field_quadrics(m):
+    """The 24 quadric coefficients general in the joint values as pairs over ``Q(sqrt d)``
+    (:class:`~imagespace.core.quadratic_field.QuadraticFieldForms`), or None where the design's
+    constants do not lie in one quadratic field (rational designs, angles, other radicals)."""
+    from ..core.quadratic_field import QuadraticFieldForms
+
+    if not m.is_numeric:
+        return None
+    coeffs = [v for qd in m.quadrics(None) for v in qd.coefficients()]
+    try:
+        return QuadraticFieldForms([coeffs], m.joint_symbols)
+    except ValueError:
+        return None
+
+
+def _quadratic_field_verdict(m, q):
+    """"No continuum" decided in ``Q(sqrt d)`` arithmetic (FLINT, no sympy per row) for designs
+    whose constants lie in one quadratic field: the same minors as the rational route, their gcd
+    over ``Q(sqrt d)[t]`` by Euclid's algorithm (exact). A constant gcd and a rank-2 matrix at
+    ``x0 = 0`` prove that no orientation has ``rank M <= 1``: ``(False, None)``; otherwise
+    ``(None, None)`` (undecided: a common root would need its reality and the curve's decided in
+    the field). Returns None where this route does not apply."""
+    from ..core.quadratic_field import poly_gcd, poly_mul, poly_sub
+
+    if not all(isinstance(v, (float, np.floating, int, np.integer)) or sp.sympify(v).is_Rational for v in q):
+        return None
+    forms = m.cached("continuum_quadratic_field", lambda: _quadratic_field_quadrics(m))
+    if forms is None:
+        return None
+    d = forms.d
+    cf = forms.at([float(v) if isinstance(v, (float, np.floating)) else Fraction(int(sp.Rational(v).p),
+                                                                                  int(sp.Rational(v).q))
+                   for v in q])[0]
+
+    # x0 = 0: the constant rows (c, a1, b1, k2); every minor zero leaves the row undecided
+    top = [([cf[8 * i]], [cf[8 * i + 2]], [cf[8 * i + 4]], [cf[8 * i + 7]]) for i in range(3)]
+    if all(not poly_sub(poly_mul(r[a], s[b], d), poly_mul(r[b], s[a], d))
+           for r, s in _row_pairs(top) for a, b in _column_pairs()):
+        return None, None
+    rows = []
+    for i in range(3):
+        c, a0, a1, b0, b1, k0, k1, k2 = cf[8 * i:8 * i + 8]
+        rows.append(([c], [a0, a1], [b0, b1], [k0, k1, k2]))
+    g = None
+    for r, s in _row_pairs(rows):
+        for a, b in _column_pairs():
+            mnr = poly_sub(poly_mul(r[a], s[b], d), poly_mul(r[b], s[a], d))
+            if not mnr:
+                continue
+            g = mnr if g is None else poly_gcd(g, mnr, d)
+            if len(g) == 1:
+                return False, None      # a constant gcd: rank 2 at every orientation
+    return None, None
+
+
+def _row_pairs(rows):
+    return [(rows[i], rows[j]) for i in range(3) for j in range(i + 1, 3)]
+
+
+def _column_pairs():
+    return [(a, b) for a in range(4) for b in range(a + 1, 4)]
+
+
 def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     """Decide exactly whether the design ``m`` has a continuum of assembly modes at one
     orientation for the joint values ``q`` (floats taken as the binary rationals they are).
@@ -295,6 +358,9 @@ def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     >>> continuum_at(m, [2, 2, 2.5])
     (False, None)
     """
+    field = _quadratic_field_verdict(m, q)
+    if field is not None:
+        return field
     cf = _exact_coefficients(m, q)
     if cf is None:
         return _transcendental_verdict(m, q)
