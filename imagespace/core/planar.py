@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from .._validate import as_exact, as_float_array, is_symbolic, warn_angle_units
+from .._validate import as_exact, as_float_array, finite_rows, is_symbolic, warn_angle_units
 from ..exceptions import DegenerateDesignError, InputError
 from ..tolerances import TOLERANCES, Tolerances
 from .elimination import binary_form_poly, eliminate, form_coefficients, orientation_form, plan_elimination
@@ -217,7 +217,7 @@ class PlanarMechanism(Mechanism):
         ([True, False], 'Q[1, 0] ')
         """
         errors = {}
-        row_ok = np.all(np.isfinite(Q), axis=1)
+        row_ok = finite_rows(Q)
         for i in np.flatnonzero(~row_ok):
             errors[int(i)] = f"Q[{i}] is not finite: {Q[i].tolist()}"
         for j, leg in enumerate(self.legs):

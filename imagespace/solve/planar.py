@@ -16,6 +16,7 @@ from ..core.certify import RealRootCertificate
 from ..core.mechanism import Backends
 from ..core.reach import ReachObstruction, planar_design_scale, planar_reach_obstruction, prismatic_magnitude
 from ..exceptions import DegenerateDesignError, InputError
+from .._validate import finite_rows
 from .certified import certified_modes, certify_batch, exact_certificate, exact_root_count
 from .numpy_path import complex_modes, check_rows, solve_batch
 from .continuum import continuum_at
@@ -78,7 +79,7 @@ def far_rows(m: Any, Q: npt.ArrayLike) -> np.ndarray:
         return np.zeros(Q.shape[0], dtype=bool)
     scale = m.cached("design_scale", lambda: planar_design_scale(m.legs))
     mag = prismatic_magnitude(m.legs, Q)
-    return np.all(np.isfinite(Q), axis=1) & (mag > m.tolerances.far_reach_ratio * scale)
+    return finite_rows(Q) & (mag > m.tolerances.far_reach_ratio * scale)
 
 
 def reach_certificate(obstruction: ReachObstruction) -> RealRootCertificate:

@@ -318,22 +318,33 @@ class DKBatchResult:
         n = valid.shape[0]
         if valid.shape != (n, MAX_MODES):
             raise ValueError(f"valid must have shape (n, {MAX_MODES}), got {valid.shape}")
-        cnt = np.count_nonzero(valid, axis=1).astype(np.uint8)
-        if count is not None and not np.array_equal(np.asarray(count), cnt):
-            i = int(np.flatnonzero(np.asarray(count) != cnt)[0])
-            raise ValueError(f"count must equal the number of valid slots per row, got count[{i}] = "
-                             f"{np.asarray(count)[i]} with {cnt[i]} valid slots")
-        if not np.array_equal(valid, np.arange(MAX_MODES) < cnt[:, None]):
-            i = int(np.flatnonzero(np.any(valid != (np.arange(MAX_MODES) < cnt[:, None]), axis=1))[0])
-            raise ValueError(f"valid slots must come first in each row, got valid[{i}] = {valid[i].tolist()}")
+        # with a count whose first slots are exactly the valid ones both checks below hold at once
+        given = None if count is None else np.asarray(count)
+        if given is not None and given.shape == (n,) and np.array_equal(valid, np.arange(MAX_MODES) < given[:, None]):
+            cnt = given.astype(np.uint8)
+        else:
+            cnt = np.count_nonzero(valid, axis=1).astype(np.uint8)
+            if given is not None and not np.array_equal(given, cnt):
+                i = int(np.flatnonzero(given != cnt)[0])
+                raise ValueError(f"count must equal the number of valid slots per row, got count[{i}] = "
+                                 f"{given[i]} with {cnt[i]} valid slots")
+            if not np.array_equal(valid, np.arange(MAX_MODES) < cnt[:, None]):
+                i = int(np.flatnonzero(np.any(valid != (np.arange(MAX_MODES) < cnt[:, None]), axis=1))[0])
+                raise ValueError(f"valid slots must come first in each row, got valid[{i}] = {valid[i].tolist()}")
+        for name, arr, shape in (("poses", poses, (n, MAX_MODES, 3)), ("residual", residual, (n, MAX_MODES)),
+                                 ("aspect", aspect, (n, MAX_MODES))):
+            if np.shape(arr) != shape:
+                raise ValueError(f"{name} must have shape {shape}, got {np.shape(arr)}")
+        # the valid slots' flat indices, gathered with take (several times faster than a mask)
+        slots = np.flatnonzero(valid.reshape(-1))
         mult = None
         if multiplicity is not None:
-            mc = np.asarray(multiplicity)[valid]
+            mc = np.asarray(multiplicity).reshape(-1).take(slots)
             if np.any(mc != 1):
                 mult = mc.astype(np.int8)
-        self._set_modes(cnt, np.ascontiguousarray(np.asarray(poses, dtype=float)[valid]),
-                        np.asarray(residual, dtype=float)[valid],
-                        np.asarray(aspect)[valid].astype(np.int8), mult)
+        self._set_modes(cnt, np.asarray(poses, dtype=float).reshape(-1, 3).take(slots, axis=0),
+                        np.asarray(residual, dtype=float).reshape(-1).take(slots),
+                        np.asarray(aspect).reshape(-1).take(slots).astype(np.int8), mult)
         self.row_ok = np.asarray(row_ok, dtype=bool)
         self.errors = {} if errors is None else errors
         self.special = None if special is None else np.asarray(special, dtype=bool)
