@@ -393,39 +393,44 @@ def refine_roots(MD, MI, nm, deg):
                 md[(_M_H + 1) * _M_MAX + j] = md[(_M_H + 1) * _M_MAX + j] * t + f
                 md[_M_H * _M_MAX + j] = f * t + c
                 md[(_M_H + 2) * _M_MAX + j] = md[(_M_H + 2) * _M_MAX + j] * abs(t) + abs(c)
+        # each root's decision, branch free (selects; the loop vectorises): the scalar
+        # iteration's operations on every root still running, the others left as they are
+        safeguard = it % 4 == 3
         active = 0
         for j in range(nm):
-            if done[j] != 0:
-                continue
-            t = T[j]
-            f = fv[j]
-            if abs(f) <= hz * ev[j]:
-                done[j] = 1
-                continue
-            a = A[j]
-            b = B[j]
-            fa = FA[j]
-            if (f < 0.0) == (fa < 0.0):
-                a = t
-                A[j] = t
-                FA[j] = f
-            else:
-                b = t
-                B[j] = t
-                FB[j] = f
-            if b - a <= _BISECT_WIDTH * max(1.0, abs(a), abs(b)):
-                done[j] = 1
-                continue
-            d = dv[j]
-            tn = t - f / d if d != 0.0 else 0.5 * (a + b)
-            if it % 4 == 3:
-                if b - a > 0.5 * W[j]:
-                    tn = 0.5 * (a + b)
-                W[j] = b - a
-            if not (a < tn < b):
-                tn = 0.5 * (a + b)
-            T[j] = tn
-            active += 1
+            run = done[j] == 0
+            t = md[_M_T * _M_MAX + j]
+            f = md[_M_H * _M_MAX + j]
+            a = md[_M_A * _M_MAX + j]
+            b = md[_M_B * _M_MAX + j]
+            fa = md[_M_FA * _M_MAX + j]
+            fb = md[_M_FB * _M_MAX + j]
+            w = md[_M_W * _M_MAX + j]
+            d = md[(_M_H + 1) * _M_MAX + j]
+            zero = abs(f) <= hz * md[(_M_H + 2) * _M_MAX + j]
+            left = (f < 0.0) == (fa < 0.0)
+            a2 = t if left else a
+            fa2 = f if left else fa
+            b2 = b if left else t
+            fb2 = fb if left else f
+            narrow = b2 - a2 <= _BISECT_WIDTH * max(1.0, abs(a2), abs(b2))
+            mid = 0.5 * (a2 + b2)
+            tn = t - f / d if d != 0.0 else mid
+            wn = w
+            if safeguard:
+                tn = mid if b2 - a2 > 0.5 * w else tn
+                wn = b2 - a2
+            tn = tn if (a2 < tn) & (tn < b2) else mid
+            moved = run & ~zero                 # the bracket takes the new point
+            going = moved & ~narrow             # and the iteration goes on from tn
+            md[_M_A * _M_MAX + j] = a2 if moved else a
+            md[_M_FA * _M_MAX + j] = fa2 if moved else fa
+            md[_M_B * _M_MAX + j] = b2 if moved else b
+            md[_M_FB * _M_MAX + j] = fb2 if moved else fb
+            md[_M_T * _M_MAX + j] = tn if going else t
+            md[_M_W * _M_MAX + j] = wn if going else w
+            done[j] = 0 if going else 1
+            active += 1 if going else 0
         if active == 0:
             return
     for j in range(nm):
