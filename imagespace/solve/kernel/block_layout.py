@@ -54,7 +54,9 @@ _M_B, _M_FA, _M_FB, _M_T, _M_W = _M_A + 1, _M_A + 2, _M_A + 3, _M_A + 4, _M_A + 
 _M_JRES = _M_DET + 1
 _M_CH, _M_ST = _M_DN + 1, _M_DN + 2
 _M_SIZE = sum(_M_SIZES)
-_M_MAX = MAX_DEGREE * LOCKSTEP_ROWS    # columns of MD (the most roots of a block)
+# columns of MD: the roots of a block (at most MAX_DEGREE * LOCKSTEP_ROWS), then room for as many
+# again, where block_modes.newton_roots compacts the roots that Newton polishes
+_M_MAX = 2 * MAX_DEGREE * LOCKSTEP_ROWS
 # integer columns of the roots: MI (_MI_SIZE, MAX_DEGREE * rows)
 _MI_LANE, _MI_CHART, _MI_DEG, _MI_DONE = range(4)
 _MI_SIZE = 4

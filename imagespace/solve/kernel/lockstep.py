@@ -539,7 +539,7 @@ def modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, rows, p, X,
     as the row kernel's), its modes to the columns of ``MD`` (image point, ``det``, joint
     residual), in the order of its roots. Returns the number of roots."""
     nm = roots_block(S, d, nb, counts, lo, hi, chart, lflag, MD, MI, rows, p)
-    backsub_block(S, nm, tol, lflag, MD, MI, rows, X, val, J, dx)
+    backsub_block(S, nm, tol, lflag, MD, MI)
     return nm
 
 

@@ -22,6 +22,7 @@ _POLISHED = 1e-14            # a back-substituted mode with a relative residual 
 _CONDITIONED = 1e-2          # |det J| above this times Hadamard's bound is not polished by Newton
                              # (it is at rounding level already: a numerical-method knob, the
                              # residual check and the joint residual still decide)
+_NEWTON_ITERATIONS = 8       # most Newton steps on the 4x4 system (one or two reach rounding level)
 
 # The per-row scratch buffer of _solve_row, one named slice per array (numba folds these globals
 # into constants): the scaled polynomial p of a chart, up to 12 chart candidates, the scaled
@@ -170,7 +171,7 @@ def _mode_finish(Cs, g, X, val, J, dx, det, polished, tol):
     the joint residual ``max_i |Q_i| / |dQ_i/dq_i|`` computed (``g``: the scaled derivatives).
     Returns ``(ok, det, jres)`` (``det`` at the last linearisation point)."""
     if not polished:
-        for it in range(8):
+        for it in range(_NEWTON_ITERATIONS):
             if it > 0:
                 _system(Cs, X, val, J)
                 det = _det4(J, X[0], X[1])
