@@ -147,8 +147,8 @@ def test_backsub_block_equals_the_row_functions_root_by_root(name):
     from imagespace.solve.kernel import design_tables, kernel_tolerances
     from imagespace.solve.kernel.block_layout import _M_DET, _M_JRES, _M_ST, _M_T, _M_X, _MI_CHART, _MI_LANE
     from imagespace.solve.kernel.block_modes import ST_SCALAR, backsub_block
-    from imagespace.solve.kernel.lockstep import (GRID_LEVELS, LOCKSTEP_ROWS as B, _S_EL, _S_ELE, _S_FN,
-                                                  block_workspace, coefficients_block, eliminate_block,
+    from imagespace.solve.kernel.lockstep import (GRID_LEVELS, LOCKSTEP_ROWS as B, _S_CS, _S_DC, _S_EL, _S_ELE,
+                                                  _S_FN, block_workspace, coefficients_block, eliminate_block,
                                                   isolate_block, roots_block)
     from imagespace.solve.kernel.row import _T_CRAMER_SMALL, _T_RESIDUAL, _mode_finish, _mode_start, _root_point
 
@@ -156,7 +156,7 @@ def test_backsub_block_equals_the_row_functions_root_by_root(name):
     t = design_tables(m)
     Q = joint_rows(m, 320, 11)
     rng = np.random.default_rng(12)
-    S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p = block_workspace()
+    S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, X, p = block_workspace()
     seen = {"done": 0, "newton": 0, "cramer": 0, "residual": 0}
     for r0 in range(0, len(Q), B):
         tol = kernel_tolerances(isp.TOLERANCES)
@@ -170,7 +170,9 @@ def test_backsub_block_equals_the_row_functions_root_by_root(name):
         isolate_block(S, _S_EL + ROW_F, _S_ELE + ROW_F, d, nb, grid, 2 ** GRID_LEVELS, ints[0], ints[1], lo, hi,
                       chart, work, small[0], small[1], kinds)
         lflag = ints[2]
-        nm = roots_block(S, d, nb, ints[1], lo, hi, chart, lflag, MD, MI, rows, p)
+        nm = roots_block(S, d, nb, ints[1], lo, hi, chart, lflag, MD, MI, p)
+        # each row's scaled quadrics, derivatives and forms in the row kernel's layout
+        rows = np.concatenate([S[_S_CS:_S_CS + 24], S[_S_DC:_S_DC + 24], S[_S_EL:_S_EL + 18]]).T.copy()
         if r0 >= len(Q) // 2:     # the second half: roots moved by 1e-10 (Newton) to 1e-2 (failures)
             MD[_M_T, :nm] += rng.choice([0.0, 1e-10, 1e-6, 1e-2], nm) * rng.standard_normal(nm)
         before = lflag[:nb].copy()

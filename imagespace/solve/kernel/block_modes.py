@@ -525,12 +525,12 @@ def backsub_block(S, nm, tol, lflag, MD, MI):
     >>> from imagespace.core.elimination import ROW_F
     >>> m = isp.examples.general_3rpr()
     >>> t = design_tables(m)
-    >>> S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p = block_workspace()
+    >>> S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, X, p = block_workspace()
     >>> coefficients_block(np.array([m.q_example_float]), 0, 1, t.expo, t.coef, t.cerr, t.nmono, t.trig, True, S)
     >>> d = eliminate_block(S, t.plan, 1, True)
     >>> isolate_block(S, _S_EL + ROW_F, _S_ELE + ROW_F, d, 1, grid, 2 ** GRID_LEVELS, ints[0], ints[1], lo, hi,
     ...               chart, work, small[0], small[1], kinds)
-    >>> nm = roots_block(S, d, 1, ints[1], lo, hi, chart, ints[2], MD, MI, rows, p)
+    >>> nm = roots_block(S, d, 1, ints[1], lo, hi, chart, ints[2], MD, MI, p)
     >>> backsub_block(S, nm, kernel_tolerances(m.tolerances), ints[2], MD, MI)
     >>> nm, int(ints[2][0])
     (6, 0)

@@ -335,9 +335,6 @@ def eliminate_block(S, plan, nb, bounded):
 #: Steps of the safeguarded Newton iteration all roots of a block take together; roots that need
 #: more finish one by one (:func:`.newton._bracketed_newton`). A speed knob, not a decision.
 LOCKSTEP_NEWTON_STEPS = 12
-# per row of the block (_R_SIZE floats each): Cs, the scaled derivatives, D X2 X3 F (the row
-# kernel's buf layout from 24 on)
-_R_SIZE = 48 + ELIMINATION_ROW_SIZE
 
 
 @njit(cache=True, error_model="numpy")
@@ -353,9 +350,6 @@ def refine_roots(MD, MI, nm, deg):
     FB = MD[_M_FB]
     T = MD[_M_T]
     W = MD[_M_W]
-    fv = MD[_M_H]
-    dv = MD[_M_H + 1]
-    ev = MD[_M_H + 2]
     done = MI[_MI_DONE]
     deg_of = MI[_MI_DEG]
     for j in range(nm):
@@ -440,11 +434,10 @@ def refine_roots(MD, MI, nm, deg):
 
 
 @njit(cache=True, error_model="numpy")
-def roots_block(S, d, nb, counts, lo, hi, chart, lflag, MD, MI, rows, p):
+def roots_block(S, d, nb, counts, lo, hi, chart, lflag, MD, MI, p):
     """The first part of :func:`modes_block`: the scaled quadrics, the checks of ``F`` and ``D``
     (each row's flag into ``lflag[l]``), each isolated root refined into a column of ``MD`` and
-    ``MI`` (:func:`refine_roots`), each row's quadrics and forms into ``rows``. Returns the number
-    of roots."""
+    ``MI`` (:func:`refine_roots`). Returns the number of roots."""
     F0 = _S_EL + ROW_F
     for l in range(nb):
         lflag[l] = 0
@@ -519,26 +512,18 @@ def roots_block(S, d, nb, counts, lo, hi, chart, lflag, MD, MI, rows, p):
             MI[_MI_DEG, nm] = deg
             nm += 1
     refine_roots(MD, MI, nm, d)
-    # each row's scaled quadrics and forms side by side (the row kernel's layout) for the modes
-    for l in range(nb):
-        if lflag[l] == 0 and counts[l] > 0:
-            for k in range(24):
-                rows[l, k] = S[_S_CS + k, l]
-                rows[l, 24 + k] = S[_S_DC + k, l]
-            for k in range(ELIMINATION_ROW_SIZE):
-                rows[l, 48 + k] = S[_S_EL + k, l]
     return nm
 
 
 @njit(cache=True, error_model="numpy")
-def modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, rows, p, X, val, J, dx):
+def modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, p):
     """The rest of :func:`.row._solve_row` for every row of the block, up to the modes: the scaled
     quadrics, the checks of ``F`` and ``D``, each isolated root (``counts``, ``lo``, ``hi``,
     ``chart`` of :func:`isolate_block`) refined (:func:`refine_roots`), back-substituted and
     polished (:func:`.block_modes.backsub_block`). Each row's flag goes to ``lflag[l]`` (0, 1 or 2,
     as the row kernel's), its modes to the columns of ``MD`` (image point, ``det``, joint
     residual), in the order of its roots. Returns the number of roots."""
-    nm = roots_block(S, d, nb, counts, lo, hi, chart, lflag, MD, MI, rows, p)
+    nm = roots_block(S, d, nb, counts, lo, hi, chart, lflag, MD, MI, p)
     backsub_block(S, nm, tol, lflag, MD, MI)
     return nm
 
@@ -593,18 +578,14 @@ def block_workspace():
     small = np.zeros((2, MAX_DEGREE + 1))           # one row's F and E for the slow lane
     MD = np.zeros((_M_SIZE, M))
     MI = np.zeros((_MI_SIZE, M), dtype=np.int64)
-    rows = np.zeros((B, _R_SIZE))
     X = np.zeros(4)
-    val = np.zeros(4)
-    J = np.zeros((4, 4))
-    dx = np.zeros(4)
     p = np.zeros(MAX_DEGREE + 1)
-    return S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p
+    return S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, X, p
 
 
 @njit(cache=True)
 def solve_block(Q, r0, nb, expo, coef, cerr, nmono, trig, plan, tol, proof, out_X, out_P, out_R, out_A, cnt, flag,
-                S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, X, val, J, dx, p):
+                S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, X, p):
     """The rows ``r0`` to ``r0 + nb - 1`` of ``Q`` through every stage in lockstep, into the kernel's
     outputs (the row kernel's ``run``, block by block)."""
     coefficients_block(Q, r0, nb, expo, coef, cerr, nmono, trig, proof, S)
@@ -612,7 +593,7 @@ def solve_block(Q, r0, nb, expo, coef, cerr, nmono, trig, plan, tol, proof, out_
     status, counts, lflag = ints[0], ints[1], ints[2]
     isolate_block(S, _S_EL + ROW_F, _S_ELE + ROW_F, d, nb, grid, 2 ** GRID_LEVELS, status, counts, lo, hi, chart,
                   work, small[0], small[1], kinds)
-    nm = modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, rows, p, X, val, J, dx)
+    nm = modes_block(S, d, nb, tol, counts, lo, hi, chart, lflag, MD, MI, p)
     store_block(r0, nb, counts, lflag, MD, MI, nm, tol, X, out_X, out_P, out_R, out_A, cnt, flag)
 
 

@@ -23,11 +23,11 @@ def run(Q, expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A, cnt, fla
     nblk = (n + BLOCK - 1) // BLOCK
     nchunks = min(nblk, 64)
     for c in prange(nchunks):
-        S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, x, val, J, dx, p = block_workspace()
+        S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, x, p = block_workspace()
         for blk in range(c * nblk // nchunks, (c + 1) * nblk // nchunks):
             r0 = blk * BLOCK
             solve_block(Q, r0, min(BLOCK, n - r0), expo, coef, cerr, nmono, trig, plan, tol, proof, X, P, R, A,
-                        cnt, flag, S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, rows, x, val, J, dx, p)
+                        cnt, flag, S, grid, ints, kinds, lo, hi, chart, work, small, MD, MI, x, p)
 
 
 @njit(parallel=True, cache=CACHE)
@@ -36,7 +36,7 @@ def run_counts(Q, expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart):
     nblk = (n + BLOCK - 1) // BLOCK
     nchunks = min(nblk, 64)
     for c in prange(nchunks):
-        S, grid, ints, kinds, blo, bhi, bchart, work, small, MD, MI, rows, x, val, J, dx, p = block_workspace()
+        S, grid, ints, kinds, blo, bhi, bchart, work, small, MD, MI, x, p = block_workspace()
         for blk in range(c * nblk // nchunks, (c + 1) * nblk // nchunks):
             r0 = blk * BLOCK
             counts_block(Q, r0, min(BLOCK, n - r0), expo, coef, cerr, nmono, trig, plan, counts, lo, hi, chart,
