@@ -40,6 +40,7 @@ def _newton(C, X, tol):
     more. C are balanced coefficients (see :func:`_balance`), so the sizes are comparable."""
     X = X.copy()
     active = np.all(np.isfinite(X), axis=-1)
+    last = np.full(active.shape, np.inf)          # each candidate's previous step (max norm)
     for _ in range(int(tol.newton_steps)):
         idx = np.nonzero(active)
         if idx[0].size == 0:
@@ -55,7 +56,12 @@ def _newton(C, X, tol):
             step[solvable] = np.linalg.solve(J[solvable], -Fv[solvable][..., None])[..., 0]
         X[idx] = X[idx] + step
         size = np.maximum(1.0, np.max(np.abs(X[idx]), axis=-1))
-        done = ~solvable | (np.max(np.abs(step), axis=-1) <= 0.1 * tol.newton_stop * size)
+        norm = np.max(np.abs(step), axis=-1)
+        # a step no smaller than the one before: rounding noise (at a near-double root Newton
+        # halves its step each time, then wanders at the noise level) -- more steps change nothing
+        stalled = norm >= last[idx]
+        last[idx] = norm
+        done = ~solvable | stalled | (norm <= 0.1 * tol.newton_stop * size)
         # one more step after the first tiny one is pointless: retire converged candidates
         active[idx[0][done], idx[1][done]] = False
     return X
