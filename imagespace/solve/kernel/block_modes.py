@@ -159,13 +159,7 @@ def backsub_roots(MD, nm, tol):
         j32 = 0.0
         j33 = 0.0
         # _det4
-        m30 = (j01 * (j12 * j23 - j13 * j22)
-               - j02 * (j11 * j23 - j13 * j21)
-               + j03 * (j11 * j22 - j12 * j21))
-        m31 = (j00 * (j12 * j23 - j13 * j22)
-               - j02 * (j10 * j23 - j13 * j20)
-               + j03 * (j10 * j22 - j12 * j20))
-        det = -2.0 * x0 * m30 + 2.0 * x1 * m31
+        det = _det_lane(j00, j01, j02, j03, j10, j11, j12, j13, j20, j21, j22, j23, x0, x1)
         size = 1.0 + x2 * x2 + x3 * x3
         hadamard = 1.0
         hadamard *= math.sqrt(j00 * j00 + j01 * j01 + j02 * j02 + j03 * j03)
