@@ -42,10 +42,12 @@ from .elimination import form_coefficients
 # their names stay importable here
 from .exact_roots import (ISOLATION_WIDTH, as_fraction, float_down, float_up, fmpq_of,  # noqa: F401
                           roots_in_unit_interval, sturm_count, sturm_sequence)
+# rigorous float enclosures of binary forms live in core.form_bounds; importable here as before
+from .form_bounds import UNIT_ROUNDOFF as _U, form_signs_on, inclusion_discs, no_common_real_root  # noqa: F401
 
 __all__ = ["RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
            "flint_precision", "arb_bounds", "outward_float_interval", "to_arb", "exact_is_zero",
-           "inclusion_discs"]
+           "refine_root_intervals", "reduced_angle"]
 
 #: Relative width (in bits) to which every certified real root is refined: the isolating interval
 #: of a root ``r`` ends narrower than ``2**-REFINE_BITS * max(1, |r|)``, far below double precision,
@@ -387,6 +389,44 @@ def to_arb(c, prec):
     return _ball(c, prec)
 
 
+def reduced_angle(c):
+    """The float nearest ``c mod 2 pi`` in ``(-pi, pi]`` (within an ulp) for an exact sympy angle
+    ``c`` (``20000000000*pi``, ``1/2 + 7*pi``, a rational), computed on arb balls with ``pi``
+    enclosed: the precision grows with ``|c|`` until the remainder is known to far below an ulp.
+
+    Raises
+    ------
+    InputError
+        ``c`` is not a finite real number.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from imagespace.core.certify import reduced_angle
+    >>> reduced_angle(2 * 10**10 * sp.pi), round(reduced_angle(sp.Rational(1, 2) + 7 * sp.pi), 12)
+    (0.0, -2.641592653590)
+    """
+    import flint
+
+    c = sp.sympify(c)
+    prec = 128
+    while prec <= 1 << 16:
+        with flint_precision(prec):
+            x = to_arb(c, prec)
+            if not x.is_finite():
+                raise InputError(f"angle must be a finite real number, got {c}")
+            turn = 2 * flint.arb.pi()
+            k = math.floor(_arf_fraction((x / turn).mid()) + Fraction(1, 2))
+            r = x - turn * k               # any integer k is exact; this one puts r near [-pi, pi]
+            if r.rad() < flint.arb(2) ** -80 and abs(float(r.mid())) < 4:
+                v = float(r.mid())
+                if v > math.pi:
+                    v -= 2 * math.pi
+                return math.pi if v <= -math.pi else v
+        prec *= 2
+    raise InputError(f"angle {c} could not be reduced modulo 2 pi")
+
+
 def _ball(c, prec):
     import flint
 
@@ -401,12 +441,12 @@ def _ball(c, prec):
     return flint.arb(str(s)) + flint.arb(0, str(sp.Float(rad, 5)))
 
 
-def _arb_discs(coeffs, prec, tol=None):
+def _arb_discs(coeffs, prec):
     import flint
 
     poly = flint.acb_poly([flint.acb(to_arb(sp.sympify(c), prec)) for c in coeffs])
     try:
-        roots = poly.roots() if tol is None else poly.roots(tol=tol, maxprec=4 * prec)
+        roots = poly.roots()
     except ValueError:
         return None
     discs = []
@@ -433,12 +473,138 @@ def _arb_decide(discs):
     return intervals
 
 
+#: The refinement of a real root on arb coefficients (:func:`refine_root_intervals`) starts at
+#: ``bits + REFINE_GUARD_BITS`` of working precision and doubles it while a sign or a Newton step
+#: is limited by the balls, up to this many bits (a root that still cannot be refined is reported
+#: as such; with one angle group every simple root refines long before).
+REFINE_MAX_PREC = 1 << 16
+#: Guard bits above the target relative width at which the refinement starts.
+REFINE_GUARD_BITS = 64
+
+
+def _interval_ball(flint, lo, hi):
+    """An arb ball enclosing the exact interval ``[lo, hi]`` (Fractions)."""
+    return flint.arb(fmpq_of(lo)).union(flint.arb(fmpq_of(hi)))
+
+
+def _ball_sign(ball):
+    """+1, -1, or 0 where the ball contains zero (undecided)."""
+    if ball.contains(0):
+        return 0
+    return 1 if ball > 0 else -1
+
+
+def refine_root_intervals(balls_at, intervals, bits=None):
+    """Shrink isolating intervals of simple real roots on arb coefficients below ``2**-bits``
+    relative: each ``[lo, hi]`` ends narrower than ``2**-bits * max(1, |lo|, |hi|)``.
+
+    ``balls_at(prec)`` returns arb balls (python-flint, computed at working precision ``prec``)
+    enclosing the exact coefficients of a real polynomial ``sum c_k t**k``; each interval of
+    ``intervals`` (exact Fractions) must hold exactly one real root of it, a simple one. Each
+    step is the interval Newton operator ``N(X) = m - p(m) / p'(X)`` (every root in ``X`` lies in
+    ``N(X)``, so ``X & N(X)`` still holds the root) where ``p'(X)`` excludes zero, else a
+    bisection on the proven sign of ``p`` at the midpoint; the precision doubles where the balls
+    limit either. The width is relative, so a root near the half-turn (``|t|`` of ``1e17``)
+    refines like one near 0. Nothing is rounded: the ends are exact rationals read off arb
+    balls (:func:`arb_bounds`).
+
+    Parameters
+    ----------
+    balls_at : callable
+        ``balls_at(prec) -> sequence of flint.arb``, ascending powers of ``t``.
+    intervals : sequence of (Fraction, Fraction)
+    bits : int, optional
+        Default :data:`REFINE_BITS`.
+
+    Returns
+    -------
+    list of (Fraction, Fraction), or None
+        None where an interval could not be refined up to :data:`REFINE_MAX_PREC` bits (or holds
+        no sign change: not an isolating interval of a simple root).
+
+    Examples
+    --------
+    >>> import flint
+    >>> from fractions import Fraction
+    >>> from imagespace.core.certify import refine_root_intervals
+    >>> balls = lambda prec: [flint.arb(-2), flint.arb(0), flint.arb(1)]       # t^2 - 2
+    >>> (lo, hi), = refine_root_intervals(balls, [(Fraction(1), Fraction(2))])
+    >>> lo * lo < 2 < hi * hi, float(hi - lo) < 2.0 ** -200
+    (True, True)
+    """
+    import flint
+
+    bits = REFINE_BITS if bits is None else int(bits)
+    cache = {}
+
+    def polys(prec):
+        if prec not in cache:
+            with flint_precision(prec):
+                p = flint.arb_poly(list(balls_at(prec)))
+                cache[prec] = (p, p.derivative())
+        return cache[prec]
+
+    out = []
+    for lo, hi in intervals:
+        got = _refine_one(flint, polys, Fraction(lo), Fraction(hi), bits)
+        if got is None:
+            return None
+        out.append(got)
+    return out
+
+
+def _refine_one(flint, polys, lo, hi, bits):
+    """One interval of :func:`refine_root_intervals`, or None."""
+    target = max(Fraction(1), abs(lo), abs(hi)) / 2**bits
+    prec = bits + REFINE_GUARD_BITS
+    s_lo = 0                          # sign of p left of the root (decided lazily)
+    while hi - lo > target:
+        if prec > REFINE_MAX_PREC:
+            return None
+        p, dp = polys(prec)
+        width = hi - lo
+        mid = (lo + hi) / 2
+        with flint_precision(prec):
+            d = dp(_interval_ball(flint, lo, hi))
+            if not d.contains(0):
+                n = flint.arb(fmpq_of(mid)) - p(flint.arb(fmpq_of(mid))) / d
+                nlo, nhi = arb_bounds(n)
+                nlo, nhi = max(lo, nlo), min(hi, nhi)
+                if nlo > nhi:
+                    return None       # no root in [lo, hi]: not an isolating interval
+                if nhi - nlo <= width / 2:
+                    lo, hi = nlo, nhi
+                    continue
+            if s_lo == 0:
+                s_lo = _ball_sign(p(flint.arb(fmpq_of(lo))))
+                if s_lo == 0:
+                    s_hi = _ball_sign(p(flint.arb(fmpq_of(hi))))
+                    s_lo = -s_hi
+                if s_lo == 0:
+                    prec *= 2
+                    continue
+            s_mid = 0
+            for frac in (Fraction(1, 2), Fraction(3, 8), Fraction(5, 8)):
+                x = lo + frac * width
+                s_mid = _ball_sign(p(flint.arb(fmpq_of(x))))
+                if s_mid:
+                    break
+        if s_mid == 0:
+            prec *= 2
+            continue
+        if s_mid == s_lo:
+            lo = x
+        else:
+            hi = x
+    return lo, hi
+
+
 def _arb_path(coeffs, bits=None):
     """Isolation of the real roots of a polynomial with irrational exact coefficients (arb).
 
     The working precision climbs 64 -> 1024 bits until every root is decided; the real roots
-    are then computed once more at ``bits + 64`` bits and each refined box matched to the
-    isolating one that contains it (kept as isolated if the match is not one to one)."""
+    are then refined by :func:`refine_root_intervals` (None where that fails: the roots are then
+    not returned as certified)."""
     bits = REFINE_BITS if bits is None else bits
     for prec in (64, 128, 256, 512, 1024):
         with flint_precision(prec):
@@ -446,23 +612,12 @@ def _arb_path(coeffs, bits=None):
         intervals = None if discs is None else _arb_decide(discs)
         if intervals is None:
             continue
-        fine_iv = None
-        if prec < bits + 64:
-            with flint_precision(bits + 64):
-                fine = _arb_discs(coeffs, bits + 64, tol=2.0 ** -bits)
-            fine_iv = None if fine is None else _arb_decide(fine)
-        if fine_iv is not None and len(fine_iv) == len(intervals):
-            # both boxes contain the same root: the refined interval is their intersection
-            matched = []
-            for lo, hi in intervals:
-                meet = [(max(lo, a), min(hi, b)) for a, b in fine_iv if a <= hi and b >= lo]
-                if len(meet) != 1:
-                    break
-                matched.append(meet[0])
-            else:
-                intervals = matched
         intervals.sort()
-        return intervals, [1] * len(intervals), prec
+        refined = refine_root_intervals(
+            lambda p: [to_arb(sp.sympify(c), p) for c in coeffs], intervals, bits)
+        if refined is None:
+            return None, None, prec
+        return refined, [1] * len(refined), prec
     return None, None, prec
 
 
@@ -565,87 +720,6 @@ def certify_real_roots(form):
                                tuple(mults), at_inf,
                                f"arb balls: python-flint acb_poly.roots isolation at {prec} bits, real "
                                "roots by conjugate-symmetric discs", tuple(intervals), False)
-
-
-_U = 2.0**-53
-
-
-def inclusion_discs(F, E=None):
-    """Inclusion discs of the roots of float polynomials known up to ``E``, with rounding bounds.
-
-    The vectorised core of :func:`certify_real_roots_batch` (see there for the theorem and the
-    rounding bounds); also the near-singularity test of the floating-point paths.
-
-    Parameters
-    ----------
-    F : (n, d+1) float
-        ``F[:, k]`` multiplies ``t**k``; the leading coefficients must exceed ``E[:, d]``.
-    E : (n, d+1) float, optional
-        Coefficient uncertainty (default 0).
-
-    Returns
-    -------
-    good : (n,) bool
-        The discs are pairwise disjoint and each is decided (real or non-real).
-    real : (n, d) bool
-        Which discs hold a real (then simple) root, where ``good``.
-    z : (n, d) complex
-        Disc centres.
-    hull_r : (n, d) float
-        Radius of the disc centred on the real axis that covers a disc and its mirror image.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from imagespace.core.certify import inclusion_discs
-    >>> good, real, z, r = inclusion_discs(np.array([[-2.0, 0.0, 1.0], [1.0, -2.0, 1.0]]))
-    >>> good.tolist(), real[0].tolist()
-    ([True, False], [True, True])
-    """
-    F = np.asarray(F, dtype=float)
-    E = np.zeros_like(F) if E is None else np.asarray(E, dtype=float)
-    n, d1 = F.shape
-    d = d1 - 1
-    comp = np.zeros((n, d, d))
-    if d > 1:
-        comp[:, np.arange(1, d), np.arange(d - 1)] = 1.0
-    with np.errstate(all="ignore"):
-        comp[:, :, d - 1] = -F[:, :d] / F[:, d][:, None]
-        if d > 1:
-            fin = np.all(np.isfinite(comp), axis=(1, 2))
-            z = np.full((n, d), np.nan + 0j)
-            if np.any(fin):
-                z[fin] = np.linalg.eigvals(comp[fin])
-        else:
-            z = -(F[:, 0] / F[:, 1])[:, None].astype(complex)
-        # Horner on the float coefficients, with its rounding bound and the coefficient box
-        val = np.zeros_like(z)
-        absum = np.zeros(z.shape)
-        errsum = np.zeros(z.shape)
-        az = np.abs(z)
-        for k in range(d, -1, -1):
-            val = val * z + F[:, k][:, None]
-            absum = absum * az + np.abs(F[:, k])[:, None]
-            errsum = errsum * az + E[:, k][:, None]
-        gamma = (4 * d + 4) * _U / (1 - (4 * d + 4) * _U)   # complex Horner, generous
-        pbound = (np.abs(val) * (1 + 4 * _U) + 2 * gamma * absum + errsum) * (1 + 4 * _U)
-        diff = z[:, :, None] - z[:, None, :]
-        diff[:, np.arange(d), np.arange(d)] = 1.0
-        lead = (np.abs(F[:, d]) - E[:, d]) * (1 - 2 * _U)
-        denom = lead[:, None] * np.prod(np.abs(diff), axis=2)
-        denom = denom * (1 - (4 * d + 4) * _U)
-        r = d * pbound / denom * (1 + (4 * d + 4) * _U)
-        ok = np.all(np.isfinite(r) & np.isfinite(z.real) & (denom > 0), axis=1)
-        dist = np.abs(diff)
-        dist[:, np.arange(d), np.arange(d)] = np.inf
-        disjoint = np.all(dist > r[:, :, None] + r[:, None, :], axis=(1, 2))
-        nonreal = np.abs(z.imag) > r
-        hull_r = np.abs(z.imag) + r
-        hull_dist = np.abs(z.real[:, :, None] - z[:, None, :])
-        hull_dist[:, np.arange(d), np.arange(d)] = np.inf
-        real = ~nonreal & np.all(hull_dist > hull_r[:, :, None] + r[:, None, :], axis=2)
-        good = ok & disjoint & np.all(nonreal | real, axis=1)
-    return good, real, z, hull_r
 
 
 def certify_real_roots_batch(F, err=None, exact=None, return_intervals=False):

@@ -48,7 +48,7 @@ import sympy as sp
 
 from ..exceptions import DegenerateDesignError
 from .certify import (REFINE_BITS, RealRootCertificate, arb_bounds, flint_precision,
-                      outward_float_interval, to_arb)
+                      outward_float_interval, refine_root_intervals, to_arb)
 from .elimination import eliminate
 
 __all__ = ["ExactConstants", "ExactForm", "TranscendentalElimination", "transcendental_elimination",
@@ -641,15 +641,26 @@ def transcendental_elimination(quadrics, plan):
 # --------------------------------------------------------------------------- root isolation
 
 
-def isolating_boxes(balls):
+def isolating_boxes(balls, shrink=False):
     """Disjoint isolating boxes of the roots of the polynomial with arb coefficients ``balls``
-    (``balls[k]`` multiplies ``t**k``; current working precision), or None."""
+    (``balls[k]`` multiplies ``t**k``; current working precision), or None.
+
+    With ``shrink`` each box is refined to a radius of about ``2**(-prec/2)`` times the size of
+    the roots (``acb_poly.roots`` otherwise stops as soon as the roots are isolated from each
+    other, and a box can stay ``1e-10`` wide: too wide to be told apart from the roots of another
+    factor next to it)."""
     import flint
 
     poly = flint.acb_poly([flint.acb(b) for b in balls])
     try:
-        roots = poly.roots()
-    except ValueError:
+        if shrink:
+            lead = abs(float(balls[-1].mid())) or 1.0
+            size = 1.0 + max(abs(float(b.mid())) for b in balls[:-1]) / lead     # Cauchy's bound
+            prec = flint.ctx.prec
+            roots = poly.roots(tol=size * 2.0 ** -(prec // 2), maxprec=4 * prec)
+        else:
+            roots = poly.roots()
+    except (ValueError, OverflowError):
         return None
     out = []
     for r in roots:
@@ -679,35 +690,6 @@ def real_root_intervals(discs, others=()):
     return intervals
 
 
-def _refine(balls_at, intervals, bits):
-    """Shrink each real-root interval below ``2**-bits`` relative: isolate once more at
-    ``bits + 64`` bits and intersect each interval with the one finer box it meets."""
-    import flint
-
-    prec = bits + 64
-    with flint_precision(prec):
-        poly = flint.acb_poly([flint.acb(b) for b in balls_at(prec)])
-        try:
-            fine = poly.roots(tol=2.0 ** -bits, maxprec=4 * prec)
-        except ValueError:
-            return intervals
-        boxes = []
-        for r in fine:
-            rlo, rhi = arb_bounds(r.real)
-            ilo, ihi = arb_bounds(r.imag)
-            boxes.append((rlo, rhi, ilo, ihi))
-    fine_iv = real_root_intervals(boxes)
-    if fine_iv is None or len(fine_iv) != len(intervals):
-        return intervals
-    out = []
-    for lo, hi in intervals:
-        meet = [(max(lo, a), min(hi, b)) for a, b in fine_iv if a <= hi and b >= lo]
-        if len(meet) != 1:
-            return intervals
-        out.append(meet[0])
-    return out
-
-
 def _trim(form, at_inf, top):
     """Drop leading coefficients that vanish at the actual constants: ``(coeffs, at_infinity)``
     or None where a zero test is undecided."""
@@ -729,6 +711,10 @@ def _certificate(intervals, mults, at_inf, method):
     return RealRootCertificate(True, len(iv) + int(at_inf > 0),
                                tuple(outward_float_interval(lo, hi) for lo, hi in iv),
                                tuple(m for _, m in intervals), at_inf, method, iv, False)
+
+
+_NOT_REFINED = ("a real root could not be refined to the promised width (the coefficients' balls "
+                "did not shrink enough up to the precision cap)")
 
 
 def _uncertified(at_inf, why):
@@ -824,7 +810,9 @@ def certify_transcendental(form, refine_bits=None):
             discs = isolating_boxes(balls_at(prec))
         intervals = None if discs is None else real_root_intervals(discs)
         if intervals is not None:
-            intervals = _refine(balls_at, intervals, bits)
+            intervals = refine_root_intervals(balls_at, intervals, bits)
+            if intervals is None:
+                return _uncertified(at_inf, _NOT_REFINED)
             return _certificate(intervals, [1] * len(intervals), at_inf,
                                 f"arb enclosures of cos/sin of the exact angles ({where}): "
                                 f"acb_poly.roots isolation at {prec} bits")
@@ -840,7 +828,7 @@ def certify_transcendental(form, refine_bits=None):
         with flint_precision(prec):
             for parts, mult in factors:
                 fb = [_eval_ball(c, vb) for c in parts]
-                discs = isolating_boxes(fb)
+                discs = isolating_boxes(fb, shrink=True)
                 iv = None if discs is None else real_root_intervals(discs, all_discs)
                 if iv is None:
                     ok = False
@@ -854,7 +842,9 @@ def certify_transcendental(form, refine_bits=None):
                     v = k.variable_balls(p)
                     with flint_precision(p):
                         return [_eval_ball(c, v) for c in parts]
-                iv = _refine(fb_at, iv, bits)
+                iv = refine_root_intervals(fb_at, iv, bits)
+                if iv is None:
+                    return _uncertified(at_inf, _NOT_REFINED)
                 intervals += iv
                 mults += [mult] * len(iv)
             return _certificate(intervals, mults, at_inf,

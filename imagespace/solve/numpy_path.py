@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ..core.certify import inclusion_discs
+from ..core.form_bounds import inclusion_discs
 from ..core.elimination import bf_eval, eliminate
 from ..core.kinematic_map import pose_of as _pose_of, representative_sign
 from ..core.elimination import form_coefficients
@@ -537,7 +537,7 @@ def solve_orientation(m, q, quads, x0, x1, L, flags=None):
         if np.max(np.abs(L2 @ p0 - rhs), initial=0.0) > 10 * tol.rank * max(1.0, np.max(np.abs(rhs), initial=0.0)):
             return []
         if not circles:
-            return _continuum(m, q, np.array([x0, x1, p0[0], p0[1]]), L)
+            return _continuum(m, q, np.array([x0, x1, p0[0], p0[1]]), L, flags)
         return _line_circle(L2, rhs, circles[0], x0, x1, tol, flags)
     consistent = all(abs(r) <= tol.rank for r in rhs)
     if not consistent:
@@ -548,8 +548,8 @@ def solve_orientation(m, q, quads, x0, x1, L, flags=None):
         r2 = centre @ centre - ka / c
         if r2 < 0:
             return []
-        return _continuum(m, q, np.array([x0, x1, centre[0] + np.sqrt(r2), centre[1]]), L)
-    return _continuum(m, q, np.array([x0, x1, 0.0, 0.0]), L)
+        return _continuum(m, q, np.array([x0, x1, centre[0] + np.sqrt(r2), centre[1]]), L, flags)
+    return _continuum(m, q, np.array([x0, x1, 0.0, 0.0]), L, flags)
 
 
 def _line_circle(L2, rhs, circle, x0, x1, tol, flags=None, strict=True):
@@ -571,15 +571,24 @@ def _line_circle(L2, rhs, circle, x0, x1, tol, flags=None, strict=True):
     return [np.array([x0, x1, *(p0 + t * d)]) for t in ((-A1 + r) / (2 * A2), (-A1 - r) / (2 * A2))]
 
 
-def _continuum(m, q, X, L):
-    """True when the positions at a fixed orientation form a continuum (the linear part's rank
-    drops, see ``Tolerances.rank``)."""
+def _continuum(m, q, X, L, flags=None):
+    """The positions at a fixed orientation form a continuum within the float tolerance (the
+    linear part's rank drops, see ``Tolerances.rank``): raise
+    :class:`~imagespace.exceptions.DegenerateDesignError` when the exact test
+    (:func:`~imagespace.solve.continuum.continuum_at`, at ``q`` as binary rationals) proves a
+    continuum; otherwise the row is only near one (a joint an ulp away from a self-motion has
+    isolated modes): no candidates from this orientation, and ``flags`` (a list) receives an entry
+    so the count is not trusted."""
     Xw = np.array([X[0], X[1], X[2] * L, X[3] * L])
     pose = _pose_of(Xw)
     if m.joint_residual(pose, q, length=L) <= m.tolerances.joint_residual:
-        raise DegenerateDesignError(
-            f"{m.name} at q = {np.asarray(q).tolist()}: a continuum of assembly modes at "
-            f"phi = {pose[2]:.6g} (architecture singularity or singular joint values)")
+        verdict, phi = continuum_at(m, q)
+        if verdict:
+            raise DegenerateDesignError(
+                f"{m.name} at q = {np.asarray(q).tolist()}: a continuum of assembly modes at "
+                f"phi = {phi:.6g} (architecture singularity or singular joint values)")
+        if flags is not None:
+            flags.append("near a continuum" if verdict is False else "continuum undecided")
     return []
 
 
