@@ -20,6 +20,7 @@ import sympy as sp
 from .._validate import as_exact, as_float_array, finite_rows, is_symbolic, warn_angle_units
 from ..exceptions import DegenerateDesignError, InputError
 from ..tolerances import TOLERANCES, Tolerances
+from .certify import reduced_angle
 from .elimination import binary_form_poly, eliminate, form_coefficients, orientation_form, plan_elimination
 from .legs import Leg
 from .mechanism import Mechanism
@@ -241,6 +242,13 @@ class PlanarMechanism(Mechanism):
         [11.0, 5.0, 10.0]
         """
         arr = as_float_array(q, name, last=3)
+        if arr.ndim == 1 and is_symbolic(q):
+            # an exact actuated angle beyond a half-turn (20000000000*pi) and its float are
+            # different angles: the float stages get the float of its exact remainder mod 2 pi
+            for i, (leg, v) in enumerate(zip(self.legs, q)):
+                if (leg.actuated_is_angle and isinstance(v, sp.Basic) and not v.is_Rational
+                        and abs(arr[i]) > np.pi):
+                    arr[i] = reduced_angle(v)
         for i, leg in enumerate(self.legs):
             leg.check_joint_value(arr[..., i], f"{name}[{i}]")
         warn_angle_units(arr, [leg.actuated_is_angle for leg in self.legs], name)
