@@ -314,10 +314,15 @@ def count_distinct_real_roots(coeffs, d):
 
 
 def quadratic_field_count(m, q):
-    """The proven number of distinct real roots of the kinematic polynomial of ``m`` at the float
-    joint vector ``q``, decided in ``Q(sqrt d)`` arithmetic (FLINT), for designs whose constants
-    lie in one quadratic field; None where this route does not apply (other designs, a Cramer
-    case, a repeated root or a vanishing polynomial at ``q``: the general certified path decides).
+    """The proven number of real assembly modes of ``m`` at the float joint vector ``q``, decided
+    in ``Q(sqrt d)`` arithmetic (FLINT), for designs whose constants lie in one quadratic field;
+    None where this route does not apply (other designs, a PP dyad, a repeated root, a vanishing
+    polynomial, or a root shared with the Cramer denominator at ``q``: the general certified path
+    decides).
+
+    Every root of the kinematic polynomial is one mode where the Cramer denominator ``D`` does not
+    vanish there (``x2 = X2/D``, ``x3 = X3/D`` are then real): proven by ``gcd(P, D) = 1`` over the
+    field (and ``P``, ``D`` not both vanishing at ``x0 = 0``).
 
     Examples
     --------
@@ -327,12 +332,18 @@ def quadratic_field_count(m, q):
     >>> quadratic_field_count(m, m.q_example_float)
     6
     """
+    if "PP" in m.kinds:
+        return None
     forms = m.cached("quadratic_field_forms", lambda: _design_forms(m))
     if forms is None:
         return None
     P, D = forms.at([float(v) for v in q])
     if all(_is_zero(c) for c in D):
         return None
+    if _is_zero(P[-1]) and _is_zero(D[-1]):
+        return None                         # a common root at x0 = 0
+    if len(poly_gcd(P, D, forms.d)) > 1:
+        return None                         # a root where the Cramer denominator vanishes
     out = count_distinct_real_roots(P, forms.d)
     if out is None or not out[1] or out[0] is None:
         return None

@@ -41,7 +41,7 @@ from ..core.certify import certify_real_roots, certify_real_roots_batch, exact_i
 from ..core.kinematic_map import pose_of as _pose_of
 from ..core.elimination import form_coefficients
 from ..core.quadrics import dk_system as _system
-from ..exceptions import DegenerateDesignError, NearSingularWarning
+from ..exceptions import DegenerateDesignError, InputError, NearSingularWarning
 from .continuum import continuum_at
 from .numpy_path import finish_candidates, row_quadrics, scaled_quadrics, solve_batch, solve_orientation, store_modes
 from .results import AssemblyMode, CertifiedModes, MAX_MODES
@@ -385,26 +385,42 @@ def exact_coefficients(m, q):
     return form_coefficients(m.exact_forms(q_exact)[0])
 
 
-def exact_root_count(m, q):
-    """The proven number of distinct real roots of the kinematic polynomial at the joint vector
-    ``q``, decided exactly (python-flint, or arb for irrational coefficients): the fallback of
-    the batch counts. ``(count, path)``, count -1 where even that cannot decide (irrational
-    coefficients with a multiple root). Not public API.
+def exact_mode_count(m, q):
+    """The proven number of real assembly modes at the float joint vector ``q``, decided exactly:
+    the fallback of the batch counts. In ``Q(sqrt d)`` arithmetic where the design's constants
+    lie in one quadratic field and every root is a Cramer root; otherwise the certified per-row
+    path (:func:`certified_modes`: the modes computed root by root from the exact certificate).
+    ``(count, path)``, count -1 where that path cannot prove the number (path
+    ``"uncertified"``). Not public API.
 
     Raises
     ------
     DegenerateDesignError
-        The kinematic polynomial vanishes identically at ``q`` (a continuum of modes)."""
+        A continuum of modes at ``q``."""
     from ..core.quadratic_field import quadratic_field_count
 
     fast = quadratic_field_count(m, q)     # constants in one Q(sqrt d): FLINT, no sympy per row
     if fast is not None:
         return fast, "arb"
-    cert = exact_certificate(m, q)
-    if not cert.certified:
+    qf = np.asarray(q, dtype=float)
+    if "PP" not in m.kinds:
+        # simple roots, each proven a Cramer root (D != 0 there: exactly, or by an arb ball over
+        # its refined interval): one mode each, nothing to solve
+        q_exact = [as_exact(float(v), f"q[{i}]") for i, v in enumerate(qf)]
+        P, D, X2, X3, case_a, cert, balls, _ = _exact_stage(m, q_exact)
+        if (cert.certified and not case_a and cert.at_infinity <= 1
+                and all(k == 1 for k in cert.multiplicities)
+                and all(p.kind == "cramer" for p in plan_roots(P, D, X2, X3, cert, False, cramer_balls=balls))):
+            return cert.count, ("flint" if cert.exact else "arb")
+    with np.errstate(over="ignore", invalid="ignore"):
+        try:
+            modes = certified_modes(m, qf, qf, warn=False)
+        except (InputError, OverflowError):
+            return -1, "uncertified"       # the poses leave the float range: not counted here
+    cert = modes.certificate
+    if not cert.certified or modes.doubts:
         return -1, "uncertified"
-    _raise_if_continuum(m, q, cert, False)
-    return cert.count, ("flint" if cert.exact else "arb")
+    return len(modes), ("flint" if cert.exact else "arb")
 
 
 def _raise_if_continuum(m, q, cert, case_a):
@@ -545,39 +561,87 @@ def _orientation_positions(m, q_exact, P, tr, cert, plan):
     return positions_at_root(rows, TranscendentalRoot(f, k, lo, hi))
 
 
-def certified_modes(m, q, qf):
-    """The certified per-call path: modes computed root by root from the exact certificate.
+def _pp_orientations(m, q_exact):
+    """``(cos phi_c, sin phi_c)`` (exact sympy numbers, up to one positive factor) of every PP
+    dyad of the design at ``q_exact``: the orientations its pair of planes fixes, the genuine
+    one ``phi_c`` and the spurious ``phi_c + pi``."""
+    out = []
+    for qd in m.quadrics(list(q_exact)):
+        if qd.kind == "PP":
+            c = qd.coefficients()
+            out.append((sp.sympify(c[6]) / 2, sp.sympify(c[7])))
+    return out
 
-    The certified stage of :func:`imagespace.solve.front.direct_kinematics` (``certify=True``):
-    ``q`` is the joint vector as given (exact where it is), ``qf`` its float copy. Not public API
-    (out of ``__all__``)."""
-    items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
-    q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
+
+#: Working precisions (bits) of the exact decision whether a certified root is the spurious
+#: ``phi_c + pi`` root of a PP dyad (the sign of ``cos(phi - phi_c)``, which is +-1 there).
+SPURIOUS_BITS = (64, 256, 1024)
+
+
+def _spurious_root(pp, iv):
+    """True when the certified root (isolating interval ``iv`` of ``t = x1/x0``, None for
+    ``x0 = 0``) lies on the spurious plane ``phi = phi_c + pi`` of a PP dyad of ``pp``
+    (:func:`_pp_orientations`): the sign of ``cos(phi - phi_c)``, i.e. of
+    ``(1 - t**2) cos(phi_c) + 2 t sin(phi_c)`` (``-cos(phi_c)`` at ``x0 = 0``), decided on arb
+    balls over the interval. None where no ball decides it (it is ``+-(1 + t**2)`` times a positive
+    factor at a root of the dyad, so this does not happen at a root the dyad carries)."""
+    import flint
+
+    for prec in SPURIOUS_BITS:
+        verdict = False
+        with flint_precision(prec):
+            if iv is not None:
+                t = flint.arb(flint.fmpq(iv[0].numerator, iv[0].denominator)).union(
+                    flint.arb(flint.fmpq(iv[1].numerator, iv[1].denominator)))
+            for c, s_ in pp:
+                cb, sb = to_arb(c, prec), to_arb(s_, prec)
+                g = -cb if iv is None else (1 - t * t) * cb + 2 * t * sb
+                if g.contains(0):
+                    verdict = None
+                    break
+                if g < 0:
+                    verdict = True
+        if verdict is not None:
+            return verdict
+    return None
+
+
+def _exact_stage(m, q_exact):
+    """The exact elimination at ``q_exact`` and the certificate of its kinematic polynomial:
+    ``(P, D, X2, X3, case_a, cert, cramer_balls, tr)`` (``P .. X3`` None and ``cramer_balls``
+    set where ``cos``/``sin`` of an angle enter, ``tr`` that elimination)."""
     tr = transcendental_forms(m, q_exact)
-    balls = None
-    fast = None if tr is not None else _fast_exact_forms(m, q_exact)
     if tr is not None:          # cos/sin of an angle: exact in Q(tan(r/2)), decided on arb enclosures
         from ..core.transcendental import certify_transcendental
 
-        P = D = X2 = X3 = None
-        case_a = tr.case_a
-        cert = certify_transcendental(tr.P)
-        balls = None if case_a else tr.cramer_balls
-    elif fast is not None:
+        return (None, None, None, None, tr.case_a, certify_transcendental(tr.P),
+                None if tr.case_a else tr.cramer_balls, tr)
+    fast = _fast_exact_forms(m, q_exact)
+    if fast is not None:
         P, D, X2, X3 = fast
-        case_a = False
-        cert = certify_real_roots(P)
-    else:
-        Pp, el, case_a = m.exact_forms(q_exact)
-        P = form_coefficients(Pp)
-        D, X2, X3 = list(el.D), list(el.X2), list(el.X3)
-        cert = certify_real_roots(Pp)
+        return P, D, X2, X3, False, certify_real_roots(P), None, None
+    Pp, el, case_a = m.exact_forms(q_exact)
+    return (form_coefficients(Pp), list(el.D), list(el.X2), list(el.X3), case_a,
+            certify_real_roots(Pp), None, None)
+
+
+def certified_modes(m, q, qf, warn=True):
+    """The certified per-call path: modes computed root by root from the exact certificate.
+
+    The certified stage of :func:`imagespace.solve.front.direct_kinematics` (``certify=True``):
+    ``q`` is the joint vector as given (exact where it is), ``qf`` its float copy. What is not
+    proven is said in ``doubts`` of the result (and, with ``warn``, in a
+    :class:`NearSingularWarning` each; the batches read ``doubts`` instead). Not public API (out
+    of ``__all__``)."""
+    items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
+    q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
+    P, D, X2, X3, case_a, cert, balls, tr = _exact_stage(m, q_exact)
     if not cert.certified:
         res = solve_batch(m, qf[None, :], raise_degenerate=True)
-        warnings.warn(f"{m.name} at q = {qf.tolist()}: the real roots could not be "
-                      f"certified ({cert.method}); the floating-point modes are returned",
-                      NearSingularWarning, stacklevel=3)
-        return CertifiedModes(res.modes(0), cert, (), ())
+        doubt = (f"{m.name} at q = {qf.tolist()}: the real roots could not be "
+                 f"certified ({cert.method}); the floating-point modes are returned")
+        _say([doubt], warn)
+        return CertifiedModes(res.modes(0), cert, (), (), doubts=(doubt,))
     _raise_if_continuum(m, q_exact, cert, case_a)
     plans = plan_roots(P, D, X2, X3, cert, case_a, cramer_balls=balls)
     if not plans:                       # no real root: nothing for the float stages to compute
@@ -586,38 +650,56 @@ def certified_modes(m, q, qf):
     quads = row_quadrics(m, C[0])
     tol = m.tolerances
     per_root = [[] for _ in plans]
+    pp = _pp_orientations(m, q_exact) if "PP" in m.kinds else []
+    iv_of = list(cert.exact_intervals) + ([None] if cert.at_infinity else [])
+    # which roots are the spurious phi_c + pi root of a PP dyad: decided exactly; a root that is
+    # not carries its modes whatever their float residual (a residual above the tolerance there
+    # is a double-precision limit of the pose, said in a warning, never a reason to drop a mode)
+    spurious = [bool(pp) and _spurious_root(pp, iv_of[p.index]) for p in plans]
+    inaccurate, unsure = [], []
+
+    def keep(plan, resid):
+        """Whether a mode of ``plan`` with joint residual ``resid`` is reported."""
+        if resid <= tol.joint_residual:
+            return not spurious[plan.index] or spurious[plan.index] is None
+        if spurious[plan.index]:
+            return False                       # the legs reject it, and so does the exact test
+        if spurious[plan.index] is None:
+            unsure.append(plan.index)          # undecided: the legs' check decides, said below
+            return False
+        inaccurate.append(plan.index)
+        return True
+
+    def modes_at(X):
+        poses = _pose_of(X)
+        resid = np.atleast_1d(m.joint_residual(poses, np.tile(qf, (len(X), 1)), length=L[0]))
+        Xs = X.copy()
+        Xs[:, 2:] /= L[0]
+        _, J = _system(np.repeat(C, len(X), axis=0), Xs[:, None, :])
+        return poses, resid, np.linalg.det(J[:, 0])
+
     cramer = [p for p in plans if p.kind == "cramer"]
     if cramer:
         X = np.array([p.image_point for p in cramer])
-        poses = _pose_of(X)
-        resid = np.atleast_1d(m.joint_residual(poses, np.tile(qf, (len(cramer), 1)), length=L[0]))
-        Xs = X.copy()
-        Xs[:, 2:] /= L[0]
-        _, J = _system(np.repeat(C, len(cramer), axis=0), Xs[:, None, :])
-        det = np.linalg.det(J[:, 0])
+        poses, resid, det = modes_at(X)
         for j, plan in enumerate(cramer):
-            if not resid[j] <= tol.joint_residual:
-                continue                            # e.g. the spurious root of a PP dyad
+            if not keep(plan, resid[j]):
+                continue
             aspect = 0 if plan.multiplicity > 1 else int(np.sign(det[j]))
             per_root[plan.index] = [AssemblyMode(X[j], poses[j], float(resid[j]), aspect, True,
                                                  plan.multiplicity)]
     undecided = []
     for plan in plans:
-        if plan.kind == "cramer":
+        if plan.kind == "cramer" or spurious[plan.index]:
             continue
         exact = _orientation_positions(m, q_exact, P, tr, cert, plan)
         if exact is not None:
-            iv = cert.exact_intervals[plan.index] if plan.index < len(cert.exact_intervals) else None
+            iv = iv_of[plan.index]
             t = None if iv is None else (iv[0] + iv[1]) / 2
             if not exact:
                 continue
             X = np.array([_normalised_point(t, x2, x3) for x2, x3, _ in exact])
-            poses = _pose_of(X)
-            resid = np.atleast_1d(m.joint_residual(poses, np.tile(qf, (len(exact), 1)), length=L[0]))
-            Xs = X.copy()
-            Xs[:, 2:] /= L[0]
-            _, J = _system(np.repeat(C, len(exact), axis=0), Xs[:, None, :])
-            det = np.linalg.det(J[:, 0])
+            poses, resid, det = modes_at(X)
             # case (b): the root's multiplicity is accounted for by the positions (two simple
             # ones, or a tangency) unless it exceeds them: then a mode there is singular and which
             # one is not decided here, so all are reported singular. Case (a): the root is one of
@@ -626,8 +708,8 @@ def certified_modes(m, q, qf):
             total = sum(mult for _, _, mult in exact)
             found = []
             for j, (_, _, mult) in enumerate(exact):
-                if not resid[j] <= tol.joint_residual:
-                    continue                    # the spurious root phi_c + pi of a PP dyad
+                if not keep(plan, resid[j]):
+                    continue
                 if case_a:
                     mlt = plan.multiplicity if plan.multiplicity > 1 else mult
                 else:
@@ -648,16 +730,33 @@ def certified_modes(m, q, qf):
             found = [AssemblyMode(mm.image_point, mm.pose, mm.residual, 0, True, plan.multiplicity)
                      for mm in found]
         per_root[plan.index] = found
+    doubts = []
     if undecided:
-        warnings.warn(f"{m.name} at q = {qf.tolist()}: the positions at {len(undecided)} orientation "
+        doubts.append(f"{m.name} at q = {qf.tolist()}: the positions at {len(undecided)} orientation "
                       "root(s) (where the Cramer denominator vanishes) could not be counted exactly "
                       "(irrational geometry, or several actuated angles in an exact relation); they "
-                      "are solved in floating point and their number is not proven",
-                      NearSingularWarning, stacklevel=3)
+                      "are solved in floating point and their number is not proven")
+    if unsure:
+        doubts.append(f"{m.name} at q = {qf.tolist()}: {len(unsure)} certified root(s) could not be told "
+                      "apart from a PP dyad's spurious root phi_c + pi and their modes fail the legs' "
+                      "check; they are left out and the number of modes is not proven")
+    _say(doubts, warn)
+    if inaccurate:          # the count is proven; only the poses' accuracy is in doubt
+        _say([f"{m.name} at q = {qf.tolist()}: {len(inaccurate)} certified mode(s) miss the legs' "
+              f"inverse-kinematics check (joint residual above {tol.joint_residual:g}): each "
+              "exists (its root is certified and not a PP dyad's spurious root), but its pose "
+              "is not as accurate as the tolerance asks (double precision at this scale)"], warn)
     tagged = [(mm, k) for k, lst in enumerate(per_root) for mm in lst]
     tagged.sort(key=lambda item: item[0].pose[2])
     return CertifiedModes([mm for mm, _ in tagged], cert, [len(lst) for lst in per_root],
-                          [k for _, k in tagged])
+                          [k for _, k in tagged], doubts=tuple(doubts))
+
+
+def _say(messages, warn):
+    """Each message as a :class:`NearSingularWarning` (at the public caller) when ``warn``."""
+    if warn:
+        for msg in messages:
+            warnings.warn(msg, NearSingularWarning, stacklevel=4)
 
 
 def _disc_certificate(m, Q, res):
@@ -754,7 +853,7 @@ def certify_batch(m, Q, res, kernel=None):
     redo = {}                     # row -> (modes, solver name), stored in one rebuild after the loop
     for i in np.flatnonzero(res.row_ok & ~consistent):
         try:
-            modes = certified_modes(m, Q[i], Q[i])
+            modes = certified_modes(m, Q[i], Q[i], warn=False)
         except DegenerateDesignError as e:
             res.row_ok[i] = False
             res.errors[int(i)] = str(e)
@@ -768,8 +867,8 @@ def certify_batch(m, Q, res, kernel=None):
         if path[i] != "flint":
             path[i] = "flint" if cert.certified and cert.exact else (
                 "arb" if cert.certified else "uncertified")
-        consistent[i] = bool(cert.certified)
-        res.near_singular[i] = not cert.certified
+        consistent[i] = bool(cert.certified) and not modes.doubts
+        res.near_singular[i] = not consistent[i]
     if redo:
         store_modes(res, list(redo), [ms for ms, _ in redo.values()])
         if res.solver is not None:

@@ -10,16 +10,17 @@ from __future__ import annotations
 from typing import Any, Optional, TypeVar
 
 import numpy as np
+import sympy as sp
 import numpy.typing as npt
 
 from ..core.certify import RealRootCertificate
+from ..core.form_bounds import form_signs_on, no_common_real_root
 from ..core.mechanism import Backends
 from ..core.reach import ReachObstruction, planar_design_scale, planar_reach_obstruction, prismatic_magnitude
 from ..exceptions import DegenerateDesignError, InputError
 from .._validate import finite_rows
-from .certified import certified_modes, certify_batch, exact_certificate, exact_root_count
+from .certified import certified_modes, certify_batch, exact_certificate, exact_mode_count
 from .numpy_path import complex_modes, check_rows, solve_batch
-from .continuum import continuum_at
 from .proof import batch_kernel, have_numba as _have_numba
 from .results import AssemblyModes, CertifiedModes, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
@@ -119,17 +120,22 @@ def _certified_refusing_overflow(m, q, qf):
 
 def counts(m: Any, Q: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The counting stage (``certified_root_counts``) on the rows ``rows`` of ``Q`` (n, 3):
-    proven numbers of distinct real roots of the kinematic polynomial, ``(counts, path)``.
+    proven numbers of real assembly modes, ``(counts, path)``.
 
-    With the compiled kernel the count is proven inside it (quadric coefficients, elimination
-    and Bernstein root isolation with a rigorous error bound on every value); rows its bounds
-    cannot decide (a double or nearly double root) are decided exactly per row (python-flint;
-    arb for irrational or transcendental coefficients, cos/sin of angles enclosed). Designs the
-    kernel does not take use the enclosed general-q polynomial and inclusion discs, with the same
-    exact fallback. Rows beyond the float paths (:func:`far_rows`) go to the exact per-row count.
-    A continuum reports count -1, path ``"continuum"``: the polynomial vanishing identically, or
-    (Cramer case (a) designs, tested on every row with a real root) a curve of positions at one
-    orientation (:func:`imagespace.solve.continuum.continuum_at`).
+    First the distinct real roots of the kinematic polynomial: with the compiled kernel proven
+    inside it (quadric coefficients, elimination and Bernstein root isolation with a rigorous
+    error bound on every value), otherwise by inclusion discs on the enclosed general-q
+    polynomial. A root is one mode where the Cramer denominator ``D`` does not vanish there:
+    proven for the whole row when ``D`` and the kinematic form have no common real root
+    (:func:`imagespace.core.form_bounds.no_common_real_root`, on the kernel's bounded forms
+    :meth:`~imagespace.solve.kernel.BatchKernel.cramer_forms` or the enclosed general-q ones),
+    and, on a design with a PP dyad, the root is proven not to be the dyad's spurious
+    ``phi_c + pi`` (the sign of ``cos(phi - phi_c)`` on its interval): such rows count their
+    roots. Every
+    other row (a root the bounds cannot decide, a Cramer case where an orientation carries 0, 1
+    or 2 positions, a spurious root, rows beyond the float paths :func:`far_rows`) is counted
+    exactly by the certified per-row path (:func:`imagespace.solve.certified.exact_mode_count`).
+    A continuum reports count -1, path ``"continuum"``.
 
     Examples
     --------
@@ -147,37 +153,76 @@ def counts(m: Any, Q: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndar
     out = np.full(n, -1, dtype=np.int8)
     path = np.full(n, "invalid", dtype=object)
     far = np.flatnonzero(row_ok & far_rows(m, Q))
-    for i in far:                           # beyond the float paths: exact per row
-        try:
-            out[i], path[i] = exact_root_count(m, Q[i])
-        except DegenerateDesignError:
-            out[i], path[i] = -1, "continuum"
     row_ok[far] = False
     ok = np.flatnonzero(row_ok)
+    todo = list(far)
+    case_a = bool(ok.size) and m.exact_forms(None)[2]
+    if case_a:                      # every orientation root carries 0, 1 or 2 positions
+        todo += list(ok)
+        ok = ok[:0]
     kernel = batch_kernel(m) if ok.size else None
     if kernel is not None:
         c = kernel.certified_counts(Q[ok])[0]
-        out[ok] = c
-        path[ok[c >= 0]] = "kernel"
-        todo = ok[c < 0]
+        good = c >= 0
+        good[good] = no_common_real_root(*kernel.cramer_forms(Q[ok[good]]))
+        out[ok[good]] = c[good]
+        path[ok[good]] = "kernel"
+        todo += list(ok[~good])
     elif ok.size:
         F, E = m.enclosure().evaluate(Q[ok])
-        c, p = certify_real_roots_batch(F, E, lambda i: exact_certificate(m, Q[ok[i]]))
-        out[ok], path[ok] = c, p
-        todo = ok[p == "zero"]
-    else:
-        todo = ok
+        c, p, iv = certify_real_roots_batch(F, E, lambda i: exact_certificate(m, Q[ok[i]]),
+                                            return_intervals=True)
+        good = (c >= 0) & (p == "discs")
+        if good.any():
+            good[good] = _one_mode_per_root(m, Q[ok[good]], F[good], E[good], iv[good])
+        out[ok[good]] = c[good]
+        path[ok[good]] = "discs"
+        todo += list(ok[~good])
     for i in todo:
         try:
-            out[i], path[i] = exact_root_count(m, Q[i])
+            out[i], path[i] = exact_mode_count(m, Q[i])
         except DegenerateDesignError:
             out[i], path[i] = -1, "continuum"
-    if kernel is None and ok.size and m.exact_forms(None)[2]:
-        # Cramer case (a): a simple orientation root may carry a continuum of positions
-        for i in ok[out[ok] > 0]:
-            if continuum_at(m, Q[i])[0]:
-                out[i], path[i] = -1, "continuum"
     return out, path
+
+
+def _one_mode_per_root(m, Q, F, E, iv):
+    """Rows (n,) of the disc path whose every real root carries exactly one assembly mode: the
+    Cramer denominator ``D`` has no real root in common with the kinematic form ``F +- E``
+    (:func:`imagespace.core.form_bounds.no_common_real_root`) and, for each PP dyad, the sign of
+    ``cos(phi - phi_c)`` is proven positive on each root's interval ``iv`` ((n, d, 2) of
+    ``t = x1/x0``, not the spurious root)."""
+    from ..core.codegen import CoefficientEnclosure
+
+    Den = m.cached("exact_cramer_denominator", lambda: CoefficientEnclosure(
+        list(m.exact_forms(None)[1].D), m.joint_symbols))
+    good = no_common_real_root(F, E, *Den.evaluate(Q))
+    genuine = m.cached("pp_genuine_forms", lambda: _pp_genuine_forms(m))
+    if genuine:
+        used = np.isfinite(iv[..., 0])
+        at_inf = np.isinf(iv[..., 0])
+        chart = np.where(used, np.where(at_inf, 1, 0), -1).astype(np.int8)
+        lo = np.where(at_inf, 0.0, iv[..., 0])
+        hi = np.where(at_inf, 0.0, iv[..., 1])
+        for g in genuine:
+            G, EG = g.evaluate(Q)
+            good &= np.all(~used | (form_signs_on(G, EG, lo, hi, chart) > 0), axis=1)
+    return good
+
+
+def _pp_genuine_forms(m):
+    """For each PP dyad, the binary form ``(x0**2 - x1**2) cos(phi_c) + 2 x0 x1 sin(phi_c)``
+    general in the joint values (an enclosure): ``cos(phi - phi_c)`` times ``x0**2 + x1**2``,
+    positive at the dyad's orientation, negative at its spurious ``phi_c + pi``."""
+    from ..core.codegen import CoefficientEnclosure
+
+    out = []
+    for qd in m.quadrics(None):
+        if qd.kind == "PP":
+            c = qd.coefficients()
+            cos, sin = sp.sympify(c[6]) / 2, sp.sympify(c[7])
+            out.append(CoefficientEnclosure([cos, 2 * sin, -cos], m.joint_symbols))
+    return out
 
 
 def solve(m: Any, Q: np.ndarray, rows: np.ndarray, method: str, per_call: bool) -> DKBatchResult:

@@ -132,13 +132,16 @@ class CertifiedModes(list):
         half-turn root if any), how many reported modes it carries.
     root_of_mode : tuple of int
         For each mode (in list order), the index of its root in the certificate.
+    doubts : tuple of str
+        What is not proven (the :class:`~imagespace.NearSingularWarning` messages; empty: proven).
     """
 
-    def __init__(self, modes, certificate, modes_per_root, root_of_mode=()):
+    def __init__(self, modes, certificate, modes_per_root, root_of_mode=(), doubts=()):
         super().__init__(modes)
         self.certificate = certificate
         self.modes_per_root = tuple(modes_per_root)
         self.root_of_mode = tuple(root_of_mode)
+        self.doubts = tuple(doubts)
 
     def __repr__(self):
         return (f"CertifiedModes({list.__repr__(self)}, real roots={self.certificate.count}, "

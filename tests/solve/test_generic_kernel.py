@@ -129,14 +129,14 @@ def test_certified_root_counts_three_rrr_against_exact_rows():
     kernel's counts against msolve's real solutions of the Euclidean system (independent of the
     image space) and against the exact per-row certificate (sympy elimination at the exact input,
     arb isolation) on a few rows; then, as a consistency check, against the certified batch."""
-    from imagespace.solve.certified import exact_root_count
+    from imagespace.solve.certified import exact_mode_count
 
     m = isp.PlanarParallel(RRR3)
     Q = reachable_rows(m, 600, 5, box=((1, 4), (0.5, 3.5), (-0.7, 0.7)))
     counts, path = m.certified_root_counts(Q)
     assert np.mean(path == "kernel") > 0.98
     for i in range(3):
-        assert exact_root_count(m, Q[i])[0] == counts[i]
+        assert exact_mode_count(m, Q[i])[0] == counts[i]
     if msolve_available():
         for i in range(8):
             assert len(planar_dk_reference(m, Q[i]).poses) == counts[i], Q[i].tolist()

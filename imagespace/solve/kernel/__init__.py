@@ -72,7 +72,7 @@ from __future__ import annotations
 
 from ...core._numba import HAVE_NUMBA
 from ...core.codegen import KernelCacheWarning
-from ...core.elimination import ELIMINATION_ROW_SIZE, ELIMINATION_WORK_SIZE, ROW_F  # noqa: F401
+from ...core.elimination import ELIMINATION_ROW_SIZE, ELIMINATION_WORK_SIZE, ROW_D, ROW_F  # noqa: F401
 from ...core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row  # noqa: F401
 from .batch import BatchKernel, build_kernel
 from .loops import _compile, _generic_loop, _SOURCE  # noqa: F401

@@ -8,7 +8,7 @@ from ...core._numba import HAVE_NUMBA
 from ...core.elimination import ELIMINATION_ROW_SIZE, ELIMINATION_WORK_SIZE, ROW_F
 from ...core.isolate import ISOLATE_WORK_SIZE, count_real_roots_row
 from ...tolerances import TOLERANCES
-from .loops import _SOURCE, _SERIAL_ROWS, _generic_loop
+from .loops import FORM_D, FORM_F, _SOURCE, _SERIAL_ROWS, _generic_loop
 from .row import _MAX, eliminate_row, kernel_tolerances
 from .tables import design_row, design_tables
 
@@ -126,6 +126,37 @@ class BatchKernel:
         elif n:
             self._counts_serial(Q, counts, lo, hi, chart)
         return counts, lo, hi, chart
+
+    def cramer_forms(self, Q):
+        """The kinematic form ``F`` and the Cramer denominator ``D`` of each row of ``Q`` (n, 3),
+        with rigorous bounds: the exact forms at the binary-rational input lie in ``F +- EF`` and
+        ``D +- ED`` (the same compiled steps as :meth:`certified_counts`: quadric coefficients
+        with ``cos``/``sin`` enclosed, the bounded elimination). For the proof that every root
+        is a Cramer root (:func:`imagespace.core.form_bounds.no_common_real_root`).
+
+        Returns
+        -------
+        F, EF : (n, 7) float
+            Coefficients of ``x0**(6-k) x1**k`` (``F`` keeps its factors ``x0**2 + x1**2``).
+        D, ED : (n, 3) float
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import imagespace as isp
+        >>> from imagespace.core.form_bounds import no_common_real_root
+        >>> from imagespace.solve.proof import batch_kernel
+        >>> m = isp.examples.general_3rpr()
+        >>> no_common_real_root(*batch_kernel(m).cramer_forms(np.array([m.q_example_float]))).tolist()
+        [True]
+        """
+        Q = np.ascontiguousarray(Q, dtype=float)
+        n = Q.shape[0]
+        F, EF = np.empty((n, FORM_F)), np.empty((n, FORM_F))
+        D, ED = np.empty((n, FORM_D)), np.empty((n, FORM_D))
+        if n:
+            _generic_loop("run_forms")(Q, *self.tables.arrays(), F, EF, D, ED)
+        return F, EF, D, ED
 
     def _counts_serial(self, Q, counts, lo, hi, chart):
         """The rows of ``run_counts`` one by one from Python, through the same compiled steps
