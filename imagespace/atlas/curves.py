@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import as_count
-from ..exceptions import ImageSpaceError
-from ..singular.cusps import cusp_system, cusps, free_joints
+from ..exceptions import ImageSpaceError, InputError
+from ..singular.cusps import check_section_resolution, cusp_system, cusps, free_joints
 from .boxes import check_joint_box
 
 __all__ = ["cusp_curves", "correct_cusp", "seeds_from_points"]
@@ -31,6 +31,7 @@ _STEP_MAX = 0.08
 _STEP_MIN = 1e-5
 _MAX_POINTS = 3000         # per direction
 _EDGE = 1e-12              # a traced point this far (scaled) past a face has left the box
+_MAX_SECTIONS = 64         # seeding planes per axis (each one a resolution**2 section)
 _LEAD = 1e-12              # seeding: forms whose leading coefficient is below this (relative) are skipped
 
 
@@ -246,7 +247,7 @@ def cusp_curves(manipulator, joint_box, seeds=None, sections=1, resolution=48):
         whole numbers.
     InputError
         A box of the wrong shape or outside the joints' domains; seeds not ``(n, 3)``;
-        ``resolution`` below 8.
+        ``resolution`` below 8 or above ``SECTION_MAX_RESOLUTION`` (2000); ``sections`` above 64.
 
     Examples
     --------
@@ -261,7 +262,10 @@ def cusp_curves(manipulator, joint_box, seeds=None, sections=1, resolution=48):
 
     box = check_joint_box(manipulator, joint_box)
     sections = as_count(sections, "sections", 0)
-    resolution = as_count(resolution, "resolution", 8)
+    resolution = check_section_resolution(resolution)
+    if sections > _MAX_SECTIONS:
+        raise InputError(f"sections must be at most {_MAX_SECTIONS} seeding planes per joint axis, got "
+                         f"{sections}")
     tol = manipulator.tolerances.atlas_cusp_residual
     reach = manipulator.tolerances.atlas_cusp_seed_reach
     lo = box[:, 0]
@@ -281,6 +285,8 @@ def cusp_curves(manipulator, joint_box, seeds=None, sections=1, resolution=48):
             value = lo[fixed] + side[fixed] * (k + 0.5) / sections
             try:
                 found = cusps(manipulator, fixed, value, window, resolution)
+            except InputError:
+                raise                        # the caller's arguments: said, never swallowed
             except ImageSpaceError:
                 continue                     # a section the float solver cannot take: seed elsewhere
             for c in found:

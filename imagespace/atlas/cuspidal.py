@@ -177,7 +177,8 @@ def cusp_polynomials(manipulator):
     TypeError
         ``manipulator`` is not a design.
     InputError
-        The design has free symbols.
+        The design has free symbols, or an actuated revolute joint (its kinematic polynomial holds
+        ``cos q``, ``sin q``: the cusp system is not polynomial in the joint values).
 
     Examples
     --------
@@ -191,7 +192,20 @@ def cusp_polynomials(manipulator):
     if manipulator.design_symbols:
         raise InputError(f"is_cuspidal needs a numeric design; the design has the symbols "
                          f"{sorted(map(str, manipulator.design_symbols))}")
+    why = _no_polynomial_system(manipulator)
+    if why:
+        raise InputError(f"the cusp system of {manipulator.name} is not polynomial: {why}")
     return manipulator.cached("atlas_cusp_polynomials", lambda: _build_cusp_polynomials(manipulator))
+
+
+def _no_polynomial_system(m):
+    """Why the cusp system of ``m`` is not polynomial in the joint values ('' when it is): an
+    actuated revolute joint enters through its cosine and sine."""
+    angles = [i for i, leg in enumerate(m.legs) if leg.actuated_is_angle]
+    if not angles:
+        return ""
+    return (f"the actuated joint(s) {angles} are angles (the kinematic polynomial holds cos q, sin q), "
+            "so neither the msolve proof of absence nor the interval proof of a witness applies")
 
 
 def _build_cusp_polynomials(m):
@@ -427,6 +441,7 @@ def verify_cusp(manipulator, x, joint_box=None, fixed=None):
     joint_box : (3, 2) float, optional
         If given, the proven enclosure must lie inside it.
     fixed : int, optional
+        The joint (0, 1 or 2) held at an exact rational on the section.
 
     Returns
     -------
@@ -439,7 +454,8 @@ def verify_cusp(manipulator, x, joint_box=None, fixed=None):
     TypeError
         ``manipulator`` not a design; non-numeric ``x`` or box.
     InputError
-        ``x`` not of shape ``(4,)``; a bad box; a design with free symbols.
+        ``x`` not of shape ``(4,)``; a bad box; ``fixed`` not 0, 1 or 2; a design with free
+        symbols, or with an actuated revolute joint (its cusp system is not polynomial).
 
     Examples
     --------
@@ -455,6 +471,10 @@ def verify_cusp(manipulator, x, joint_box=None, fixed=None):
     if x.ndim != 1:
         raise InputError(f"x must be one point (theta, q1, q2, q3), got shape {x.shape}")
     box = None if joint_box is None else check_joint_box(manipulator, joint_box)
+    if fixed is not None:
+        fixed = as_count(fixed, "fixed", 0)
+        if fixed > 2:
+            raise InputError(f"fixed must be the joint held on the section, 0, 1 or 2, got {fixed}")
     cp = cusp_polynomials(manipulator)
     if cp.degree < 3:
         return None
@@ -824,10 +844,14 @@ def is_cuspidal(manipulator, joint_box=None, exact=True, timeout=120.0, seed=0):
     if not timeout > 0:
         raise InputError(f"timeout must be a positive number of seconds, got {timeout!r}")
     seed = as_count(seed, "seed", 0)
-    cp = cusp_polynomials(manipulator)
 
     def done(c, w, reason, method, systems=0):
         return CuspidalityResult(c, box, w, reason, method, systems, time.perf_counter() - t0)
+
+    why = _no_polynomial_system(manipulator)
+    if why:
+        return done(None, None, f"not decided: {why}", "undecided")
+    cp = cusp_polynomials(manipulator)
 
     if cp.degree < 3:
         return done(None, None, (f"the kinematic polynomial has degree {cp.degree} < 3 in the orientation "

@@ -138,9 +138,17 @@ class JointAtlas:
     removed : int
         Vertices removed for lack of evidence.
     cusp_curves : tuple of (k, 3) float
-        Cusp curves in joint space (floating point, drawn not proven).
+        Cusp curves in joint space, each traced in floating point and holding a **proven** cusp:
+        :func:`imagespace.atlas.verify_cusp` (Krawczyk on the exact section system) succeeded at
+        one of its points (``cusp_witnesses``). The polyline itself is drawn, not proven.
     cusp_half_angles : tuple of (k,) float
         The half-angle of the triple root along each curve.
+    cusp_witnesses : tuple of CuspWitness
+        The proof for each curve of ``cusp_curves``.
+    cusp_candidates : tuple of (k, 3) float
+        Traced curves of ``f = f' = f'' = 0`` on which no point could be proven a cusp (a float
+        artefact near a fold, a degenerate set where ``f''' = 0`` too, or a design whose cusp
+        system is not polynomial: an actuated revolute joint). Not drawn as cusp curves.
     uncertified_nodes : int
     seconds : dict
         Wall-clock time of each stage.
@@ -163,6 +171,8 @@ class JointAtlas:
     cusp_half_angles: tuple = ()
     uncertified_nodes: int = 0
     seconds: dict = field(default_factory=dict)
+    cusp_witnesses: tuple = ()
+    cusp_candidates: tuple = ()
 
     __repr__ = dataclass_repr
     _repr_html_ = dataclass_html
@@ -558,17 +568,47 @@ def joint_atlas(manipulator, joint_box, resolution=40, cusps=True, progress=Fals
     t2 = time.perf_counter()
     V, F, L, E, W, removed, B = _surface(manipulator, counts, axes, box, tol)
     seconds["surface"] = time.perf_counter() - t2
-    curves, angles = (), ()
+    curves, angles, witnesses, candidates = (), (), (), ()
     if cusps:
         from .curves import cusp_curves
 
         t3 = time.perf_counter()
         traced = cusp_curves(manipulator, box, seeds=V, sections=0)
-        curves = tuple(c[:, 1:] for c in traced)
-        angles = tuple(c[:, 0] for c in traced)
+        proven, unproven = _verified_curves(manipulator, traced, box)
+        curves = tuple(c[:, 1:] for c, _ in proven)
+        angles = tuple(c[:, 0] for c, _ in proven)
+        witnesses = tuple(w for _, w in proven)
+        candidates = tuple(c[:, 1:] for c in unproven)
         seconds["cusp curves"] = time.perf_counter() - t3
     seconds["total"] = time.perf_counter() - t0
     if progress:
         print("joint_atlas: " + ", ".join(f"{k} {v:.2f} s" for k, v in seconds.items()))
     return JointAtlas(manipulator.name, box, axes, counts, labels, regions, V, F, L, E, W, removed, B,
-                      curves, angles, int((counts < 0).sum()), seconds)
+                      curves, angles, int((counts < 0).sum()), seconds, witnesses, candidates)
+
+
+#: Points of a traced cusp curve handed to the interval proof (evenly along it), at most.
+CUSP_PROOF_POINTS = 5
+
+
+def _verified_curves(m, traced, box):
+    """Split traced curves ``(theta, q1, q2, q3)`` into ``[(curve, witness)]`` holding a proven
+    cusp and the candidates on which no point could be proven (:func:`verify_cusp`)."""
+    from .cuspidal import verify_cusp
+
+    proven, candidates = [], []
+    polynomial = not any(leg.actuated_is_angle for leg in m.legs)
+    for c in traced:
+        witness = None
+        if polynomial:                  # else no polynomial cusp system: nothing to prove with
+            picks = np.linspace(0, len(c) - 1, min(CUSP_PROOF_POINTS, len(c)) + 2)[1:-1]
+            for k in np.unique(picks.astype(int)):
+                witness = verify_cusp(m, c[k], box)
+                if witness is not None:
+                    break
+        if witness is None:
+            candidates.append(c)
+        else:
+            proven.append((c, witness))
+    return proven, candidates
+

@@ -42,6 +42,7 @@ from .._html import dataclass_html, dataclass_repr
 from ..solve import front
 
 __all__ = ["Cusp", "ModeCountMap", "mode_count_map", "cusps", "cusp_edges", "cusp_system", "free_joints",
+           "check_section_resolution", "SECTION_MAX_RESOLUTION",
            "half_angle_gap", "linking_number"]
 
 
@@ -121,10 +122,30 @@ def _window(window):
     return as_box(as_float_array(window, "window"), "window", dim=2)
 
 
-def _resolution(resolution, name="resolution"):
+#: The largest grid per axis of a joint-space section (``resolution**2`` joint vectors solved).
+SECTION_MAX_RESOLUTION = 2000
+
+
+def check_section_resolution(resolution, name="resolution"):
+    """The grid per axis of a joint-space section, checked: an int in ``8 ..
+    SECTION_MAX_RESOLUTION``.
+
+    Raises
+    ------
+    TypeError
+        Not a whole number.
+    InputError
+        Outside the range.
+
+    Examples
+    --------
+    >>> from imagespace.singular.cusps import check_section_resolution
+    >>> check_section_resolution(48)
+    48
+    """
     resolution = as_count(resolution, name, 8)
-    if not 8 <= resolution <= 2000:
-        raise InputError(f"{name} must be an int in 8..2000, got {resolution!r}")
+    if not 8 <= resolution <= SECTION_MAX_RESOLUTION:
+        raise InputError(f"{name} must be an int in 8..{SECTION_MAX_RESOLUTION}, got {resolution!r}")
     return resolution
 
 
@@ -132,7 +153,7 @@ def _grid(fixed, value, window, resolution):
     free_joints(fixed)
     value = as_scalar(value, "value")
     w = _window(window)
-    resolution = _resolution(resolution)
+    resolution = check_section_resolution(resolution)
     a = np.linspace(w[0, 0], w[0, 1], resolution)
     b = np.linspace(w[1, 0], w[1, 1], resolution)
     A, B = np.meshgrid(a, b, indexing="ij")
@@ -533,7 +554,7 @@ def cusp_edges(manipulator, fixed, values, window, resolution=60):
     check_mechanism(manipulator)
     fa, fb = free_joints(fixed)
     w = _window(window)
-    _resolution(resolution)
+    check_section_resolution(resolution)
     reach = manipulator.tolerances.cusp_chain_reach * float(np.max(w[:, 1] - w[:, 0]))
     sections = [cusps(manipulator, fixed, v, window, resolution) for v in vals]
 
