@@ -91,6 +91,17 @@ SLOW_DOCTESTS = {
 }
 
 
+def pytest_addoption(parser):
+    parser.addoption("--slow", action="store_true", default=False,
+                     help="also run the slow lane (tests marked slow; CI runs it: pytest -m slow)")
+
+
+def _slow_lane_wanted(config):
+    """The slow tests run with ``--slow``, or when a ``-m`` expression chooses the tests
+    (``-m slow``, ``-m browser``, ``-m "not slow"``)."""
+    return config.getoption("--slow") or bool((config.getoption("markexpr") or "").strip())
+
+
 @pytest.hookimpl(tryfirst=True)  # before pytest-xdist appends the group to the node id
 def pytest_collection_modifyitems(config, items):
     for item in items:
@@ -100,3 +111,8 @@ def pytest_collection_modifyitems(config, items):
         group = next((g for prefix, g in XDIST_GROUPS.items() if path.startswith(prefix)), None)
         if group is not None:
             item.add_marker(pytest.mark.xdist_group(group))
+    if not _slow_lane_wanted(config):       # the fast lane by default (README's test command)
+        slow = [item for item in items if item.get_closest_marker("slow") is not None]
+        if slow:
+            config.hook.pytest_deselected(items=slow)
+            items[:] = [item for item in items if item.get_closest_marker("slow") is None]

@@ -156,11 +156,13 @@ def counts(m: Any, Q: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndar
     row_ok[far] = False
     ok = np.flatnonzero(row_ok)
     todo = list(far)
-    case_a = bool(ok.size) and m.exact_forms(None)[2]
-    if case_a:                      # every orientation root carries 0, 1 or 2 positions
+    kernel = batch_kernel(m) if ok.size else None
+    # case (a) (D identically zero: every orientation root carries 0, 1 or 2 positions): in the
+    # kernel no row passes no_common_real_root (D's bounds hold zero); without a kernel the general
+    # elimination says so once per design
+    if kernel is None and ok.size and m.exact_forms(None)[2]:
         todo += list(ok)
         ok = ok[:0]
-    kernel = batch_kernel(m) if ok.size else None
     if kernel is not None:
         c = kernel.certified_counts(Q[ok])[0]
         good = c >= 0

@@ -15,8 +15,8 @@ Paths (``PATHS``) and what each promises:
                           masked); the batch must not raise.
 ``root_counts``           ``m.certified_root_counts(Q)``: a count ``>= 0`` is a proof of the number
                           of real assembly modes (-1 declines).
-``dk.float``              ``m.direct_kinematics(q)`` on the doubles: right, or flagged by a
-                          ``NearSingularWarning``.
+``dk.float``              ``m.direct_kinematics(q)`` on the doubles: right (the count exactly, the
+                          poses within ``FLOAT_POSE_TOL``), or flagged by a ``NearSingularWarning``.
 ``batch.float[auto]``,    ``m.direct_kinematics_batch(Q)``: right, or ``near_singular``, or masked
 ``batch.float[numpy]``    with a message.
 
@@ -43,6 +43,11 @@ from .spec import build_design, design_size, dumps, float_row, frac, leg_is_angl
 from .truth import Truth, truth
 
 POSE_TOL = 1e-9
+#: the float paths promise the count where not flagged, and poses as accurate as double precision
+#: allows at the row's conditioning: next to a fold (two modes ~1e-6 apart, 1e-12 from the double
+#: root) Newton's method lands ~1e-9 off. Judged at this tolerance (still far below the distance
+#: of two modes a double can tell apart at such rows), the certified paths at ``POSE_TOL``.
+FLOAT_POSE_TOL = 1e-7
 PATHS = ("dk.certify", "batch.certify[auto]", "batch.certify[numpy]", "root_counts", "dk.float",
          "batch.float[auto]", "batch.float[numpy]")
 CERTIFIED_PATHS = PATHS[:4]
@@ -80,9 +85,9 @@ def decide(case):
 
 # --------------------------------------------------------------------------- comparisons
 
-def match_poses(got, want, size):
+def match_poses(got, want, size, tol=POSE_TOL):
     """``(ok, why)``: ``got`` and ``want`` ``(k, 3)`` are the same modes (one for one, positions
-    within ``POSE_TOL`` of the design's size, phi modulo 2 pi)."""
+    within ``tol`` of the design's size, phi modulo 2 pi)."""
     got = np.asarray(got, dtype=float).reshape(-1, 3)
     want = np.asarray(want, dtype=float).reshape(-1, 3)
     if len(got) != len(want):
@@ -104,7 +109,7 @@ def match_poses(got, want, size):
         used_i.add(i)
         used_j.add(j)
         worst = max(worst, D[i, j])
-    if worst > POSE_TOL:
+    if worst > tol:
         return False, f"a pose off by {worst:.2e} (relative): got {np.round(got, 10).tolist()}, msolve {np.round(want, 10).tolist()}"
     return True, ""
 
@@ -129,7 +134,7 @@ def _modes_verdict(path, i, t, poses, size, flagged=False, note=""):
         return Verdict(path, i, "flagged", note)
     if t.status == "continuum":
         return Verdict(path, i, "wrong", f"{len(poses)} modes claimed, msolve: a real continuum")
-    ok, why = match_poses(poses, t.poses, size)
+    ok, why = match_poses(poses, t.poses, size, POSE_TOL if path in CERTIFIED_PATHS else FLOAT_POSE_TOL)
     return Verdict(path, i, "ok" if ok else "wrong", "" if ok else why)
 
 
