@@ -69,6 +69,7 @@ from .exceptions import (
     EliminationError as EliminationError,
     ImageSpaceError as ImageSpaceError,
     InputError as InputError,
+    InputTypeError as InputTypeError,
     NearSingularWarning as NearSingularWarning,
 )
 from .tolerances import TOLERANCES as TOLERANCES, Tolerances as Tolerances

@@ -7,7 +7,7 @@ import numbers
 import numpy as np
 import sympy as sp
 
-from .exceptions import InputError
+from .exceptions import InputError, InputTypeError
 from .tolerances import TOLERANCES, Tolerances
 
 __all__ = [
@@ -141,41 +141,41 @@ def as_float_array(value, name: str, last: int | None = None, allow_batch: bool 
         Reject NaN and infinity.
     """
     if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name} must be numeric array_like, got {type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be numeric array_like, got {type(value).__name__} {_short(value)}")
     if is_symbolic(value):
         # a string, bool or complex beside a sympy number would pass through float(): refuse it
         for v in _object_entries(value):
             if isinstance(v, (str, bytes, np.str_, np.bytes_)):
-                raise TypeError(f"{name} must hold numbers, got the string {_short(v)}; strings are never parsed")
+                raise InputTypeError(f"{name} must hold numbers, got the string {_short(v)}; strings are never parsed")
             if v is None or isinstance(v, (bool, np.bool_, complex, np.complexfloating)):
-                raise TypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
+                raise InputTypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
         try:
             value = np.array([float(v) for v in np.ravel(np.array(value, dtype=object))],
                              dtype=float).reshape(np.shape(np.array(value, dtype=object)))
         except (TypeError, ValueError):
-            raise TypeError(f"{name} must be numeric, got the symbolic value {_short(value)}; "
-                            "substitute numbers first or use the symbolic method") from None
+            raise InputTypeError(f"{name} must be numeric, got the symbolic value {_short(value)}; "
+                                 "substitute numbers first or use the symbolic method") from None
     try:
         raw = np.asarray(value)
     except (TypeError, ValueError):
-        raise TypeError(f"{name} must be numeric array_like, got {_short(value)}") from None
+        raise InputTypeError(f"{name} must be numeric array_like, got {_short(value)}") from None
     if raw.dtype.kind == "c":
-        raise TypeError(f"{name} must be real, got the complex array {_short(value)}")
+        raise InputTypeError(f"{name} must be real, got the complex array {_short(value)}")
     if raw.dtype.kind == "b":
-        raise TypeError(f"{name} must be numeric, got booleans {_short(value)}")
+        raise InputTypeError(f"{name} must be numeric, got booleans {_short(value)}")
     if raw.dtype.kind in "USV":
-        raise TypeError(f"{name} must be numeric, got strings {_short(value)}; strings are never parsed")
+        raise InputTypeError(f"{name} must be numeric, got strings {_short(value)}; strings are never parsed")
     if raw.dtype.kind == "O" or (not isinstance(value, np.ndarray) and raw.size <= 4096):
         # python sequences: a bool or a string among numbers would be silently converted
         for v in np.asarray(value, dtype=object).ravel():
             if isinstance(v, (str, bytes, bool, np.bool_)) or isinstance(v, complex):
-                raise TypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
+                raise InputTypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
     try:
         arr = np.asarray(raw, dtype=float)
     except OverflowError:
         raise InputError(f"{name} must be within the float range, got {_short(value)}") from None
     except (TypeError, ValueError):
-        raise TypeError(f"{name} must be numeric array_like, got {_short(value)}") from None
+        raise InputTypeError(f"{name} must be numeric array_like, got {_short(value)}") from None
     if last is not None:
         ok = arr.ndim >= 1 and arr.shape[-1] == last and (arr.ndim == 1 or (allow_batch and arr.ndim == 2))
         if not ok:
@@ -193,17 +193,17 @@ def as_exact(value, name: str):
     """
     if isinstance(value, sp.Basic):
         if not isinstance(value, sp.Expr):
-            raise TypeError(f"{name} must be a real number or sympy expression, got the sympy "
-                            f"{type(value).__name__} {_short(value)}")
+            raise InputTypeError(f"{name} must be a real number or sympy expression, got the sympy "
+                                 f"{type(value).__name__} {_short(value)}")
         if isinstance(value, sp.Float):
             return sp.Rational(value)
         if value.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
             raise InputError(f"{name} must be finite, got {value}")
         if value.has(sp.I) and not value.free_symbols:
-            raise TypeError(f"{name} must be real, got the complex number {_short(value)}")
+            raise InputTypeError(f"{name} must be real, got the complex number {_short(value)}")
         return value
     if isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be a number, got the boolean {value}")
+        raise InputTypeError(f"{name} must be a number, got the boolean {value}")
     if isinstance(value, numbers.Integral):
         return sp.Integer(int(value))
     if isinstance(value, numbers.Rational):
@@ -213,17 +213,17 @@ def as_exact(value, name: str):
         if not np.isfinite(v):
             raise InputError(f"{name} must be finite, got {v}")
         return sp.Rational(v)
-    raise TypeError(f"{name} must be a real number or sympy expression, got {type(value).__name__} {_short(value)}")
+    raise InputTypeError(f"{name} must be a real number or sympy expression, got {type(value).__name__} {_short(value)}")
 
 
 def as_point(value, name: str):
     """A planar point ``(2,)`` as a tuple of two exact sympy numbers or expressions."""
     if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name} must be a 2-vector, got {_short(value)}")
+        raise InputTypeError(f"{name} must be a 2-vector, got {_short(value)}")
     try:
         items = list(value)
     except TypeError:
-        raise TypeError(f"{name} must be a 2-vector (x, y), got {_short(value)}") from None
+        raise InputTypeError(f"{name} must be a 2-vector (x, y), got {_short(value)}") from None
     if len(items) != 2:
         raise InputError(f"{name} must have shape (2,), got {len(items)} entries: {_short(value)}")
     return tuple(as_exact(v, f"{name}[{i}]") for i, v in enumerate(items))
@@ -240,7 +240,7 @@ def as_flag(value, name: str) -> bool:
     """
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
-    raise TypeError(f"{name} must be True or False, got {type(value).__name__} {_short(value)}")
+    raise InputTypeError(f"{name} must be True or False, got {type(value).__name__} {_short(value)}")
 
 
 def as_count(value, name: str, minimum: int = 1) -> int:
@@ -253,7 +253,7 @@ def as_count(value, name: str, minimum: int = 1) -> int:
     65536
     """
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
-        raise TypeError(f"{name} must be a whole number, got {type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be a whole number, got {type(value).__name__} {_short(value)}")
     if int(value) < minimum:
         raise InputError(f"{name} must be at least {minimum}, got {value}")
     return int(value)
@@ -290,21 +290,21 @@ def as_sympy_entry(value, name: str):
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     if isinstance(value, (str, bytes, np.str_, np.bytes_)):
-        raise TypeError(f"{name} must be a number or sympy expression, got the string {_short(value)}; "
-                        "strings are never parsed")
+        raise InputTypeError(f"{name} must be a number or sympy expression, got the string {_short(value)}; "
+                             "strings are never parsed")
     if isinstance(value, sp.Basic):
         if not isinstance(value, sp.Expr):
-            raise TypeError(f"{name} must be a number or sympy expression, got the sympy "
-                            f"{type(value).__name__} {_short(value)}")
+            raise InputTypeError(f"{name} must be a number or sympy expression, got the sympy "
+                                 f"{type(value).__name__} {_short(value)}")
         if value.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
             raise InputError(f"{name} must be finite, got {_short(value)}")
         if value.has(sp.I) and not value.free_symbols:
-            raise TypeError(f"{name} must be real, got the complex number {_short(value)}")
+            raise InputTypeError(f"{name} must be real, got the complex number {_short(value)}")
         return value
     if value is None or isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
     if isinstance(value, (complex, np.complexfloating)):
-        raise TypeError(f"{name} must be real, got the complex number {_short(value)}")
+        raise InputTypeError(f"{name} must be real, got the complex number {_short(value)}")
     if isinstance(value, (numbers.Integral, np.integer)):
         return sp.Integer(int(value))
     if isinstance(value, numbers.Rational):
@@ -314,7 +314,7 @@ def as_sympy_entry(value, name: str):
         if not np.isfinite(v):
             raise InputError(f"{name} must be finite, got {v}")
         return sp.Float(v)
-    raise TypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
+    raise InputTypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
 
 
 def as_sympy_vector(value, name: str, n: int) -> list:
@@ -357,7 +357,7 @@ def as_sympy_vector(value, name: str, n: int) -> list:
     >>> as_sympy_vector([sp.Symbol("a"), "1", 0], "t", 3)
     Traceback (most recent call last):
     ...
-    TypeError: t[1] must be a number or sympy expression, got the string '1'; strings are never parsed
+    imagespace.exceptions.InputTypeError: t[1] must be a number or sympy expression, got the string '1'; strings are never parsed
     """
     if isinstance(value, sp.MatrixBase):
         if 1 not in value.shape:
@@ -370,8 +370,8 @@ def as_sympy_vector(value, name: str, n: int) -> list:
     elif isinstance(value, (list, tuple)):
         items = list(value)
     else:
-        raise TypeError(f"{name} must be a sequence of {n} numbers or sympy expressions, got "
-                        f"{type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be a sequence of {n} numbers or sympy expressions, got "
+                             f"{type(value).__name__} {_short(value)}")
     if len(items) != n:
         raise InputError(f"{name} must have {n} entries, got {len(items)}: {_short(value)}")
     return [as_sympy_entry(v, f"{name}[{i}]") for i, v in enumerate(items)]
@@ -412,9 +412,9 @@ def as_fraction(value, name: str):
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
     if isinstance(value, (str, bytes, np.str_, np.bytes_)):
-        raise TypeError(f"{name} must be a number, got the string {_short(value)}; strings are never parsed")
+        raise InputTypeError(f"{name} must be a number, got the string {_short(value)}; strings are never parsed")
     if value is None or isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be a number, got {type(value).__name__} {_short(value)}")
     if isinstance(value, sp.Rational):
         return Fraction(int(value.p), int(value.q))
     if isinstance(value, (numbers.Integral, np.integer)):
@@ -426,8 +426,8 @@ def as_fraction(value, name: str):
         if not np.isfinite(v):
             raise InputError(f"{name} must be finite, got {v}")
         return Fraction(v)
-    raise TypeError(f"{name} must be a real number (int, float, Fraction), got {type(value).__name__} "
-                    f"{_short(value)}")
+    raise InputTypeError(f"{name} must be a real number (int, float, Fraction), got {type(value).__name__} "
+                         f"{_short(value)}")
 
 
 def check_squares(values, name: str) -> None:
@@ -613,6 +613,6 @@ def as_tolerances(value, name: str = "tolerances") -> Tolerances:
     if value is None:
         return TOLERANCES
     if not isinstance(value, Tolerances):
-        raise TypeError(f"{name} must be an imagespace.Tolerances or None (the defaults), got "
-                        f"{type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be an imagespace.Tolerances or None (the defaults), got "
+                             f"{type(value).__name__} {_short(value)}")
     return value

@@ -117,7 +117,7 @@ def _save_figure(fig, path, dpi=110):
     from ._files import atomic_write
 
     try:
-        atomic_write(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi))
+        atomic_write(path, lambda fh: fig.savefig(fh, format=fmt, dpi=dpi), name="-o/--output")
     except OSError as exc:
         raise _write_error(path, exc) from exc
     return path

@@ -13,6 +13,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from .exceptions import InputTypeError
 from ._html import latex_collected
 from ._validate import as_count
 
@@ -62,8 +63,8 @@ def latex_form(poly: Any, by: Sequence[str] = ("x0", "x1"), digits: int = 6) -> 
     (True, True)
     """
     if not isinstance(poly, (sp.Poly, sp.Expr)):
-        raise TypeError(f"poly must be a sympy Poly or expression, got {type(poly).__name__} {repr(poly)[:80]}")
+        raise InputTypeError(f"poly must be a sympy Poly or expression, got {type(poly).__name__} {repr(poly)[:80]}")
     if isinstance(by, str) or not all(isinstance(b, str) for b in by):
-        raise TypeError(f"by must be a sequence of variable names such as ('x0', 'x1'), got {repr(by)[:80]}")
+        raise InputTypeError(f"by must be a sequence of variable names such as ('x0', 'x1'), got {repr(by)[:80]}")
     digits = as_count(digits, "digits", 1)
     return latex_collected(poly, by=tuple(by), digits=digits)

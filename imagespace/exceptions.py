@@ -8,6 +8,7 @@ shapes, ``RuntimeError`` for failed computations) so generic handlers keep worki
 __all__ = [
     "ImageSpaceError",
     "InputError",
+    "InputTypeError",
     "DegenerateDesignError",
     "EliminationError",
     "MsolveUnavailableError",
@@ -24,6 +25,16 @@ class InputError(ImageSpaceError, ValueError):
     """A public argument has the wrong shape, a non-finite entry or a value outside its domain.
 
     The message names the parameter, the value received and what was expected.
+    """
+
+
+class InputTypeError(InputError, TypeError):
+    """A public argument of the wrong type (a string, ``None``, a bool or a complex number where a
+    real number is expected, a sympy relation, a nested sequence).
+
+    Both an :class:`InputError` and a :class:`TypeError`: ``except TypeError`` and
+    ``except imagespace.ImageSpaceError`` catch it. The message names the parameter and what it
+    got.
     """
 
 

@@ -11,6 +11,7 @@ with :func:`imagespace.singular.meshing.export_mesh`.
 
 from __future__ import annotations
 
+from .exceptions import InputTypeError
 from .singular.meshing import MAX_MEMORY, PolynomialImplicit, mesh_implicit
 from .spatial.singularities import ConstantOrientationSingularity, constant_orientation_singularity
 
@@ -71,8 +72,8 @@ def mesh_constant_orientation_singularity(gs, rotation, box, resolution=64, tol=
     if isinstance(rotation, ConstantOrientationSingularity):
         locus = rotation
         if locus.gs is not gs:
-            raise TypeError("rotation is a ConstantOrientationSingularity of another design; pass the "
-                            "orientation itself, or the locus together with its own gs")
+            raise InputTypeError("rotation is a ConstantOrientationSingularity of another design; pass the "
+                                 "orientation itself, or the locus together with its own gs")
     else:
         locus = constant_orientation_singularity(gs, rotation, tolerances=tolerances)
     tols = gs.tolerances if tolerances is None else tolerances

@@ -62,7 +62,7 @@ import numpy as np
 from .._html import dataclass_html, dataclass_repr
 from .._validate import _short, as_box, as_count, as_float_array
 from ..core.mechanism import check_mechanism
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .boxes import check_joint_box
 from ..solve import front
 
@@ -487,7 +487,7 @@ def plot_uniqueness_domains(ud, max_points=3000):
     import matplotlib.pyplot as plt
 
     if not isinstance(ud, UniquenessDomains):
-        raise TypeError(f"ud must be a UniquenessDomains, got {type(ud).__name__} {_short(ud)}")
+        raise InputTypeError(f"ud must be a UniquenessDomains, got {type(ud).__name__} {_short(ud)}")
     max_points = as_count(max_points, "max_points")
     n = max(ud.n_domains, 1)
     fig = plt.figure(figsize=(3.2 * n, 6.4))

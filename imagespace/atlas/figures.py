@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import _short, as_float_array
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..solve import front
 
 __all__ = ["plot_atlas", "atlas_figure", "atlas_traces", "plot_atlas_section", "atlas_sheets", "cusp_polyline",
@@ -31,8 +31,8 @@ _ATLAS_FIELDS = ("box", "axes", "counts", "vertices", "faces", "vertex_level", "
 def _check_atlas(atlas):
     # duck-typed (the class lives in .jointspace, which draws through this module)
     if type(atlas).__name__ != "JointAtlas" or not all(hasattr(atlas, f) for f in _ATLAS_FIELDS):
-        raise TypeError(f"atlas must be a JointAtlas (imagespace.atlas.joint_atlas), got "
-                        f"{type(atlas).__name__} {_short(atlas)}")
+        raise InputTypeError(f"atlas must be a JointAtlas (imagespace.atlas.joint_atlas), got "
+                             f"{type(atlas).__name__} {_short(atlas)}")
 
 
 def _level_name(level, counts=None):

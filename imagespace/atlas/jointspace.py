@@ -49,7 +49,7 @@ from .._html import dataclass_html, dataclass_repr
 from .._validate import _short, as_box, as_count, as_flag, as_float_array
 from ..core.mechanism import check_mechanism
 from .boxes import check_joint_box
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..solve import front
 
 __all__ = ["AtlasRegion", "JointAtlas", "joint_atlas", "check_joint_box", "BISECTION_STEPS",
@@ -302,7 +302,7 @@ class JointAtlas:
         from .._files import atomic_write
 
         if not isinstance(path, (str, os.PathLike)) or isinstance(path, bytes):
-            raise TypeError(f"path must be a str or pathlib.Path, got {type(path).__name__} {_short(path)}")
+            raise InputTypeError(f"path must be a str or pathlib.Path, got {type(path).__name__} {_short(path)}")
         path = Path(path)
         if path.suffix.lower() != ".csv":
             raise InputError(f"path must end in .csv, got {str(path)!r}")

@@ -36,7 +36,7 @@ import numpy as np
 import sympy as sp
 
 from .._validate import as_float_array
-from ..exceptions import DegenerateDesignError, InputError
+from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 from .elimination import form_coefficients
 # the exact isolation on [0, 1] and the outward rounding live in core.exact_roots (issue [15]);
 # their names stay importable here
@@ -659,21 +659,21 @@ def certify_real_roots(form):
             [form.coeff_monomial(gens[0] ** (d - k) * gens[1] ** k) for k in range(d + 1)]
     else:
         if isinstance(form, (str, bytes)):
-            raise TypeError(f"form must be a sympy Poly or a sequence of numbers, got {form!r}")
+            raise InputTypeError(f"form must be a sympy Poly or a sequence of numbers, got {form!r}")
         if isinstance(form, np.ndarray) and form.ndim != 1:
             raise InputError(f"form must be one binary form, a 1-d sequence of coefficients, got an "
                              f"array of shape {form.shape}; use certify_real_roots_batch for rows")
         try:
             entries = list(form)
         except TypeError:
-            raise TypeError(f"form must be a sympy Poly or a sequence of numbers, got "
-                            f"{type(form).__name__} {form!r}") from None
+            raise InputTypeError(f"form must be a sympy Poly or a sequence of numbers, got "
+                                 f"{type(form).__name__} {form!r}") from None
         coeffs = []
         for k, c in enumerate(entries):
             if isinstance(c, (bool, np.bool_, sp.logic.boolalg.Boolean)):
-                raise TypeError(f"form[{k}] must be a number or a sympy expression, got the boolean {c!r}")
+                raise InputTypeError(f"form[{k}] must be a number or a sympy expression, got the boolean {c!r}")
             if isinstance(c, (str, bytes)):
-                raise TypeError(f"form[{k}] must be a number or a sympy expression, got the string {c!r}")
+                raise InputTypeError(f"form[{k}] must be a number or a sympy expression, got the string {c!r}")
             if isinstance(c, (float, np.floating)):
                 if not math.isfinite(float(c)):
                     raise InputError(f"form[{k}] must be finite, got {float(c)}")
@@ -685,8 +685,8 @@ def certify_real_roots(form):
             elif isinstance(c, sp.Basic):
                 coeffs.append(c)
             else:
-                raise TypeError(f"form[{k}] must be a number or a sympy expression, got "
-                                f"{type(c).__name__} {c!r}")
+                raise InputTypeError(f"form[{k}] must be a number or a sympy expression, got "
+                                     f"{type(c).__name__} {c!r}")
     for k, c in enumerate(coeffs):
         if c.has(sp.nan, sp.zoo, sp.oo, -sp.oo) or c.free_symbols:
             raise InputError(f"coefficient {k} of the form must be a finite number, got {c}")

@@ -426,12 +426,18 @@ def kernel_cache_dir():
         return None
     if reason is None:
         # numba caches a file's machine code in __pycache__ next to it (unless NUMBA_CACHE_DIR
-        # names another directory: then that one, the user's choice): private too
+        # names another directory: then that one, the user's choice): private too, and held to
+        # the same checks (a link, a foreign owner or a group/world-writable mode refuses the
+        # cache: numba's index files are pickles, read before their contents are checked)
+        pycache = os.path.join(path, "__pycache__")
         try:
-            _make_private_dirs(os.path.join(path, "__pycache__"))
+            _make_private_dirs(pycache)
+            reason = _refusal(pycache)
         except OSError:
-            pass
-    else:
+            reason = None
+        if reason is not None:
+            path = pycache
+    if reason is not None:
         warn_once("refused", path, f"kernel cache directory {path} {reason}: not used, the kernel "
                    "is compiled in memory (make it a directory of your own with mode 0700, or "
                    "set IMAGESPACE_CACHE)")

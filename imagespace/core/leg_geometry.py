@@ -17,7 +17,7 @@ import numpy as np
 import sympy as sp
 
 from .._validate import as_exact, as_point, as_sympy_entry
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 
 __all__: list[str] = []
 
@@ -123,7 +123,7 @@ def real_entry(value: Any, name: str) -> Any:
     if isinstance(value, sp.Basic):
         value = as_sympy_entry(value, name)
         if value.has(sp.I):
-            raise TypeError(f"{name} must be real, got {short_text(value)}")
+            raise InputTypeError(f"{name} must be real, got {short_text(value)}")
     return value
 
 

@@ -61,7 +61,7 @@ from .leg_geometry import (Arithmetic, circle_line, direction_angle, exact_cos_s
                            geometry_number, geometry_point, in_float_range, lines_meet, reduce_angle, rotate_vector, short_text,
                            unit_direction, world_point, wrap_angle)
 from .quadrics import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric
-from ..exceptions import DegenerateDesignError, InputError
+from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 from ..tolerances import Tolerances
 
 __all__ = ["Leg", "RPR", "RRR", "PRR", "RRP", "RPP", "PRP", "PPR", "LEG_TYPES"]
@@ -99,8 +99,8 @@ class Leg:
         if actuated is None:
             actuated = self.default_actuated
         if isinstance(actuated, (bool, np.bool_)) or not isinstance(actuated, (int, np.integer)):
-            raise TypeError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
-                            f"{self.joints}), got {type(actuated).__name__} {short_text(repr(actuated))}")
+            raise InputTypeError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
+                                 f"{self.joints}), got {type(actuated).__name__} {short_text(repr(actuated))}")
         if not 0 <= actuated <= 2:
             raise InputError(f"actuated must be 0, 1 or 2 (the index of the actuated joint of "
                              f"{self.joints}), got {short_text(repr(actuated))}")

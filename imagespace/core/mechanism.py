@@ -22,6 +22,7 @@ from typing import Any, Callable, Hashable, Optional
 
 import numpy as np
 import numpy.typing as npt
+from ..exceptions import InputTypeError
 
 __all__ = ["Mechanism", "Backends", "check_mechanism", "index_rows", "BACKEND_STAGES"]
 
@@ -260,7 +261,7 @@ def check_mechanism(value: Any, name: str = "manipulator", image_space: Optional
     >>> check_mechanism(PlanarMechanism(isp.examples.general_3rpr().legs))
     Traceback (most recent call last):
     ...
-    TypeError: manipulator must be a mechanism with direct-kinematics back ends; PlanarMechanism ... lacks solve, ...
+    imagespace.exceptions.InputTypeError: manipulator must be a mechanism with direct-kinematics back ends; PlanarMechanism ... lacks solve, ...
     """
     if not isinstance(value, Mechanism):
         want = ("a PlanarParallel (a planar imagespace Mechanism, e.g. isp.examples.general_3rpr())"
@@ -268,19 +269,19 @@ def check_mechanism(value: Any, name: str = "manipulator", image_space: Optional
                 "a GoughStewart or a ThreeRPS (a spatial imagespace Mechanism)" if image_space == "study" else
                 "an imagespace Mechanism (a PlanarParallel such as isp.examples.general_3rpr(), a "
                 "GoughStewart or a ThreeRPS)")
-        raise TypeError(f"{name} must be {want}, got {type(value).__name__} {value!r:.80}")
+        raise InputTypeError(f"{name} must be {want}, got {type(value).__name__} {value!r:.80}")
     if image_space is not None and value.image_space != image_space:
         want = ("a PlanarParallel (a planar mechanism, e.g. isp.examples.general_3rpr())"
                 if image_space == "planar" else "a spatial platform (GoughStewart, ThreeRPS)")
-        raise TypeError(f"{name} must be {want}, got the {value.image_space or 'unknown'} mechanism "
-                        f"{type(value).__name__} {value.name!r}")
+        raise InputTypeError(f"{name} must be {want}, got the {value.image_space or 'unknown'} mechanism "
+                             f"{type(value).__name__} {value.name!r}")
     be = value.backends
     missing = list(BACKEND_STAGES) if be is None else be.missing()
     if missing:
         hint = (" (a PlanarMechanism holds the derivations only: build an isp.PlanarParallel from "
                 "the same legs)" if type(value).__name__ == "PlanarMechanism" else "")
-        raise TypeError(f"{name} must be a mechanism with direct-kinematics back ends; "
-                        f"{type(value).__name__} {value.name!r} lacks {', '.join(missing)}{hint}")
+        raise InputTypeError(f"{name} must be a mechanism with direct-kinematics back ends; "
+                             f"{type(value).__name__} {value.name!r} lacks {', '.join(missing)}{hint}")
     return value
 
 
@@ -305,7 +306,7 @@ def index_rows(result: Any, i: Any, row: Callable[[int], Any]) -> Any:
     if isinstance(i, slice):
         return [row(k) for k in range(*i.indices(n))]
     if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)):
-        raise TypeError(f"a batch result is indexed by a row number or a slice, got {type(i).__name__} {i!r:.40}")
+        raise InputTypeError(f"a batch result is indexed by a row number or a slice, got {type(i).__name__} {i!r:.40}")
     k = int(i) + (n if i < 0 else 0)
     if not 0 <= k < n:
         raise IndexError(f"row {int(i)} is out of range for a batch of {n} rows")

@@ -42,6 +42,7 @@ import numpy as np
 
 from imagespace._validate import as_count, as_scalar
 from imagespace.exceptions import EliminationError, InputError, MsolveUnavailableError
+from ..exceptions import InputTypeError
 
 __all__ = [
     "POSITIVE_DIMENSIONAL",
@@ -184,16 +185,16 @@ def _exact_expr(value, name):
     if isinstance(value, sp.Poly):
         value = value.as_expr()
     elif isinstance(value, (bool, np.bool_)) or isinstance(value, (str, bytes)):
-        raise TypeError(f"{name} must be a sympy polynomial or expression, got "
-                        f"{type(value).__name__} {value!r:.60}")
+        raise InputTypeError(f"{name} must be a sympy polynomial or expression, got "
+                             f"{type(value).__name__} {value!r:.60}")
     elif isinstance(value, (Integral, Rational, np.integer)):
         value = sp.Rational(int(value)) if isinstance(value, (Integral, np.integer)) \
             else sp.Rational(int(value.numerator), int(value.denominator))
     elif isinstance(value, (Real, np.floating)):
         value = sp.Float(float(value))
     elif not isinstance(value, sp.Basic):
-        raise TypeError(f"{name} must be a sympy polynomial or expression, got "
-                        f"{type(value).__name__}")
+        raise InputTypeError(f"{name} must be a sympy polynomial or expression, got "
+                             f"{type(value).__name__}")
     if value.has(sp.nan, sp.oo, -sp.oo, sp.zoo):
         raise InputError(f"{name} has a non-finite coefficient (nan or infinity): {value}; "
                          f"expected finite numbers")
@@ -583,17 +584,17 @@ def solve_real(polys, variables, *, timeout=DEFAULT_TIMEOUT, threads=1,
     threads = as_count(threads, "threads")
     precision = as_count(precision, "precision")
     if isinstance(polys, (str, bytes, sp.Basic, sp.Poly)) or not hasattr(polys, "__iter__"):
-        raise TypeError(f"polys must be a sequence of polynomials, got {type(polys).__name__}")
+        raise InputTypeError(f"polys must be a sequence of polynomials, got {type(polys).__name__}")
     polys = list(polys)
     if isinstance(variables, (str, bytes, sp.Basic)) or not hasattr(variables, "__iter__"):
-        raise TypeError(f"variables must be a sequence of symbols, got {type(variables).__name__}")
+        raise InputTypeError(f"variables must be a sequence of symbols, got {type(variables).__name__}")
     symbols = []
     for v in variables:
         if isinstance(v, str):
             v = sp.Symbol(v)
         if not isinstance(v, sp.Symbol):
-            raise TypeError(f"variables must be sympy symbols (or names), got "
-                            f"{type(v).__name__} {v!r:.40}")
+            raise InputTypeError(f"variables must be sympy symbols (or names), got "
+                                 f"{type(v).__name__} {v!r:.40}")
         symbols.append(v)
     if not symbols:
         raise InputError("variables must name at least one unknown, got none")

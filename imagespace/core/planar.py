@@ -18,7 +18,7 @@ import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_exact, as_float_array, finite_rows, is_symbolic, warn_angle_units
-from ..exceptions import DegenerateDesignError, InputError
+from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 from ..tolerances import TOLERANCES, Tolerances
 from .certify import reduced_angle
 from .elimination import binary_form_poly, eliminate, form_coefficients, orientation_form, plan_elimination
@@ -38,11 +38,11 @@ def _three_joint_values(q, name="q"):
     """The three entries of one joint vector ``q`` (numbers or sympy expressions), refusing
     other shapes, strings and None by name."""
     if isinstance(q, (str, bytes)) or q is None or isinstance(q, sp.MatrixBase) and min(q.shape) > 1:
-        raise TypeError(f"{name} must be three joint values, got {type(q).__name__} {q!r:.80}")
+        raise InputTypeError(f"{name} must be three joint values, got {type(q).__name__} {q!r:.80}")
     try:
         items = list(q)
     except TypeError:
-        raise TypeError(f"{name} must be three joint values, got {type(q).__name__} {q!r:.80}") from None
+        raise InputTypeError(f"{name} must be three joint values, got {type(q).__name__} {q!r:.80}") from None
     if len(items) != 3 or any(np.ndim(v) != 0 or isinstance(v, (list, tuple)) for v in items):
         raise InputError(f"{name} must have shape (3,), got {np.shape(np.asarray(q, dtype=object))}")
     return items
@@ -138,20 +138,20 @@ class PlanarMechanism(Mechanism):
 
     def __init__(self, legs: Sequence[Leg], name: Optional[str] = None, tolerances: Tolerances = TOLERANCES) -> None:
         if isinstance(legs, (str, bytes)) or legs is None or not (isinstance(legs, Leg) or hasattr(legs, "__iter__")):
-            raise TypeError(f"legs must be a sequence of three Leg objects (RPR, RRR, PRR, RRP, RPP, "
-                            f"PRP, PPR), got {type(legs).__name__} {legs!r}")
+            raise InputTypeError(f"legs must be a sequence of three Leg objects (RPR, RRR, PRR, RRP, RPP, "
+                                 f"PRP, PPR), got {type(legs).__name__} {legs!r}")
         if not isinstance(tolerances, Tolerances):
-            raise TypeError(f"tolerances must be an imagespace.Tolerances, got {type(tolerances).__name__} "
-                            f"{tolerances!r}")
+            raise InputTypeError(f"tolerances must be an imagespace.Tolerances, got {type(tolerances).__name__} "
+                                 f"{tolerances!r}")
         if name is not None and not isinstance(name, str):
-            raise TypeError(f"name must be a string, got {type(name).__name__} {name!r}")
+            raise InputTypeError(f"name must be a string, got {type(name).__name__} {name!r}")
         legs = list(legs) if not isinstance(legs, Leg) else [legs]
         if len(legs) != 3:
             raise InputError(f"legs must be a sequence of three legs, got {len(legs)}")
         for i, leg in enumerate(legs):
             if not isinstance(leg, Leg):
-                raise TypeError(f"legs[{i}] must be a Leg (RPR, RRR, PRR, RRP, RPP, PRP, PPR), "
-                                f"got {type(leg).__name__}")
+                raise InputTypeError(f"legs[{i}] must be a Leg (RPR, RRR, PRR, RRP, RPP, PRP, PPR), "
+                                     f"got {type(leg).__name__}")
         self.legs = tuple(legs)
         self.name = name or "-".join(leg.joints for leg in legs)
         self.tolerances = tolerances
@@ -529,15 +529,15 @@ class PlanarMechanism(Mechanism):
         (1, 0, 1)
         """
         if isinstance(working_modes, (str, bytes)) or not hasattr(working_modes, "__iter__"):
-            raise TypeError(f"{name} must be a sequence of three whole numbers (branch indices), got "
-                            f"{type(working_modes).__name__} {working_modes!r:.80}")
+            raise InputTypeError(f"{name} must be a sequence of three whole numbers (branch indices), got "
+                                 f"{type(working_modes).__name__} {working_modes!r:.80}")
         wm = tuple(working_modes)
         if len(wm) != 3:
             raise InputError(f"{name} must have three entries, got {working_modes!r:.80}")
         for i, (leg, b) in enumerate(zip(self.legs, wm)):
             if isinstance(b, (bool, np.bool_)) or not isinstance(b, (int, np.integer)):
-                raise TypeError(f"{name}[{i}] must be a whole number (a branch index), got "
-                                f"{type(b).__name__} {b!r:.80}")
+                raise InputTypeError(f"{name}[{i}] must be a whole number (a branch index), got "
+                                     f"{type(b).__name__} {b!r:.80}")
             if not 0 <= b < leg.n_branches:
                 raise InputError(f"{name}[{i}] must be in 0..{leg.n_branches - 1} for {leg.joints}, got {b}")
         return (int(wm[0]), int(wm[1]), int(wm[2]))

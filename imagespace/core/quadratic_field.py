@@ -25,15 +25,73 @@ with a repeated root (where a continuum must be ruled out) is left to the genera
 
 from __future__ import annotations
 
+import math
+import numbers
 from fractions import Fraction
 
 import sympy as sp
 
+from .._validate import as_sympy_entry
+from ..exceptions import InputError, InputTypeError
+
 __all__ = ["QuadraticFieldForms", "quadratic_field_count", "count_distinct_real_roots", "poly_mul", "poly_sub",
-           "poly_gcd", "PRECISIONS"]
+           "poly_gcd", "check_radicand", "PRECISIONS"]
 
 #: Working precisions (bits) of the arb isolation, tried in turn.
 PRECISIONS = (64, 128, 256, 512, 1024, 2048, 4096)
+
+
+def check_radicand(d, name="d"):
+    """``d`` as a python int when it is an integer greater than 1 that is not a perfect square
+    (so ``Q(sqrt d)`` is a field of degree 2 and ``a**2 - d b**2`` vanishes only at 0), else an
+    :class:`~imagespace.exceptions.InputError` naming ``name``.
+
+    Examples
+    --------
+    >>> from imagespace.core.quadratic_field import check_radicand
+    >>> check_radicand(181)
+    181
+    >>> check_radicand(4)
+    Traceback (most recent call last):
+    ...
+    imagespace.exceptions.InputError: d must be an integer > 1 that is not a perfect square (Q(sqrt d) a quadratic field), got 4
+    """
+    if isinstance(d, (bool, str, bytes)) or not isinstance(d, (numbers.Integral, sp.Integer)):
+        raise InputTypeError(f"{name} must be an integer > 1 that is not a perfect square, got "
+                             f"{type(d).__name__} {d!r}")
+    d = int(d)
+    if d <= 1 or math.isqrt(d) ** 2 == d:
+        raise InputError(f"{name} must be an integer > 1 that is not a perfect square (Q(sqrt d) a "
+                         f"quadratic field), got {d}")
+    return d
+
+
+def _check_poly(p, name):
+    """A polynomial over ``Q(sqrt d)`` given as ascending ``(a, b)`` pairs of exact rationals
+    (fmpq, int, Fraction; a float is its binary rational), as a list of fmpq pairs."""
+    import flint
+
+    if isinstance(p, (str, bytes)) or not isinstance(p, (list, tuple)):
+        raise InputTypeError(f"{name} must be a list of (a, b) pairs (the coefficient a + b sqrt d), got "
+                             f"{type(p).__name__}")
+    out = []
+    for k, pair in enumerate(p):
+        if not isinstance(pair, (list, tuple)) or len(pair) != 2:
+            raise InputError(f"{name}[{k}] must be a pair (a, b) of rationals, got {pair!r}")
+        vals = []
+        for v in pair:
+            if isinstance(v, flint.fmpq):
+                vals.append(v)
+            elif isinstance(v, (bool, str, bytes)) or not isinstance(v, (numbers.Rational, float, flint.fmpz)):
+                raise InputTypeError(f"{name}[{k}] must hold exact rationals (fmpq, int, Fraction), got "
+                                     f"{type(v).__name__} {v!r}")
+            else:
+                if isinstance(v, float) and not math.isfinite(v):
+                    raise InputError(f"{name}[{k}] must be finite, got {v}")
+                f = Fraction(int(v)) if isinstance(v, flint.fmpz) else Fraction(v)
+                vals.append(flint.fmpq(f.numerator, f.denominator))
+        out.append(tuple(vals))
+    return out
 
 
 def _radicand(exprs):
@@ -82,8 +140,8 @@ class QuadraticFieldForms:
 
     Raises
     ------
-    ValueError
-        The constants are not in one ``Q(sqrt d)`` with ``d > 1`` square-free (rational only,
+    InputError
+        A string or other non-number among the coefficients (never parsed); the constants are not in one ``Q(sqrt d)`` with ``d > 1`` square-free (rational only,
         trigonometric features, other radicals), or a coefficient is not polynomial in ``symbols``.
 
     Examples
@@ -99,7 +157,17 @@ class QuadraticFieldForms:
     def __init__(self, forms, symbols):
         import flint
 
-        exprs = [sp.expand(sp.sympify(c)) for form in forms for c in form]
+        if isinstance(forms, (str, bytes)) or not isinstance(forms, (list, tuple)):
+            raise InputTypeError(f"forms must be a list of coefficient lists, got {type(forms).__name__}")
+        for k, form in enumerate(forms):
+            if isinstance(form, (str, bytes)) or not isinstance(form, (list, tuple)):
+                raise InputTypeError(f"forms[{k}] must be a list of coefficients, got {type(form).__name__}")
+        if isinstance(symbols, (str, bytes)) or not isinstance(symbols, (list, tuple)) or \
+                not all(isinstance(v, sp.Symbol) for v in symbols):
+            raise InputTypeError(f"symbols must be a sequence of sympy Symbols, got {symbols!r}")
+        exprs = [sp.expand(as_sympy_entry(c, f"forms[{k}][{j}]")) for k, form in enumerate(forms)
+                 for j, c in enumerate(form)]
+        forms = [list(form) for form in forms]
         self.symbols = tuple(symbols)
         consts = []
         polys = []
@@ -107,14 +175,14 @@ class QuadraticFieldForms:
             try:
                 p = sp.Poly(e, *self.symbols)
             except sp.PolynomialError:
-                raise ValueError(f"a coefficient is not polynomial in {self.symbols}: {e}") from None
+                raise InputError(f"forms: a coefficient is not polynomial in {self.symbols}: {e}") from None
             if any(v.free_symbols for _, v in p.terms()):
-                raise ValueError(f"a coefficient is not polynomial in {self.symbols}: {e}")
+                raise InputError(f"forms: a coefficient is not polynomial in {self.symbols}: {e}")
             polys.append(p)
             consts += [v for _, v in p.terms()]
         d = _radicand(consts)
         if d is None:
-            raise ValueError("the constants do not lie in one quadratic field Q(sqrt d)")
+            raise InputError("forms: the constants do not lie in one quadratic field Q(sqrt d)")
         self.d = d
         zeta = sp.Dummy("zeta")
         self._ctx = flint.fmpq_mpoly_ctx.get(tuple(str(s) for s in self.symbols), "lex")
@@ -124,7 +192,7 @@ class QuadraticFieldForms:
             for mono, v in p.terms():
                 ab = _split(v, zeta, d)
                 if ab is None:
-                    raise ValueError(f"the constant {v} is not in Q(sqrt {d})")
+                    raise InputError(f"forms: the constant {v} is not in Q(sqrt {d})")
                 for part, x in zip((ra, rb), ab):
                     if x != 0:
                         part[tuple(mono)] = flint.fmpq(int(x.p), int(x.q))
@@ -217,6 +285,7 @@ def poly_mul(p, q, d):
     >>> poly_mul([(z, -r), (one, z)], [(z, r), (one, z)], 2)     # (t - sqrt 2)(t + sqrt 2)
     [(-2, 0), (0, 0), (1, 0)]
     """
+    p, q, d = _check_poly(p, "p"), _check_poly(q, "q"), check_radicand(d)
     if not p or not q:
         return []
     out = [(0, 0)] * (len(p) + len(q) - 1)
@@ -238,6 +307,7 @@ def poly_sub(p, q):
     >>> poly_sub([(one, z), (one, one)], [(z, z), (one, one)])
     [(1, 0)]
     """
+    p, q = _check_poly(p, "p"), _check_poly(q, "q")
     n = max(len(p), len(q))
     p = list(p) + [(0, 0)] * (n - len(p))
     q = list(q) + [(0, 0)] * (n - len(q))
@@ -261,7 +331,8 @@ def poly_gcd(p, q, d):
     >>> len(poly_gcd(a, [(z, one), (one, z)], 2)) - 1   # t - sqrt 2 and t + sqrt 2
     0
     """
-    a, b = _trimmed(list(p)), _trimmed(list(q))
+    d = check_radicand(d)
+    a, b = _trimmed(_check_poly(p, "p")), _trimmed(_check_poly(q, "q"))
     while b:
         a, b = b, _rem(a, b, d)
     return a
@@ -292,6 +363,8 @@ def count_distinct_real_roots(coeffs, d):
     from .certify import flint_precision
     from .transcendental import real_root_intervals, isolating_boxes
 
+    d = check_radicand(d)
+    coeffs = _check_poly(coeffs, "coeffs")
     p = _trimmed(list(coeffs))
     if not p:
         return None

@@ -42,7 +42,7 @@ import numpy.typing as npt
 import sympy as sp
 
 from .._validate import _short, as_sympy_entry
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 
 __all__ = [
     "Quadric",
@@ -80,17 +80,17 @@ def _entry(value, name):
         if kind in "iuf":
             return value
         if kind == "b":
-            raise TypeError(f"{name} must be numeric, got booleans {_short(value)}")
+            raise InputTypeError(f"{name} must be numeric, got booleans {_short(value)}")
         if kind == "c":
-            raise TypeError(f"{name} must be real, got the complex array {_short(value)}")
+            raise InputTypeError(f"{name} must be real, got the complex array {_short(value)}")
         if kind in "USV":
-            raise TypeError(f"{name} must be numeric, got strings {_short(value)}; strings are never parsed")
-        raise TypeError(f"{name} must be a number, a sympy expression or a float array, got an array of "
-                        f"dtype {value.dtype}: {_short(value)}")
+            raise InputTypeError(f"{name} must be numeric, got strings {_short(value)}; strings are never parsed")
+        raise InputTypeError(f"{name} must be a number, a sympy expression or a float array, got an array of "
+                             f"dtype {value.dtype}: {_short(value)}")
     if isinstance(value, sp.Basic):
         value = as_sympy_entry(value, name)
         if value.has(sp.I):
-            raise TypeError(f"{name} must be real, got {_short(value)}")
+            raise InputTypeError(f"{name} must be real, got {_short(value)}")
         return value
     if isinstance(value, np.ndarray):             # 0-d
         value = value[()]
@@ -105,22 +105,22 @@ def _entry(value, name):
             raise InputError(f"{name} must be finite and within the float range, got {_short(value)}")
         return value
     as_sympy_entry(value, name)                   # raises the right TypeError (str, None, bool, complex ...)
-    raise TypeError(f"{name} must be a number, a sympy expression or a float array, got "
-                    f"{type(value).__name__} {_short(value)}")
+    raise InputTypeError(f"{name} must be a number, a sympy expression or a float array, got "
+                         f"{type(value).__name__} {_short(value)}")
 
 
 def _pair(value, name):
     """A 2-vector (x, y) of entries (numbers, sympy expressions or float arrays, per coordinate)."""
     if isinstance(value, (str, bytes)) or value is None or isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be a 2-vector (x, y), got {type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be a 2-vector (x, y), got {type(value).__name__} {_short(value)}")
     if isinstance(value, np.ndarray) and value.ndim == 1 and value.dtype.kind != "O":
         items = list(value)
     else:
         try:
             items = list(value)
         except TypeError:
-            raise TypeError(f"{name} must be a 2-vector (x, y), got {type(value).__name__} "
-                            f"{_short(value)}") from None
+            raise InputTypeError(f"{name} must be a 2-vector (x, y), got {type(value).__name__} "
+                                 f"{_short(value)}") from None
     if len(items) != 2:
         raise InputError(f"{name} must have two entries (x, y), got {len(items)}: {_short(value)}")
     return tuple(_entry(v, f"{name}[{i}]") for i, v in enumerate(items))
@@ -190,8 +190,8 @@ class Quadric:
 
     def __post_init__(self):
         if not isinstance(self.kind, str):
-            raise TypeError(f"kind must be one of {', '.join(_KINDS)}, got {type(self.kind).__name__} "
-                            f"{_short(self.kind)}")
+            raise InputTypeError(f"kind must be one of {', '.join(_KINDS)}, got {type(self.kind).__name__} "
+                                 f"{_short(self.kind)}")
         if self.kind not in _KINDS:
             raise InputError(f"kind must be one of {', '.join(_KINDS)}, got {self.kind!r}")
         shape = None
@@ -240,7 +240,7 @@ class Quadric:
             x0, x1, x2, x3 = _X
         else:
             if isinstance(x, (str, bytes)) or not hasattr(x, "__len__") or len(x) != 4:
-                raise TypeError(f"x must be four sympy symbols or expressions, got {_short(x)}")
+                raise InputTypeError(f"x must be four sympy symbols or expressions, got {_short(x)}")
             x0, x1, x2, x3 = (as_sympy_entry(v, f"x[{i}]") for i, v in enumerate(x))
         batch = [n for n, v in zip(_NAMES, self.coefficients()) if isinstance(v, np.ndarray) and v.ndim > 0]
         if batch:
@@ -286,8 +286,8 @@ class Quadric:
         for name, v in zip(_NAMES, self.coefficients()):
             if isinstance(v, sp.Basic):
                 if v.free_symbols:
-                    raise TypeError(f"{what} needs numeric coefficients, but {name} = {_short(v)} has the "
-                                    f"symbols {sorted(map(str, v.free_symbols))}; substitute numbers first")
+                    raise InputTypeError(f"{what} needs numeric coefficients, but {name} = {_short(v)} has the "
+                                         f"symbols {sorted(map(str, v.free_symbols))}; substitute numbers first")
                 v = float(v)
             out.append(np.asarray(v, dtype=float))
         return out

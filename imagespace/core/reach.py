@@ -54,7 +54,7 @@ from typing import Any, Optional, Sequence
 
 import numpy as np
 
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 
 __all__ = ["REACH_BITS", "ReachObstruction", "planar_reach_obstruction", "point_pairs_obstruction",
            "planar_design_scale", "prismatic_magnitude"]
@@ -106,7 +106,7 @@ def _arb(value):
     from numbers import Integral
 
     if isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"expected a number, got the boolean {value!r}")
+        raise InputTypeError(f"expected a number, got the boolean {value!r}")
     if isinstance(value, (float, np.floating)):
         v = float(value)
         if not math.isfinite(v):
@@ -378,7 +378,7 @@ def planar_reach_obstruction(legs: Sequence[Any], q: Sequence[Any]) -> Optional[
 
     legs = list(legs)
     if isinstance(q, (str, bytes)):
-        raise TypeError(f"q must be a sequence of numbers, got {q!r:.60}")
+        raise InputTypeError(f"q must be a sequence of numbers, got {q!r:.60}")
     q = list(np.ravel(np.asarray(q, dtype=object))) if not hasattr(q, "free_symbols") else [q]
     if len(q) != len(legs):
         raise InputError(f"q must hold one value per leg ({len(legs)}), got {len(q)}")
@@ -390,7 +390,7 @@ def planar_reach_obstruction(legs: Sequence[Any], q: Sequence[Any]) -> Optional[
             try:
                 qa = _arb(v)
             except TypeError as exc:
-                raise TypeError(f"q[{j}] must be a number, got {type(v).__name__}") from exc
+                raise InputTypeError(f"q[{j}] must be a number, got {type(v).__name__}") from exc
             except InputError as exc:
                 raise InputError(f"q[{j}]: {exc}") from None
             c = _leg_constraint(j, leg, qa)

@@ -19,7 +19,7 @@ import numpy as np
 import warnings
 
 from .._validate import _short, as_count, as_float_array, as_scalar
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..core.mechanism import check_mechanism
 from ..singular.jacobians import jacobians
 from .workspace import MAX_ORIENTATIONS, check_phi_range
@@ -92,7 +92,7 @@ def isotropy(Jh, kind="condition"):
     """
     J = _stack(Jh)
     if not isinstance(kind, str):
-        raise TypeError(f"kind must be 'condition' or 'frobenius', got {type(kind).__name__} {_short(kind)}")
+        raise InputTypeError(f"kind must be 'condition' or 'frobenius', got {type(kind).__name__} {_short(kind)}")
     if kind == "condition":
         sv = np.linalg.svd(J, compute_uv=False)
         return sv[..., -1] / sv[..., 0]

@@ -18,7 +18,7 @@ import numbers
 from dataclasses import dataclass
 
 from .._validate import _short, as_count, as_flag
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..core.mechanism import check_mechanism
 
 __all__ = ["Mobility", "gruebler", "mechanism_mobility", "manipulator_mobility", "JOINT_FREEDOMS"]
@@ -63,7 +63,7 @@ def _int(v, name, minimum=0):
 
 def _sequence(v, name, what):
     if v is None or isinstance(v, (bytes, numbers.Number)) or not hasattr(v, "__iter__"):
-        raise TypeError(f"{name} must be {what}, got {type(v).__name__} {_short(v)}")
+        raise InputTypeError(f"{name} must be {what}, got {type(v).__name__} {_short(v)}")
     return list(v)
 
 
@@ -102,7 +102,7 @@ def gruebler(n, joints, D=3):
     3
     """
     if isinstance(D, (bool, float)) or not isinstance(D, numbers.Integral):
-        raise TypeError(f"D must be the whole number 3 (planar) or 6 (spatial), got {type(D).__name__} {_short(D)}")
+        raise InputTypeError(f"D must be the whole number 3 (planar) or 6 (spatial), got {type(D).__name__} {_short(D)}")
     if D not in (3, 6):
         raise InputError(f"D must be 3 (planar) or 6 (spatial), got {D!r}")
     _int(n, "n", 1)
@@ -165,7 +165,7 @@ def mechanism_mobility(links, joints, D=3):
         try:
             hash(nm)
         except TypeError:
-            raise TypeError(f"links[{k}] must be a hashable name, got {type(nm).__name__} {_short(nm)}") from None
+            raise InputTypeError(f"links[{k}] must be a hashable name, got {type(nm).__name__} {_short(nm)}") from None
     if len(set(names)) != len(names):
         raise InputError("links must have distinct names")
     used = set()

@@ -34,7 +34,7 @@ import numbers
 import numpy as np
 
 from .._validate import _short, as_count, as_flag
-from ..exceptions import ImageSpaceError, InputError
+from ..exceptions import ImageSpaceError, InputError, InputTypeError
 from .._validate import as_tolerances as check_tolerances
 from .._html import dataclass_html, dataclass_repr, fmt, html_table, summary
 
@@ -379,21 +379,21 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
     imagespace.design.sweep.DesignEvaluationError: design 3 {'a': 2.0, 'b': 20.0} failed: ValueError: no design here
     """
     if not callable(func):
-        raise TypeError(f"func must be callable (func(**params) -> dict of numbers), got "
-                        f"{type(func).__name__} {_short(func)}")
+        raise InputTypeError(f"func must be callable (func(**params) -> dict of numbers), got "
+                             f"{type(func).__name__} {_short(func)}")
     if not isinstance(grid, dict):
-        raise TypeError(f"grid must be a dict of parameter name -> values, got {type(grid).__name__} {_short(grid)}")
+        raise InputTypeError(f"grid must be a dict of parameter name -> values, got {type(grid).__name__} {_short(grid)}")
     if not grid:
         raise InputError("grid must be a non-empty dict of parameter name -> values, got {}")
     for k in grid:
         if not isinstance(k, str) or not k.isidentifier():
-            raise TypeError(f"grid keys must be parameter names (identifiers, passed as func(**params)), "
-                            f"got {_short(k)}")
+            raise InputTypeError(f"grid keys must be parameter names (identifiers, passed as func(**params)), "
+                                 f"got {_short(k)}")
     if not isinstance(on_error, str) or on_error not in ("raise", "record"):
         raise InputError(f"on_error must be 'raise' or 'record', got {on_error!r}")
     if client is not None and not all(hasattr(client, a) for a in ("submit", "scheduler", "cancel")):
-        raise TypeError(f"client must be a dask.distributed.Client (or None), got {type(client).__name__} "
-                        f"{_short(client)}")
+        raise InputTypeError(f"client must be a dask.distributed.Client (or None), got {type(client).__name__} "
+                             f"{_short(client)}")
     if processes is not None:
         processes = as_count(processes, "processes", 0)
         if processes > MAX_PROCESSES:
@@ -572,11 +572,11 @@ def fuzzy_minmax(table, criteria, tolerances=None):
     [(3.0, 1.0)]
     """
     if not isinstance(table, DesignTable):
-        raise TypeError(f"table must be a DesignTable (the result of sweep), got {type(table).__name__} "
-                        f"{_short(table)}")
+        raise InputTypeError(f"table must be a DesignTable (the result of sweep), got {type(table).__name__} "
+                             f"{_short(table)}")
     if not isinstance(criteria, Mapping):
-        raise TypeError(f"criteria must be a dict name -> (weight, 'max'|'min'), got "
-                        f"{type(criteria).__name__} {_short(criteria)}")
+        raise InputTypeError(f"criteria must be a dict name -> (weight, 'max'|'min'), got "
+                             f"{type(criteria).__name__} {_short(criteria)}")
     if not criteria:
         raise InputError("criteria must be a non-empty dict name -> (weight, 'max'|'min'), got {}")
     tol = check_tolerances(tolerances)
@@ -588,8 +588,8 @@ def fuzzy_minmax(table, criteria, tolerances=None):
             raise InputError(f"criteria[{name!r}] must be (weight, 'max'|'min'), got {_short(spec)}")
         g, sense = spec
         if isinstance(g, (bool, np.bool_)) or not isinstance(g, numbers.Real):
-            raise TypeError(f"the weight of {name!r} (criteria[{name!r}][0]) must be a number in [0, 1], "
-                            f"got {type(g).__name__} {_short(g)}")
+            raise InputTypeError(f"the weight of {name!r} (criteria[{name!r}][0]) must be a number in [0, 1], "
+                                 f"got {type(g).__name__} {_short(g)}")
         g = float(g)
         if not 0 <= g <= 1:
             raise InputError(f"the weight of {name!r} must be in [0, 1], got {g}")

@@ -11,7 +11,7 @@ import sympy as sp
 
 from .._validate import _short, as_count, as_float_array
 from .._validate import as_tolerances as tolerances  # noqa: F401  (checks.tolerances for the dynamics modules)
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 
 MAX_SAMPLES = 1_000_000
 """The largest sample count (``samples``, ``n``) the dynamics functions accept."""
@@ -37,7 +37,7 @@ def instance(value, cls, name, hint=""):
     if not isinstance(value, cls):
         what = cls.__name__ if isinstance(cls, type) else " or ".join(c.__name__ for c in cls)
         article = "an" if what[0] in "AEIOU" else "a"
-        raise TypeError(f"{name} must be {article} {what}{hint}, got {type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be {article} {what}{hint}, got {type(value).__name__} {_short(value)}")
     return value
 
 
@@ -127,8 +127,8 @@ def not_text(value, name):
     [1, 2.5]
     """
     if isinstance(value, (str, bytes)):
-        raise TypeError(f"{name} must be a number or sympy expression, got the string {_short(value)}; "
-                        "strings are never parsed")
+        raise InputTypeError(f"{name} must be a number or sympy expression, got the string {_short(value)}; "
+                             "strings are never parsed")
     if isinstance(value, (list, tuple)):
         for i, v in enumerate(value):
             not_text(v, f"{name}[{i}]")
@@ -136,7 +136,7 @@ def not_text(value, name):
         for i, v in enumerate(value.ravel()):
             not_text(v, f"{name}[{i}]")
     elif value is None or isinstance(value, (complex, np.complexfloating)):
-        raise TypeError(f"{name} must be a real number or sympy expression, got {_short(value)}")
+        raise InputTypeError(f"{name} must be a real number or sympy expression, got {_short(value)}")
     elif not isinstance(value, (numbers.Real, sp.Basic, sp.MatrixBase, np.ndarray)):
-        raise TypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
+        raise InputTypeError(f"{name} must be a number or sympy expression, got {type(value).__name__} {_short(value)}")
     return value

@@ -21,7 +21,7 @@ import sympy as sp
 
 from .._validate import _short, as_count
 from ..core.codegen import compile_exprs
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from . import checks
 
 __all__ = ["Body", "OpenTreeModel"]
@@ -74,10 +74,10 @@ class Body:
                 raise InputError(f"{name} must be {'positive' if strict else 'non-negative'}, got {v!r}")
         checks.not_text(self.angle, "angle")
         if isinstance(self.centre, (str, bytes)) or not hasattr(self.centre, "__iter__") or len(list(self.centre)) != 2:
-            raise TypeError(f"centre must be (x, y), two numbers or sympy expressions, got {_short(self.centre)}")
+            raise InputTypeError(f"centre must be (x, y), two numbers or sympy expressions, got {_short(self.centre)}")
         checks.not_text(list(self.centre), "centre")
         if not isinstance(self.name, str):
-            raise TypeError(f"name must be a str, got {type(self.name).__name__} {_short(self.name)}")
+            raise InputTypeError(f"name must be a str, got {type(self.name).__name__} {_short(self.name)}")
 
 
 class OpenTreeModel:
@@ -124,11 +124,11 @@ class OpenTreeModel:
         for name, seq in (("eta", eta), ("constraints", constraints), ("task", task), ("actuated", actuated),
                           ("bodies", bodies)):
             if isinstance(seq, (str, bytes)) or not hasattr(seq, "__iter__"):
-                raise TypeError(f"{name} must be a sequence, got {type(seq).__name__} {_short(seq)}")
+                raise InputTypeError(f"{name} must be a sequence, got {type(seq).__name__} {_short(seq)}")
         self.eta = tuple(eta)
         for i, e in enumerate(self.eta):
             if not isinstance(e, sp.Symbol):
-                raise TypeError(f"eta[{i}] must be a sympy Symbol, got {type(e).__name__} {_short(e)}")
+                raise InputTypeError(f"eta[{i}] must be a sympy Symbol, got {type(e).__name__} {_short(e)}")
         if len(set(self.eta)) != len(self.eta):
             raise InputError(f"eta must be distinct symbols, got {_short(self.eta)}")
         self.m = len(self.eta)

@@ -19,7 +19,7 @@ import numpy as np
 import sympy as sp
 
 from .._validate import as_exact
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from . import checks
 from .model import Body, OpenTreeModel
 
@@ -42,7 +42,7 @@ def _params(params):
     if params is None:
         return {}
     if not isinstance(params, dict):
-        raise TypeError(f"params must be a dict of SEED000 names -> values, got {type(params).__name__}")
+        raise InputTypeError(f"params must be a dict of SEED000 names -> values, got {type(params).__name__}")
     out = {}
     for k, v in params.items():
         if k not in SEED000:

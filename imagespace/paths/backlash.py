@@ -26,7 +26,7 @@ import numpy as np
 import numbers
 
 from .._validate import _short, as_count, as_float_array, as_joint_vector
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..core.mechanism import check_mechanism
 from .._html import dataclass_html, dataclass_repr
 from ..solve import front
@@ -41,8 +41,8 @@ _BYTES_PER_SAMPLE = {"released_curve": 320, "backlash": 1024}
 
 def _check_leg(leg):
     if isinstance(leg, (bool, np.bool_)) or not isinstance(leg, (numbers.Integral, np.integer)):
-        raise TypeError(f"leg must be the whole number 0, 1 or 2 (the leg with play), got "
-                        f"{type(leg).__name__} {_short(leg)}")
+        raise InputTypeError(f"leg must be the whole number 0, 1 or 2 (the leg with play), got "
+                             f"{type(leg).__name__} {_short(leg)}")
     if leg not in (0, 1, 2):
         raise InputError(f"leg must be 0, 1 or 2 (the leg with play), got {leg!r}")
     return int(leg)
@@ -51,8 +51,8 @@ def _check_leg(leg):
 def _check_samples(samples, max_memory, what):
     samples = as_count(samples, "samples", 100)
     if isinstance(max_memory, (bool, np.bool_)) or not isinstance(max_memory, numbers.Real):
-        raise TypeError(f"max_memory must be a number of bytes, got {type(max_memory).__name__} "
-                        f"{_short(max_memory)}")
+        raise InputTypeError(f"max_memory must be a number of bytes, got {type(max_memory).__name__} "
+                             f"{_short(max_memory)}")
     if not (max_memory > 0 and max_memory < float("inf")):
         raise InputError(f"max_memory must be a positive finite number of bytes, got {max_memory!r}")
     need = samples * _BYTES_PER_SAMPLE[what]                  # exact: samples may be huge

@@ -46,7 +46,7 @@ from .._validate import as_float_array
 from .curves import ImagePath, pose_segment, polyline, polynomial_curve, rational_curve, segment  # noqa: F401
 from ..core.exact_roots import ISOLATION_WIDTH, float_down, float_up, fmpq_of, roots_in_unit_interval
 from ..core.quadrics import image_symbols
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .._html import counts_text, dataclass_html, dataclass_items, html_table, summary
 
 __all__ = ["ImagePath", "PathCheck", "Crossing", "check_path", "segments_free", "segment", "polyline",
@@ -90,7 +90,7 @@ def _prepare(target):
     if isinstance(target, SingularitySurface):
         S = target
     else:
-        raise TypeError(f"target must be a PlanarParallel or a SingularitySurface, got {type(target).__name__}")
+        raise InputTypeError(f"target must be a PlanarParallel or a SingularitySurface, got {type(target).__name__}")
     if not S.is_polynomial:
         raise InputError("path checks need a polynomial surface; use singularity_surface(q=...) "
                          "for a design whose surface depends on the joint values")
@@ -409,7 +409,7 @@ def check_path(target, path, joint_limits=None, manipulator=None):
     (True, False, True)
     """
     if not isinstance(path, ImagePath):
-        raise TypeError(f"path must be an ImagePath (segment, polyline, ...), got {type(path).__name__}")
+        raise InputTypeError(f"path must be an ImagePath (segment, polyline, ...), got {type(path).__name__}")
     quartic = _prepare(target)
     m = manipulator or quartic.surface.manipulator
     crossings, polys, certified, methods = [], [], True, set()

@@ -14,7 +14,7 @@ import sympy as sp
 
 from .._validate import as_float_array
 from ..core.exact_roots import fmpq_of, roots_in_unit_interval
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .._html import html_table, summary
 
 __all__ = ["ImagePath", "segment", "polyline", "polynomial_curve", "rational_curve", "pose_segment"]
@@ -25,8 +25,8 @@ def _exact(v):
     if isinstance(v, Fraction):
         return v
     if isinstance(v, (str, bytes, bool, np.bool_, complex)) or v is None:
-        raise TypeError(f"path coefficients must be real numbers, got {type(v).__name__} {v!r}; "
-                        "strings are never parsed")
+        raise InputTypeError(f"path coefficients must be real numbers, got {type(v).__name__} {v!r}; "
+                             "strings are never parsed")
     if isinstance(v, sp.Basic):
         r = sp.Rational(v) if isinstance(v, sp.Float) else v      # a Float is its binary rational
         if not r.is_Rational:

@@ -12,7 +12,7 @@ import numpy as np
 
 from .._validate import _short, as_count, as_scalar
 from ..core.mechanism import check_mechanism
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..singular.cusps import Cusp, free_joints, half_angle_gap
 from .._html import dataclass_html, dataclass_repr
 from ..solve import front
@@ -151,7 +151,7 @@ def cusp_loop(manipulator, cusp, fixed, radius, steps=720):
     """
     check_mechanism(manipulator)
     if not isinstance(cusp, Cusp):
-        raise TypeError(f"cusp must be a Cusp (an item of cusps(...)), got {type(cusp).__name__} {_short(cusp)}")
+        raise InputTypeError(f"cusp must be a Cusp (an item of cusps(...)), got {type(cusp).__name__} {_short(cusp)}")
     fa, fb = free_joints(fixed)
     radius = as_scalar(radius, "radius")
     if not radius > 0:

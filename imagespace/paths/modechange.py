@@ -32,7 +32,7 @@ import numpy as np
 import numbers
 
 from .._validate import _short, as_box, as_count, as_float_array, as_joint_vector
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..core.kinematic_map import image_point, normalize
 from ..core.mechanism import check_mechanism
 from .check import ImagePath, PathCheck, check_path, polyline, segments_free
@@ -155,8 +155,8 @@ def joint_trajectory(manipulator, path, q_start, per_piece=64):
         raise InputError(f"per_piece must be at most MAX_SAMPLES = {MAX_SAMPLES}, got {_short(per_piece)}")
     check_mechanism(manipulator)
     if not isinstance(path, ImagePath):
-        raise TypeError(f"path must be an ImagePath (isp.segment, isp.polyline ...), got "
-                        f"{type(path).__name__} {_short(path)}")
+        raise InputTypeError(f"path must be an ImagePath (isp.segment, isp.polyline ...), got "
+                             f"{type(path).__name__} {_short(path)}")
     q0 = as_joint_vector(q_start, "q_start")
     P = path.poses(per_piece)
     r = manipulator.joint_residual(P[0], q0)
@@ -241,7 +241,7 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
         raise InputError(f"samples must be at most MAX_SAMPLES = {MAX_SAMPLES} (each round draws and tests "
                          f"4 * samples poses), got {_short(samples)}")
     if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (numbers.Integral, np.integer)):
-        raise TypeError(f"seed must be a whole number, got {type(seed).__name__} {_short(seed)}")
+        raise InputTypeError(f"seed must be a whole number, got {type(seed).__name__} {_short(seed)}")
     if seed < 0:
         raise InputError(f"seed must be a non-negative whole number, got {seed}")
     if box is not None:

@@ -6,7 +6,7 @@ import numpy as np
 
 from .._validate import as_count, as_float_array
 from ..drawing import ASPECT_COLOURS
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .common import (pyplot, legend_once, axes3d, draw_mesh, GS_LEG_CMAP, GS_BASE_COLOUR, polygon_order,
     cube_limits, gough_stewart_points, LENGTH_UNIT)
 
@@ -204,7 +204,7 @@ def plot_singularity_mesh(mesh, ax=None, colour="0.6", alpha=0.45, points=None, 
     import trimesh
 
     if not isinstance(mesh, trimesh.Trimesh):
-        raise TypeError(f"mesh must be a trimesh.Trimesh, got {type(mesh).__name__}")
+        raise InputTypeError(f"mesh must be a trimesh.Trimesh, got {type(mesh).__name__}")
     fig, ax = axes3d(ax)
     if len(mesh.faces):
         draw_mesh(ax, mesh, colour, alpha)

@@ -35,7 +35,7 @@ import numbers
 from .._validate import _short, as_box, as_count, as_float_array, as_scalar
 from ..core.codegen import compile_exprs
 from ..core.elimination import form_coefficients
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..core.mechanism import check_mechanism
 from .._validate import as_tolerances
 from .._html import dataclass_html, dataclass_repr
@@ -110,8 +110,8 @@ def free_joints(fixed):
     (0, 1)
     """
     if isinstance(fixed, (bool, np.bool_)) or not isinstance(fixed, (numbers.Integral, np.integer)):
-        raise TypeError(f"fixed must be the whole number 0, 1 or 2 (the joint held constant), got "
-                        f"{type(fixed).__name__} {_short(fixed)}")
+        raise InputTypeError(f"fixed must be the whole number 0, 1 or 2 (the joint held constant), got "
+                             f"{type(fixed).__name__} {_short(fixed)}")
     if fixed not in (0, 1, 2):
         raise InputError(f"fixed must be the index 0, 1 or 2 of the joint held constant, got {fixed!r}")
     return tuple(i for i in range(3) if i != fixed)
@@ -626,8 +626,8 @@ def linking_number(loop, curves, tolerances=None):
         L = np.vstack([L, L[:1]])
     apex = L.mean(axis=0)
     if curves is None or isinstance(curves, (str, bytes)) or not hasattr(curves, "__iter__"):
-        raise TypeError(f"curves must be a sequence of (k, 3) polylines, got {type(curves).__name__} "
-                        f"{_short(curves)}")
+        raise InputTypeError(f"curves must be a sequence of (k, 3) polylines, got {type(curves).__name__} "
+                             f"{_short(curves)}")
     total = 0
     for k, curve in enumerate(curves):
         C = as_float_array(curve, f"curves[{k}]", last=3)

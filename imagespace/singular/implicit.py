@@ -15,7 +15,7 @@ import sympy as sp
 from .._validate import _short, as_float_array, as_sympy_entry
 from .._validate import as_tolerances
 from ..core.codegen import compile_exprs
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .charts import UnsupportedShape, joint_table
 # the proven signs live in singular.proven_sign (issue [15]); TRIG_ULPS, UNIT_ROUNDOFF and
 # ArbBudget stay importable here
@@ -36,7 +36,7 @@ def _points3(P, name="P"):
 def _axes3(axes):
     """Three 1-d float grid axes."""
     if isinstance(axes, (str, bytes)) or not hasattr(axes, "__len__") or len(axes) != 3:
-        raise TypeError(f"axes must be three 1-d float arrays (u, v, w), got {_short(axes)}")
+        raise InputTypeError(f"axes must be three 1-d float arrays (u, v, w), got {_short(axes)}")
     out = []
     for i, a in enumerate(axes):
         arr = as_float_array(a, f"axes[{i}]")
@@ -206,19 +206,19 @@ class PolynomialImplicit(Implicit):
     def __init__(self, expr, symbols, tolerances=None):
         self.tolerances = as_tolerances(tolerances)
         if isinstance(symbols, (str, bytes)) or not hasattr(symbols, "__iter__"):
-            raise TypeError(f"symbols must be three sympy symbols, got {type(symbols).__name__} "
-                            f"{_short(symbols)}; strings are never parsed")
+            raise InputTypeError(f"symbols must be three sympy symbols, got {type(symbols).__name__} "
+                                 f"{_short(symbols)}; strings are never parsed")
         symbols = tuple(symbols)
         if len(symbols) != 3:
             raise InputError(f"symbols must be three sympy symbols, got {len(symbols)}: {_short(symbols)}")
         for i, s_ in enumerate(symbols):
             if not isinstance(s_, sp.Symbol):
-                raise TypeError(f"symbols[{i}] must be a sympy Symbol, got {type(s_).__name__} {_short(s_)}")
+                raise InputTypeError(f"symbols[{i}] must be a sympy Symbol, got {type(s_).__name__} {_short(s_)}")
         if len(set(symbols)) != 3:
             raise InputError(f"symbols must be three distinct sympy symbols, got {symbols}")
         expr = as_sympy_entry(expr, "expr")          # a string is refused, never sympified
         if expr.has(sp.I):
-            raise TypeError(f"expr must be real, got {_short(expr)}")
+            raise InputTypeError(f"expr must be real, got {_short(expr)}")
         chart = set(symbols)
         poles = [a for a in expr.atoms(sp.Pow) if a.base.free_symbols & chart and a.exp.is_negative]
         poles += [a for a in expr.atoms(sp.tan, sp.cot, sp.sec, sp.csc, sp.log) if a.free_symbols & chart]
@@ -432,10 +432,10 @@ class FunctionImplicit(Implicit):
 
     def __init__(self, value_and_gradient, value=None):
         if not callable(value_and_gradient):
-            raise TypeError(f"value_and_gradient must be callable, P (n, 3) -> (F (n,), grad (n, 3)); "
-                            f"got {type(value_and_gradient).__name__} {_short(value_and_gradient)}")
+            raise InputTypeError(f"value_and_gradient must be callable, P (n, 3) -> (F (n,), grad (n, 3)); "
+                                 f"got {type(value_and_gradient).__name__} {_short(value_and_gradient)}")
         if value is not None and not callable(value):
-            raise TypeError(f"value must be callable or None, got {type(value).__name__} {_short(value)}")
+            raise InputTypeError(f"value must be callable or None, got {type(value).__name__} {_short(value)}")
         self._vg = value_and_gradient
         self._value = value
 
@@ -460,7 +460,7 @@ class FunctionImplicit(Implicit):
         try:
             arr = np.asarray(values, dtype=float)
         except (TypeError, ValueError):
-            raise TypeError(f"the function's {what} must be numeric, got {_short(values)}") from None
+            raise InputTypeError(f"the function's {what} must be numeric, got {_short(values)}") from None
         want = (n, 3) if what == "grad" else (n,)
         if arr.shape != want:
             raise InputError(f"the function's {what} at {n} points must have shape {want}, got shape {arr.shape}")
@@ -499,10 +499,10 @@ def surface_implicit(surface, chart="image"):
     from .surface import SingularitySurface
 
     if not isinstance(surface, SingularitySurface):
-        raise TypeError(f"surface must be a SingularitySurface (from PlanarParallel.singularity_surface), "
-                        f"got {type(surface).__name__} {_short(surface)}")
+        raise InputTypeError(f"surface must be a SingularitySurface (from PlanarParallel.singularity_surface), "
+                             f"got {type(surface).__name__} {_short(surface)}")
     if not isinstance(chart, str):
-        raise TypeError(f"chart must be 'image' or 'pose', got {type(chart).__name__} {_short(chart)}")
+        raise InputTypeError(f"chart must be 'image' or 'pose', got {type(chart).__name__} {_short(chart)}")
     if chart not in ("image", "pose"):
         raise InputError(f"chart must be 'image' or 'pose', got {chart!r}")
     return surface.cached(("implicit", chart), lambda: _build_implicit(surface, chart))

@@ -12,7 +12,7 @@ import numpy as np
 
 from .._files import atomic_write
 from .._validate import _short
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 
 __all__ = ["export_mesh", "EXPORT_FORMATS", "EXPORT_PRECISION"]
 
@@ -69,12 +69,12 @@ def export_mesh(mesh, path):
     import trimesh
 
     if not isinstance(mesh, trimesh.Trimesh):
-        raise TypeError(f"mesh must be a trimesh.Trimesh, got {type(mesh).__name__}")
+        raise InputTypeError(f"mesh must be a trimesh.Trimesh, got {type(mesh).__name__}")
     if not isinstance(path, (str, os.PathLike)) or isinstance(path, bytes):
-        raise TypeError(f"path must be a str or pathlib.Path, got {type(path).__name__} {_short(path)}")
+        raise InputTypeError(f"path must be a str or pathlib.Path, got {type(path).__name__} {_short(path)}")
     path = Path(path)
     if isinstance(os.fspath(path), bytes):
-        raise TypeError(f"path must be a str or pathlib.Path, got the bytes path {_short(path)}")
+        raise InputTypeError(f"path must be a str or pathlib.Path, got the bytes path {_short(path)}")
     suffix = path.suffix.lower()
     if suffix not in EXPORT_FORMATS:
         raise InputError(f"path must end in one of {', '.join(EXPORT_FORMATS)} (the format is taken "

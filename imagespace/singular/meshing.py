@@ -66,7 +66,7 @@ import warnings
 import numpy as np
 
 from .._validate import _short, as_box, as_count, as_flag, as_tolerances
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .implicit import TRIG_ULPS, FunctionImplicit, Implicit, PolynomialImplicit, surface_implicit
 # the vertex step and the export live in singular.mesh_vertices and singular.mesh_export (issue
 # [15]); their public names stay importable here
@@ -91,8 +91,8 @@ _ORIENT_SAMPLE = 4096             # faces sampled to decide the orientation
 # -- meshing ------------------------------------------------------------------------------------
 def _check_max_memory(max_memory):
     if isinstance(max_memory, (bool, np.bool_)) or not isinstance(max_memory, (numbers.Real, np.floating, np.integer)):
-        raise TypeError(f"max_memory must be a positive number of bytes, got {type(max_memory).__name__} "
-                        f"{_short(max_memory)}")
+        raise InputTypeError(f"max_memory must be a positive number of bytes, got {type(max_memory).__name__} "
+                             f"{_short(max_memory)}")
     try:
         v = float(max_memory)
     except OverflowError:
@@ -247,17 +247,17 @@ def mesh_implicit(func, box, resolution=128, tol=1e-9, progress=None, max_memory
     from skimage.measure import marching_cubes
 
     if not isinstance(func, Implicit):
-        raise TypeError(f"func must be an imagespace.singular.meshing.Implicit, got {type(func).__name__}")
+        raise InputTypeError(f"func must be an imagespace.singular.meshing.Implicit, got {type(func).__name__}")
     if not isinstance(on_uncertified, str):
-        raise TypeError(f"on_uncertified must be 'remove' or 'keep', got {type(on_uncertified).__name__} "
-                        f"{_short(on_uncertified)}")
+        raise InputTypeError(f"on_uncertified must be 'remove' or 'keep', got {type(on_uncertified).__name__} "
+                             f"{_short(on_uncertified)}")
     if on_uncertified not in ("remove", "keep"):
         raise InputError(f"on_uncertified must be 'remove' or 'keep', got {on_uncertified!r}")
     tols = as_tolerances(tolerances)
     b = as_box(box, "box")
     res = _check_resolution(resolution, max_memory)
     if isinstance(tol, (bool, np.bool_)) or not isinstance(tol, (numbers.Real, np.floating, np.integer)):
-        raise TypeError(f"tol must be a number in (0, 0.01), got {type(tol).__name__} {_short(tol)}")
+        raise InputTypeError(f"tol must be a number in (0, 0.01), got {type(tol).__name__} {_short(tol)}")
     try:
         tol = float(tol)
     except OverflowError:

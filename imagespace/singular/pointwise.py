@@ -17,7 +17,7 @@ import sympy as sp
 from .._validate import _short, as_exact, as_float_array, as_joint_vector, is_symbolic
 from ..core.codegen import compile_exprs
 from ..core.quadrics import image_symbols
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 
 __all__ = ["pose_chart_point", "image_chart_point", "constraint_values"]
 
@@ -129,7 +129,7 @@ def check_joint_values(manipulator, q, name="q"):
     """
     if is_symbolic(q):
         if not isinstance(q, (list, tuple, np.ndarray, sp.MatrixBase)):
-            raise TypeError(f"{name} must be a sequence of three joint values, got {_short(q)}")
+            raise InputTypeError(f"{name} must be a sequence of three joint values, got {_short(q)}")
         items = list(q)
         if len(items) != 3:
             raise InputError(f"{name} must have shape (3,), got {len(items)} entries: {_short(q)}")

@@ -50,7 +50,7 @@ import sympy as sp
 from .._validate import _short, as_flag, as_float_array, as_scalar, as_sympy_entry, is_symbolic
 from ..core.codegen import compile_exprs
 from ..core.quadrics import image_symbols
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..core.kinematic_map import pose_of
 from ..core.mechanism import check_mechanism
 from .._html import latex_collected
@@ -439,7 +439,7 @@ class SingularitySurface:
             raise InputError("chart_expression() needs a polynomial surface (kind 'joint-free' or "
                              f"'given-joints'), got kind {self.kind!r}")
         if not isinstance(chart, str):
-            raise TypeError(f"chart must be 'image' or 'pose', got {type(chart).__name__} {_short(chart)}")
+            raise InputTypeError(f"chart must be 'image' or 'pose', got {type(chart).__name__} {_short(chart)}")
         if chart not in ("image", "pose"):
             raise InputError(f"chart must be 'image' or 'pose', got {chart!r}")
         return chart_substitution(self.expr(), chart)
@@ -640,7 +640,7 @@ class ConicSection:
         True
         """
         if not isinstance(surface, SingularitySurface):
-            raise TypeError(f"surface must be a SingularitySurface, got {type(surface).__name__} {_short(surface)}")
+            raise InputTypeError(f"surface must be a SingularitySurface, got {type(surface).__name__} {_short(surface)}")
         if not surface.is_polynomial:
             raise InputError("surface must be polynomial (kind 'joint-free' or 'given-joints') for a conic "
                              "section, got a working-mode surface; use singularity_surface(q=...)")

@@ -44,7 +44,9 @@ from typing import Any, Optional
 import numpy as np
 import sympy as sp
 
+from .._validate import as_exact, as_sympy_entry
 from ..core.certify import certify_real_roots
+from ..exceptions import InputError, InputTypeError
 from ..core.kinematic_map import pose_of
 
 __all__ = ["continuum_at"]
@@ -327,6 +329,44 @@ def _column_pairs():
     return [(a, b) for a in range(4) for b in range(a + 1, 4)]
 
 
+def _checked_joint_values(m, q):
+    """``q`` as three numbers continuum_at can take exactly: python/numpy floats (binary
+    rationals) and integers as they are, every other entry through
+    :func:`~imagespace._validate.as_sympy_entry` (strings are refused, never parsed; sympy floats
+    become their binary rationals), the values inside the joints' domains."""
+    from ..core.planar import PlanarMechanism
+
+    if not isinstance(m, PlanarMechanism):
+        raise InputTypeError(f"m must be a planar design (PlanarParallel), got {type(m).__name__}")
+    if isinstance(q, np.ndarray):
+        if q.ndim != 1:
+            raise InputError(f"q must be 3 joint values (shape (3,)), got an array of shape {q.shape}")
+        q = list(q)
+    elif not isinstance(q, (list, tuple)):
+        raise InputTypeError(f"q must be a sequence of 3 joint values, got {type(q).__name__}")
+    if len(q) != 3:
+        raise InputError(f"q must have 3 joint values, got {len(q)}")
+    out = []
+    for i, v in enumerate(q):
+        name = f"q[{i}]"
+        if isinstance(v, (bool, np.bool_)):
+            raise InputTypeError(f"{name} must be a real number, got the boolean {v}")
+        if isinstance(v, (float, np.floating)):
+            if not np.isfinite(v):
+                raise InputError(f"{name} must be finite, got {float(v)}")
+            out.append(float(v))
+        elif isinstance(v, (int, np.integer)):
+            out.append(int(v))
+        else:
+            e = as_sympy_entry(v, name)
+            if e.free_symbols:
+                raise InputError(f"{name} must be a number (continuum_at decides numeric joint values), "
+                                 f"got the expression {e}")
+            out.append(as_exact(e, name))
+    m.check_q(out)
+    return out
+
+
 def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     """Decide exactly whether the design ``m`` has a continuum of assembly modes at one
     orientation for the joint values ``q`` (floats taken as the binary rationals they are).
@@ -364,6 +404,7 @@ def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     >>> continuum_at(m, [2, 2, 2.5])
     (False, None)
     """
+    q = _checked_joint_values(m, q)
     field = _quadratic_field_verdict(m, q)
     if field is not None:
         return field

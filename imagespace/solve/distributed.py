@@ -32,7 +32,7 @@ import numpy.typing as npt
 from .._html import html_table, summary
 from .._validate import as_flag, as_float_array
 from ..core.mechanism import check_mechanism
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .front import check_method, direct_kinematics_batch
 from .results import MAX_MODES
 
@@ -337,11 +337,11 @@ def _as_row_blocks(Q: Any, k: int = 3) -> "dask.array.Array":
 
     if isinstance(Q, da.Array):
         if Q.dtype.kind not in "iuf":
-            raise TypeError(f"Q must be a real float or integer array, got a dask array of dtype {Q.dtype}")
+            raise InputTypeError(f"Q must be a real float or integer array, got a dask array of dtype {Q.dtype}")
     elif isinstance(Q, np.ndarray) and Q.dtype.kind in "iuf":
         pass                                    # a memmap stays on disk; da.from_array reads blocks
     elif isinstance(Q, np.ndarray) and Q.dtype.kind != "O":
-        raise TypeError(f"Q must be a real float or integer array, got dtype {Q.dtype}")
+        raise InputTypeError(f"Q must be a real float or integer array, got dtype {Q.dtype}")
     else:
         Q = as_float_array(Q, "Q", last=k, finite=False)
     if Q.ndim != 2 or not Q.shape[1] == k:

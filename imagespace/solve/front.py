@@ -35,7 +35,7 @@ import numpy.typing as npt
 from .._memory import check_memory
 from .._validate import as_count, as_flag, as_float_array
 from ..core.mechanism import check_mechanism
-from ..exceptions import DegenerateDesignError, InputError, NearSingularWarning
+from ..exceptions import DegenerateDesignError, InputError, InputTypeError, NearSingularWarning
 
 __all__ = ["direct_kinematics", "direct_kinematics_batch", "direct_kinematics_chunks",
            "certified_root_counts", "check_method", "joint_batch"]
@@ -290,7 +290,7 @@ def direct_kinematics_chunks(m: Any, Q: npt.ArrayLike, chunk_size: int = 65536, 
     if not isinstance(Q, np.ndarray):               # a memmap is validated chunk by chunk
         Q = as_float_array(Q, "Q", last=m.joint_count, finite=False)
     elif Q.dtype.kind not in "iuf":
-        raise TypeError(f"Q must be a real float or integer array, got dtype {Q.dtype}")
+        raise InputTypeError(f"Q must be a real float or integer array, got dtype {Q.dtype}")
     if Q.ndim != 2 or Q.shape[-1] != m.joint_count:
         raise InputError(f"Q must have shape (n, {m.joint_count}), got {Q.shape}")
     return _chunks(m, Q, chunk_size, certify, method)    # validated now, solved lazily

@@ -6,6 +6,7 @@ import numpy as np
 from dataclasses import dataclass
 from typing import Any, Optional, Sequence, Union
 
+from ..exceptions import InputTypeError
 from .._html import html_table, modes_table, summary
 from ..core.mechanism import index_rows
 from ..core.kinematic_map import image_point as _image_point
@@ -672,7 +673,7 @@ class DKBatchResult:
                 raise ValueError(f"a boolean rows mask must have shape ({n},), got {r.shape}")
             return np.flatnonzero(r)
         if r.size and r.dtype.kind not in "iu":
-            raise TypeError(f"rows must be integer indices, got dtype {r.dtype}")
+            raise InputTypeError(f"rows must be integer indices, got dtype {r.dtype}")
         r = r.astype(np.int64).ravel()
         if r.size and (r.min() < -n or r.max() >= n):
             raise IndexError(f"rows must lie in -{n} .. {n - 1}, got {r.min()} .. {r.max()}")

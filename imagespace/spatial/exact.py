@@ -33,6 +33,7 @@ import numpy as np
 from imagespace._validate import as_flag, as_scalar
 from imagespace.core.msolve import DEFAULT_TIMEOUT, MsolveTimeoutError, solve_real
 from imagespace.exceptions import DegenerateDesignError, InputError
+from ..exceptions import InputTypeError
 
 __all__ = ["STUDY_STRATA", "ExactStudyResult", "exact_real_study_points"]
 
@@ -112,8 +113,8 @@ def _checked_system(polys, symbols):
     """The polynomials as exact ``sympy.Poly`` over QQ in ``symbols``, each homogeneous."""
     import sympy as sp
     if isinstance(polys, (str, bytes, sp.Basic, sp.Poly)) or not hasattr(polys, "__iter__"):
-        raise TypeError(f"polys must be a sequence of polynomials in the Study coordinates, got "
-                        f"{type(polys).__name__}")
+        raise InputTypeError(f"polys must be a sequence of polynomials in the Study coordinates, got "
+                             f"{type(polys).__name__}")
     by_name = dict(zip(_NAMES, symbols))
     out = []
     for i, p in enumerate(polys):
@@ -122,8 +123,8 @@ def _checked_system(polys, symbols):
             p = p.as_expr()
         if isinstance(p, (bool, np.bool_, str, bytes)) or \
                 not isinstance(p, (sp.Basic, int, float, Fraction)):
-            raise TypeError(f"{name} must be a sympy polynomial in x0..x3, y0..y3, got "
-                            f"{type(p).__name__}")
+            raise InputTypeError(f"{name} must be a sympy polynomial in x0..x3, y0..y3, got "
+                                 f"{type(p).__name__}")
         p = sp.sympify(p)
         if p.has(sp.nan, sp.oo, -sp.oo, sp.zoo):
             raise InputError(f"{name} has a non-finite coefficient (nan or infinity): {p}")

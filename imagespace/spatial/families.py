@@ -52,6 +52,7 @@ from typing import Any, Optional
 
 import numpy as np
 
+from ..exceptions import InputTypeError
 from .homotopy import StartSystem, check_seed, move_start_system, solve_start_system
 from .quadrics import point_on_plane_quadric_linear, sphere_quadric_linear, study_quadric_matrix
 
@@ -158,8 +159,8 @@ def family_kind(family: Any) -> Optional[str]:
     """
     missing = [f for f in ("A", "E", "pidx", "nparams") if not hasattr(family, f)]
     if missing:
-        raise TypeError(f"family must be a QuadricFamily (fields A, E, pidx, nparams), got "
-                        f"{type(family).__name__} without {', '.join(missing)}")
+        raise InputTypeError(f"family must be a QuadricFamily (fields A, E, pidx, nparams), got "
+                             f"{type(family).__name__} without {', '.join(missing)}")
     A, E, pidx = (np.asarray(getattr(family, f)) for f in ("A", "E", "pidx"))
     if (A.shape != (7, 8, 8) or not np.array_equal(E, _E) or not np.array_equal(A[6], study_quadric_matrix())
             or not np.all(np.isfinite(A))):
@@ -254,17 +255,16 @@ def _load(path, A, kind):
 
 
 def _store(path, st):
-    tmp = f"{path}.{os.getpid()}.tmp"
+    """Store a start system in the kernel cache (atomically, mode 0o600 like the folder); a
+    failure to write only costs the next process a solve."""
+    from .._files import atomic_write
+    from ..exceptions import InputError
+
     try:
-        with open(tmp, "wb") as fh:
-            np.savez(fh, A=st.A, p_star=st.p_star, patch=st.patch, solutions=st.solutions,
-                     paths=np.int64(st.paths))
-        os.replace(tmp, path)
-    except OSError:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        atomic_write(path, lambda fh: np.savez(fh, A=st.A, p_star=st.p_star, patch=st.patch,
+                                               solutions=st.solutions, paths=np.int64(st.paths)), mode=0o600)
+    except (OSError, InputError):
+        pass
 
 
 @functools.cache

@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING, Optional
 import numpy as np
 import numpy.typing as npt
 
+from ..exceptions import InputTypeError
 from ..core._numba import njit
 from .tracker import DIM, PATH_FAILED, PATH_OK, complex_norm, track_many
 
@@ -296,7 +297,7 @@ def move_start_system(start: StartSystem, A: npt.ArrayLike, seed: int = 0, tol: 
     from ..exceptions import InputError
 
     if not isinstance(start, StartSystem):
-        raise TypeError(f"start must be a StartSystem, got {type(start).__name__}")
+        raise InputTypeError(f"start must be a StartSystem, got {type(start).__name__}")
     A = np.asarray(A)
     if A.shape != start.A.shape or A.dtype.kind not in "iuf" or not np.all(np.isfinite(A)):
         raise InputError(f"A must be a finite real array of shape {start.A.shape} (the start member's), "

@@ -45,7 +45,7 @@ import sympy as sp
 
 from .._validate import (as_float_array, as_fraction, as_sympy_entry, as_sympy_vector, check_squares,
                          is_symbolic)
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .study import quaternion_multiply, quaternion_conjugate, study_symbols
 
 if TYPE_CHECKING:
@@ -288,7 +288,7 @@ def sphere_quadric_exact(base_point: Sequence[Any], platform_point: Sequence[Any
     vals = []
     for name, v in (("base_point", base_point), ("platform_point", platform_point)):
         if not isinstance(v, (list, tuple, np.ndarray)) or (isinstance(v, np.ndarray) and v.ndim != 1):
-            raise TypeError(f"{name} must be a sequence of 3 numbers, got {type(v).__name__} {v!r:.80}")
+            raise InputTypeError(f"{name} must be a sequence of 3 numbers, got {type(v).__name__} {v!r:.80}")
         if len(v) != 3:
             raise InputError(f"{name} must have 3 entries, got {len(v)}")
         vals += [as_fraction(c, f"{name}[{i}]") for i, c in enumerate(v)]

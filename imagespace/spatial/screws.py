@@ -33,7 +33,7 @@ import sympy as sp
 import numbers
 
 from .._validate import _short, as_count, as_exact, as_float_array, as_index, is_symbolic, as_scalar
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from ..core.mechanism import check_mechanism
 
 if TYPE_CHECKING:
@@ -55,7 +55,7 @@ def _tol(tol):
 def _vec3(v, name):
     if is_symbolic(v):
         if not isinstance(v, (list, tuple, np.ndarray, sp.MatrixBase)):
-            raise TypeError(f"{name} must be a 3-vector, got {_short(v)}")
+            raise InputTypeError(f"{name} must be a 3-vector, got {_short(v)}")
         items = list(v)
         if len(items) != 3:
             raise InputError(f"{name} must have 3 components, got {len(items)}")
@@ -194,7 +194,7 @@ def helical(axis, point, pitch):
     _same_batch(u, p, "axis", "point")
     if isinstance(u, sp.MatrixBase) or isinstance(p, sp.MatrixBase) or is_symbolic(pitch):
         if isinstance(pitch, (list, tuple, np.ndarray)):
-            raise TypeError(f"pitch must be one number or sympy expression with a symbolic axis, got {_short(pitch)}")
+            raise InputTypeError(f"pitch must be one number or sympy expression with a symbolic axis, got {_short(pitch)}")
         u, p = sp.Matrix(u), sp.Matrix(p)
         return _join(u, _cross(p, u) + as_exact(pitch, "pitch") * u)
     h = as_float_array(pitch, "pitch")
@@ -474,7 +474,7 @@ def constraint_analysis(legs: Sequence[npt.ArrayLike], dof: int, actuated: Optio
         raise InputError(f"dof must be an int in 1..6, got {dof!r}")
     tol = _tol(tol)
     if legs is None or isinstance(legs, (str, bytes, numbers.Number)) or not hasattr(legs, "__iter__"):
-        raise TypeError(f"legs must be a sequence of (k_i, 6) twist arrays, got {type(legs).__name__} {_short(legs)}")
+        raise InputTypeError(f"legs must be a sequence of (k_i, 6) twist arrays, got {type(legs).__name__} {_short(legs)}")
     Ts = [np.atleast_2d(as_float_array(t, f"legs[{i}]", last=6)) for i, t in enumerate(legs)]
     if not Ts:
         raise InputError("legs must hold at least one leg, got an empty sequence")
@@ -484,8 +484,8 @@ def constraint_analysis(legs: Sequence[npt.ArrayLike], dof: int, actuated: Optio
             raise InputError(f"intended must be ({dof}, 6), got {intended.shape}")
     if actuated is not None:
         if isinstance(actuated, (str, bytes)) or not hasattr(actuated, "__iter__"):
-            raise TypeError(f"actuated must be a sequence of joint indices, one per leg, got "
-                            f"{type(actuated).__name__} {_short(actuated)}")
+            raise InputTypeError(f"actuated must be a sequence of joint indices, one per leg, got "
+                                 f"{type(actuated).__name__} {_short(actuated)}")
         actuated = [as_count(k, f"actuated[{i}]", 0) for i, k in enumerate(actuated)]
     Ws, leg_sing, leg_meas = [], [], []
     for i, T in enumerate(Ts):
@@ -544,7 +544,7 @@ def _small_index(value, name, size, what):
     try:
         return as_index(value, name, size)
     except TypeError:
-        raise TypeError(f"{name} must be {what}, got {type(value).__name__} {_short(value)}") from None
+        raise InputTypeError(f"{name} must be {what}, got {type(value).__name__} {_short(value)}") from None
     except InputError:
         raise InputError(f"{name} must be {what}, got {_short(value)}") from None
 
@@ -792,7 +792,7 @@ def singularity_fractions(mechanism: TranslationalFiveR, box: float = 0.4, n: in
     True
     """
     if not isinstance(mechanism, TranslationalFiveR):
-        raise TypeError(f"mechanism must be a TranslationalFiveR, got {type(mechanism).__name__} {_short(mechanism)}")
+        raise InputTypeError(f"mechanism must be a TranslationalFiveR, got {type(mechanism).__name__} {_short(mechanism)}")
     eps = as_scalar(eps, "eps")
     if not 0 < eps < 1:
         raise InputError(f"eps must be in (0, 1), got {eps!r}")

@@ -53,7 +53,7 @@ import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_float_array, as_tolerances
-from ..exceptions import DegenerateDesignError, InputError
+from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 from .gough_stewart import GoughStewart
 from .quadrics import form_matrix, landed_point_times_n
 from .study import matrix_from_quaternion, rotation_entries, study_symbols
@@ -70,7 +70,7 @@ _FORM_CACHE_SIZE = 32     # designs whose exact line forms are kept (a pure spee
 
 def _check_gs(gs):
     if not isinstance(gs, GoughStewart):
-        raise TypeError(f"gs must be an imagespace.spatial.GoughStewart, got {type(gs).__name__}")
+        raise InputTypeError(f"gs must be an imagespace.spatial.GoughStewart, got {type(gs).__name__}")
     return gs
 
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._validate import as_joint_vector
 from ..core.mechanism import check_mechanism
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 
 __all__ = ["parse_joint_value", "joint_ranges"]
 
@@ -49,7 +49,7 @@ def parse_joint_value(text, name="q"):
     import sympy as sp
 
     if not isinstance(text, str):
-        raise TypeError(f"{name} must be text such as '27/2' or 'pi/3', got {type(text).__name__}")
+        raise InputTypeError(f"{name} must be text such as '27/2' or 'pi/3', got {type(text).__name__}")
     if len(text) > 100 or re.search(r"[eE][-+]?[0-9]{4,}", text):
         raise InputError(f"{name} must be a number of float size (at most 100 characters, exponent "
                          f"below 1000), got {text[:40]!r}")

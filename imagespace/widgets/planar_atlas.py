@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import _short
-from ..exceptions import InputError
+from ..exceptions import InputError, InputTypeError
 from .inputs import joint_ranges
 
 __all__ = ["ATLAS_RESOLUTION", "ATLAS_SPAN", "ATLAS_SLOTS", "atlas_panel", "default_atlas_box",
@@ -172,8 +172,8 @@ def check_atlas_option(atlas, manipulator):
     from ..atlas.jointspace import JointAtlas
 
     if not isinstance(atlas, JointAtlas):
-        raise TypeError(f"atlas must be a JointAtlas (imagespace.atlas.joint_atlas(m, joint_box)), True "
-                        f"(compute one in the background) or None, got {type(atlas).__name__} {_short(atlas)}")
+        raise InputTypeError(f"atlas must be a JointAtlas (imagespace.atlas.joint_atlas(m, joint_box)), True "
+                             f"(compute one in the background) or None, got {type(atlas).__name__} {_short(atlas)}")
     from ..atlas.boxes import check_joint_box
     from ..solve import front
 

@@ -32,7 +32,7 @@ import ipywidgets as W
 
 from .._validate import as_box
 from ..drawing import ASPECT_COLOURS
-from ..exceptions import ImageSpaceError, InputError, NearSingularWarning
+from ..exceptions import ImageSpaceError, InputError, InputTypeError, NearSingularWarning
 from .planar_panels import merged_labels
 from .tracking import ModeTracker
 from .view import PanelView
@@ -181,7 +181,7 @@ class SpatialExplorer(W.VBox):
         from ..spatial.gough_stewart import GoughStewart
 
         if not isinstance(gs, GoughStewart):
-            raise TypeError(f"gs must be a GoughStewart platform, got {type(gs).__name__}")
+            raise InputTypeError(f"gs must be a GoughStewart platform, got {type(gs).__name__}")
         gs.check_design()
         self.gs = gs
         self.lengths = _checked(gs, default_lengths(gs) if L is None else L)

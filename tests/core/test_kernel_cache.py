@@ -161,6 +161,22 @@ def test_unsafe_cache_directory_is_refused_with_one_warning(tmp_path, monkeypatc
     assert reason in str(w.message) and str(d) in str(w.message)
 
 
+@pytest.mark.parametrize("make, reason", [(_symlink, "symbolic link"),
+                                          (_foreign_owner, "owned by uid 65534")])
+def test_unsafe_numba_pycache_is_refused(tmp_path, monkeypatch, make, reason):
+    """numba's index files in kernels/__pycache__ are pickles, read before they are checked: that
+    folder is held to the cache directory's rules (issue 36)."""
+    monkeypatch.setenv("IMAGESPACE_CACHE", str(tmp_path))
+    kernels = tmp_path / "kernels"
+    kernels.mkdir(mode=0o700)
+    make(kernels / "__pycache__")
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        assert codegen.kernel_cache_dir() is None
+    (w,) = cache_warnings(rec)
+    assert reason in str(w.message) and "__pycache__" in str(w.message)
+
+
 def _writable_parent(root):
     root.chmod(0o777)                       # anyone could rename "kernels" away and plant theirs
 
