@@ -28,13 +28,13 @@ class InputError(ImageSpaceError, ValueError):
     """
 
 
-class InputTypeError(InputError, TypeError):
+class InputTypeError(ImageSpaceError, TypeError):
     """A public argument of the wrong type (a string, ``None``, a bool or a complex number where a
     real number is expected, a sympy relation, a nested sequence).
 
-    Both an :class:`InputError` and a :class:`TypeError`: ``except TypeError`` and
-    ``except imagespace.ImageSpaceError`` catch it. The message names the parameter and what it
-    got.
+    Both an :class:`ImageSpaceError` and a :class:`TypeError` (``except TypeError`` and
+    ``except imagespace.ImageSpaceError`` catch it; :class:`InputError`, a ``ValueError``, is the
+    wrong *value*). The message names the parameter and what it got.
     """
 
 

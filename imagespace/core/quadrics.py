@@ -199,8 +199,8 @@ class Quadric:
             try:
                 _entry(v, f"Quadric coefficient {name}")
             except InputError as exc:
-                raise InputError(f"{exc} (an overflow of the inputs beyond the float range?)"
-                                 if "finite" in str(exc) else str(exc)) from None
+                raise type(exc)(f"{exc} (an overflow of the inputs beyond the float range?)"
+                                if "finite" in str(exc) else str(exc)) from None
             if isinstance(v, np.ndarray) and v.ndim > 0:
                 if shape is None:
                     shape = (name, v.shape)

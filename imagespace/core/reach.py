@@ -392,7 +392,7 @@ def planar_reach_obstruction(legs: Sequence[Any], q: Sequence[Any]) -> Optional[
             except TypeError as exc:
                 raise InputTypeError(f"q[{j}] must be a number, got {type(v).__name__}") from exc
             except InputError as exc:
-                raise InputError(f"q[{j}]: {exc}") from None
+                raise type(exc)(f"q[{j}]: {exc}") from None
             c = _leg_constraint(j, leg, qa)
             if c is not None:
                 cons.append(c)

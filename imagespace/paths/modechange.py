@@ -258,8 +258,8 @@ def plan_mode_change(manipulator, q, mode_a, mode_b, seed=0, samples=400, box=No
             try:
                 return modes[as_index(v, name, len(modes))]
             except InputError as e:
-                raise InputError(f"{e} (an index into direct_kinematics(q): {len(modes)} real modes "
-                                 f"at q = {qf.tolist()})") from None
+                raise type(e)(f"{e} (an index into direct_kinematics(q): {len(modes)} real modes "
+                              f"at q = {qf.tolist()})") from None
 
         mode_a, mode_b = pick(mode_a, "mode_a"), pick(mode_b, "mode_b")
     Xa, Xb = _as_image(mode_a, "mode_a"), _as_image(mode_b, "mode_b")
@@ -307,7 +307,7 @@ def _check_box(box):
     try:
         return as_box(box, "box")
     except InputError as exc:
-        raise InputError(f"box must be (3, 2) with min < max per axis; {exc}") from None
+        raise type(exc)(f"box must be (3, 2) with min < max per axis; {exc}") from None
 
 
 def _sample(rng, b, n, S, sign):

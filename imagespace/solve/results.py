@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import numpy as np
 from dataclasses import dataclass
 from typing import Any, Optional, Sequence, Union
+import numpy as np
 
-from ..exceptions import InputTypeError
 from .._html import html_table, modes_table, summary
+from ..exceptions import InputTypeError
 from ..core.mechanism import index_rows
 from ..core.kinematic_map import image_point as _image_point
 
@@ -129,8 +129,7 @@ class CertifiedModes(list):
         Proven number of distinct real roots of :meth:`PlanarParallel.kinematic_polynomial`
         at the (exact) joint values, with isolating intervals, multiplicities and the method.
     modes_per_root : tuple of int
-        For each certified real root (finite ones in ascending ``t = x1/x0``, then the
-        half-turn root if any), how many reported modes it carries.
+        Per certified real root (ascending ``t = x1/x0``, the half-turn last), its modes.
     root_of_mode : tuple of int
         For each mode (in list order), the index of its root in the certificate.
     doubts : tuple of str
