@@ -76,7 +76,7 @@ __all__ = [
     "mode_count_map", "cusps", "cusp_loop", "cusp_edges", "linking_number", "backlash",
     "gruebler", "manipulator_mobility", "mechanism_mobility", "sweep", "fuzzy_minmax",
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
-    "ImageSpaceError", "InputError", "InputTypeError", "DegenerateDesignError", "EliminationError",
+    "ImageSpaceError", "InputError", "InputTypeError", "RowIndexError", "DegenerateDesignError", "EliminationError",
     "NearSingularWarning",
     "AngleUnitWarning",
     "Tolerances", "TOLERANCES",

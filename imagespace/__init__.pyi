@@ -70,6 +70,7 @@ from .exceptions import (
     ImageSpaceError as ImageSpaceError,
     InputError as InputError,
     InputTypeError as InputTypeError,
+    RowIndexError as RowIndexError,
     NearSingularWarning as NearSingularWarning,
 )
 from .tolerances import TOLERANCES as TOLERANCES, Tolerances as Tolerances

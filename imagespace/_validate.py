@@ -7,7 +7,7 @@ import numbers
 import numpy as np
 import sympy as sp
 
-from .exceptions import InputError, InputTypeError
+from .exceptions import InputError, InputTypeError, RowIndexError
 from .tolerances import TOLERANCES, Tolerances
 
 __all__ = [
@@ -570,6 +570,30 @@ def as_box(value, name: str = "box", dim: int = 3, required: bool = True):
     if not np.all(np.isfinite(sides)):
         raise InputError(f"{name} sides must be within the float range (max - min overflows), got {b.tolist()}")
     return b
+
+
+def as_row_index(value, size: int, name: str = "i") -> int:
+    """A row index of a batch of ``size`` rows, negative ones counted from the end (as a list's).
+
+    Raises
+    ------
+    InputTypeError
+        For a non-integer (floats, bools, strings).
+    RowIndexError
+        Outside ``-size .. size - 1`` (an :class:`InputError` and an :class:`IndexError`).
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_row_index
+    >>> as_row_index(-1, 3)
+    2
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise InputTypeError(f"{name} must be a row index (an integer), got {type(value).__name__} {_short(value)}")
+    if not -size <= int(value) < size:
+        raise RowIndexError(f"{name} = {int(value)} is out of range for a batch of {size} rows "
+                            f"(valid: {-size}..{size - 1})")
+    return int(value) % size
 
 
 def as_index(value, name: str, size: int) -> int:

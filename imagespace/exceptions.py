@@ -9,6 +9,7 @@ __all__ = [
     "ImageSpaceError",
     "InputError",
     "InputTypeError",
+    "RowIndexError",
     "DegenerateDesignError",
     "EliminationError",
     "MsolveUnavailableError",
@@ -36,6 +37,12 @@ class InputTypeError(ImageSpaceError, TypeError):
     ``except imagespace.ImageSpaceError`` catch it; :class:`InputError`, a ``ValueError``, is the
     wrong *value*). The message names the parameter and what it got.
     """
+
+
+class RowIndexError(InputError, IndexError):
+    """A row or mode index outside the result (an :class:`InputError` and an :class:`IndexError`,
+    so iteration and ``except IndexError`` work as for a list). The message names the index, the
+    value and the valid range."""
 
 
 class DegenerateDesignError(ImageSpaceError, ValueError):

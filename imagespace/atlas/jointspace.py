@@ -70,8 +70,9 @@ def _resolution(resolution):
         res = tuple(as_count(r, f"resolution[{i}]", 4) for i, r in enumerate(resolution))
     else:
         res = (as_count(resolution, "resolution", 4),) * 3
-    if int(np.prod(res)) > MAX_NODES:
-        raise InputError(f"resolution {res} asks for {int(np.prod(res)):,} grid nodes; at most "
+    nodes = res[0] * res[1] * res[2]               # python ints: never wraps (np.prod does in int64)
+    if nodes > MAX_NODES:
+        raise InputError(f"resolution {res} asks for {nodes:,} grid nodes; at most "
                          f"{MAX_NODES:,} are allowed")
     return res
 

@@ -7,6 +7,7 @@ from typing import Any, Optional, Sequence, Union
 import numpy as np
 
 from .._html import html_table, modes_table, summary
+from .._validate import as_row_index
 from ..exceptions import InputTypeError
 from ..core.mechanism import index_rows
 from ..core.kinematic_map import image_point as _image_point
@@ -129,7 +130,7 @@ class CertifiedModes(list):
         Proven number of distinct real roots of :meth:`PlanarParallel.kinematic_polynomial`
         at the (exact) joint values, with isolating intervals, multiplicities and the method.
     modes_per_root : tuple of int
-        Per certified real root (ascending ``t = x1/x0``, the half-turn last), its modes.
+        Per certified real root (ascending ``t = x1/x0``, half-turn last), its modes.
     root_of_mode : tuple of int
         For each mode (in list order), the index of its root in the certificate.
     doubts : tuple of str
@@ -507,7 +508,7 @@ class DKBatchResult:
         return _read_only(self._count)
 
     def _row_slice(self, i):
-        i = range(len(self))[i]        # numpy-like: negative indices wrap, IndexError outside
+        i = as_row_index(i, len(self))         # numpy-like: negative indices wrap
         return slice(int(self._offsets[i]), int(self._offsets[i + 1]))
 
     def _padded(self, name, build):
@@ -823,10 +824,8 @@ class DKBatchResult:
 
         Raises
         ------
-        IndexError
-            ``i`` is out of range.
-        TypeError
-            ``i`` is not an integer or a slice.
+        RowIndexError
+            ``i`` is out of range (an ``IndexError``); InputTypeError: not an integer or a slice.
 
         Examples
         --------

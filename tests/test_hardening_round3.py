@@ -1,0 +1,92 @@
+"""Issue 36's reproductions: each fails on the main of 2026-12-06 (code from strings, raw errors,
+a guard defeated by int64 wrap-around) and passes now."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import imagespace as isp
+
+EVIL = "__import__('os').system('touch {marker}')"
+
+
+@pytest.fixture
+def marker(tmp_path):
+    path = tmp_path / "pwned"
+    yield path
+    assert not path.exists(), "a string was evaluated as code"
+
+
+@pytest.mark.parametrize("bad, kind", [
+    (EVIL, isp.InputTypeError), (None, isp.InputTypeError), (True, isp.InputTypeError),
+    (1 + 2j, isp.InputTypeError), (float("nan"), isp.InputError), (float("inf"), isp.InputError),
+])
+def test_continuum_at_never_sympifies_and_names_q(marker, bad, kind):
+    from imagespace.solve.continuum import continuum_at
+
+    m = isp.examples.general_3rpr()
+    value = bad.format(marker=marker) if isinstance(bad, str) else bad
+    with pytest.raises(kind, match=r"q\[0\]"):
+        continuum_at(m, [value, 5, 10])
+
+
+def test_continuum_at_shapes():
+    from imagespace.solve.continuum import continuum_at
+
+    m = isp.examples.general_3rpr()
+    with pytest.raises(isp.InputError, match="3 joint values"):
+        continuum_at(m, [1, 2])
+    with pytest.raises(isp.InputTypeError, match="sequence"):
+        continuum_at(m, 5)
+    assert continuum_at(m, [sp.Float(11), 5, 10]) == continuum_at(m, [11, 5, 10])
+
+
+def test_quadratic_field_forms_never_sympify(marker):
+    from imagespace.core.quadratic_field import QuadraticFieldForms
+
+    q = sp.symbols("q1:4")
+    with pytest.raises(isp.InputTypeError, match=r"forms\[0\]\[0\].*never parsed"):
+        QuadraticFieldForms([[EVIL.format(marker=marker)]], q)
+    with pytest.raises(isp.InputTypeError, match="forms must be"):
+        QuadraticFieldForms("x", q)
+
+
+@pytest.mark.parametrize("d, kind", [(4, isp.InputError), (0, isp.InputError), (-1, isp.InputError),
+                                     (2.5, isp.InputTypeError), ("2", isp.InputTypeError),
+                                     (True, isp.InputTypeError)])
+def test_radicand_is_checked(d, kind):
+    import flint
+
+    from imagespace.core.quadratic_field import poly_gcd
+
+    z, one = flint.fmpq(0), flint.fmpq(1)
+    with pytest.raises(kind, match="d must be an integer > 1"):
+        poly_gcd([(z, one), (one, z)], [(z, -one), (one, z)], d)
+
+
+def test_batch_row_index_errors_name_the_index():
+    m = isp.examples.general_3rpr()
+    res = m.direct_kinematics_batch([m.q_example_float])
+    with pytest.raises(isp.RowIndexError, match=r"i = 5 is out of range .* 1 rows"):
+        res.modes(5)
+    with pytest.raises(IndexError):                  # still an IndexError, as for a list
+        res.modes(-2)
+    with pytest.raises(isp.InputTypeError, match="row index"):
+        res.modes(True)
+    assert len(res.modes(-1)) == len(res.modes(0)) == 6
+
+
+@pytest.mark.parametrize("resolution", [10**9, (2**21,) * 3, (2**31, 2**31, 4)])
+def test_atlas_node_guard_survives_int64_wraparound(resolution):
+    # (2**21)**3 = 2**63 wraps to a negative int64 in np.prod: the guard used to let it through
+    m = isp.examples.general_3rpr()
+    with pytest.raises(isp.InputError, match="grid nodes; at most"):
+        isp.joint_atlas(m, [(9, 13), (3, 7), (8, 12)], resolution=resolution)
+
+
+def test_exceptions_keep_their_builtin_meaning():
+    assert issubclass(isp.InputTypeError, TypeError) and issubclass(isp.InputTypeError, isp.ImageSpaceError)
+    assert not issubclass(isp.InputTypeError, ValueError)
+    assert issubclass(isp.RowIndexError, IndexError) and issubclass(isp.RowIndexError, isp.InputError)
