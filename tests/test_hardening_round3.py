@@ -90,3 +90,14 @@ def test_exceptions_keep_their_builtin_meaning():
     assert issubclass(isp.InputTypeError, TypeError) and issubclass(isp.InputTypeError, isp.ImageSpaceError)
     assert not issubclass(isp.InputTypeError, ValueError)
     assert issubclass(isp.RowIndexError, IndexError) and issubclass(isp.RowIndexError, isp.InputError)
+
+
+def test_pose_from_matrix_honours_the_rotation_tolerance_and_prints_the_entry():
+    from imagespace.spatial import pose_from_matrix
+
+    T = np.eye(4)
+    T[0, 0] = 1.000001
+    with pytest.raises(isp.InputError, match=r"T\[:3, :3\] must .*1\.000001"):
+        pose_from_matrix(T)
+    loose = pose_from_matrix(T, tolerances=isp.Tolerances(rotation_matrix=1e-5))
+    assert np.allclose(loose, [1, 0, 0, 0, 0, 0, 0, 0], atol=1e-6)

@@ -216,4 +216,9 @@ def pose_from_matrix(T: npt.ArrayLike, tolerances: Optional[Tolerances] = None) 
     if last > tol:
         raise InputError(f"T must end in the row (0, 0, 0, 1) (a homogeneous transform), got a deviation of "
                          f"{last:.3g}")
-    return study_point(M[..., :3, :3], M[..., :3, 3])
+    # the rotation block checked at the caller's tolerance (study_point would use the default)
+    try:
+        x = quaternion_from_matrix(M[..., :3, :3], tolerances)
+    except InputError as exc:                  # name the user's parameter
+        raise InputError(str(exc).replace("R must", "T[:3, :3] must", 1)) from None
+    return study_point(x, M[..., :3, 3])

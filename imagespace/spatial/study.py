@@ -361,13 +361,13 @@ def _quaternion_from_matrix(R, tolerances, name):
         raise InputError(f"{name} must be finite, got NaN or inf entries")
     if np.any(np.abs(R) > 1.0 + tol):                   # before R^T R, which could overflow
         raise InputError(f"{name} must be a rotation matrix (orthogonal, det +1, to {tol:g}), got an "
-                         f"entry {float(np.max(np.abs(R))):.3g} (a rotation's entries lie in [-1, 1])")
+                         f"entry {float(np.max(np.abs(R)))!r} (a rotation's entries lie in [-1, 1])")
     err = np.abs(np.einsum("...ji,...jk->...ik", R, R) - np.eye(3)).max(axis=(-2, -1))
     det_err = np.abs(np.linalg.det(R) - 1.0)
     if np.any(err > tol) or np.any(det_err > tol):
         raise InputError(f"{name} must be a rotation matrix (orthogonal, det +1, to {tol:g}), "
-                         f"got |R^T R - I| up to {float(np.max(err)):.3g} and |det - 1| up to "
-                         f"{float(np.max(det_err)):.3g}")
+                         f"got |R^T R - I| up to {float(np.max(err))!r} and |det - 1| up to "
+                         f"{float(np.max(det_err))!r}")
     # the four candidate squared components; take the largest for a stable root
     tr = np.trace(R, axis1=-2, axis2=-1)
     sq = np.stack([1 + tr, 1 + 2 * R[..., 0, 0] - tr, 1 + 2 * R[..., 1, 1] - tr,
