@@ -101,3 +101,25 @@ def test_pose_from_matrix_honours_the_rotation_tolerance_and_prints_the_entry():
         pose_from_matrix(T)
     loose = pose_from_matrix(T, tolerances=isp.Tolerances(rotation_matrix=1e-5))
     assert np.allclose(loose, [1, 0, 0, 0, 0, 0, 0, 0], atol=1e-6)
+
+
+def test_sweep_records_a_design_that_calls_sys_exit_and_keeps_finished_ones_on_ctrl_c():
+    import sys
+
+    def f(a):
+        if a == 2.0:
+            sys.exit(3)
+        return {"v": a * 2}
+
+    t = isp.sweep(f, {"a": [1.0, 2.0, 3.0]}, on_error="record", progress=False)
+    assert "SystemExit" in str(t.errors[1]) and t.values["v"][0] == 2.0 and t.values["v"][2] == 6.0
+
+    def g(a):
+        if a == 3.0:
+            raise KeyboardInterrupt
+        return {"v": a}
+
+    with pytest.raises(KeyboardInterrupt) as info:
+        isp.sweep(g, {"a": [1.0, 2.0, 3.0]}, on_error="record", progress=False)
+    partial = info.value.partial_table
+    assert partial.values["v"][:2].tolist() == [1.0, 2.0] and "interrupted" in str(partial.errors[2])

@@ -228,7 +228,8 @@ def _evaluate(func, kw):
     """One design: ``(values, None, None)``, or ``(None, message, exception or None)``."""
     try:
         out = func(**kw)
-    except Exception as e:  # noqa: BLE001 -- reported per design, chained when raised
+    except (Exception, SystemExit) as e:  # noqa: BLE001 -- reported per design, chained when raised
+        # a design calling sys.exit() is that design's failure, not the sweep's end
         return None, f"{type(e).__name__}: {e}", e
     values, problem = _check_output(out)
     return values, problem, None
@@ -449,7 +450,13 @@ def sweep(func, grid, client=None, processes=None, progress=None, chunksize=1, o
         if client is None and not processes:
             how = "serial"
             for i in range(n):
-                if finish(i, *_evaluate(func, rows[i])):
+                try:
+                    outcome = _evaluate(func, rows[i])
+                except KeyboardInterrupt as e:
+                    # Ctrl-C stops the sweep; the designs already finished travel with it
+                    e.partial_table = table("not run: the sweep was interrupted (KeyboardInterrupt)")
+                    raise
+                if finish(i, *outcome):
                     fail(i)
                 bar.update()
         else:
