@@ -490,6 +490,9 @@ def load_cached_module(folder, key, source):
         if os.path.lexists(path):
             warn_once("rewritten", path, f"kernel cache file {path} did not match the generated "
                        "source (or was not a regular file): rewritten")
+            st = os.lstat(path)
+            if not stat.S_ISREG(st.st_mode) and not stat.S_ISDIR(st.st_mode):
+                os.unlink(path)         # a planted link or special file in our private folder: removed, not followed
         atomic_write(path, lambda f: f.write(data), mode=0o600)     # private, like the folder
     name = f"imagespace_kernel_{key}"
     mod = types.ModuleType(name)
