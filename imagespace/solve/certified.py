@@ -407,14 +407,17 @@ def exact_mode_count(m, q):
         # simple roots, each proven a Cramer root (D != 0 there: exactly, or by an arb ball over
         # its refined interval): one mode each, nothing to solve
         q_exact = [as_exact(float(v), f"q[{i}]") for i, v in enumerate(qf)]
-        P, D, X2, X3, case_a, cert, balls, _ = _exact_stage(m, q_exact)
+        stage = _exact_stage(m, q_exact)
+        P, D, X2, X3, case_a, cert, balls, _ = stage
         if (cert.certified and not case_a and cert.at_infinity <= 1
                 and all(k == 1 for k in cert.multiplicities)
                 and all(p.kind == "cramer" for p in plan_roots(P, D, X2, X3, cert, False, cramer_balls=balls))):
             return cert.count, ("flint" if cert.exact else "arb")
+    else:
+        stage = None
     with np.errstate(over="ignore", invalid="ignore"):
         try:
-            modes = certified_modes(m, qf, qf, warn=False)
+            modes = certified_modes(m, qf, qf, warn=False, stage=stage)
         except (InputError, OverflowError):
             return -1, "uncertified"       # the poses leave the float range: not counted here
     cert = modes.certificate
@@ -561,15 +564,20 @@ def _orientation_positions(m, q_exact, P, tr, cert, plan):
     return positions_at_root(rows, TranscendentalRoot(f, k, lo, hi))
 
 
-def _pp_orientations(m, q_exact):
-    """``(cos phi_c, sin phi_c)`` (exact sympy numbers, up to one positive factor) of every PP
-    dyad of the design at ``q_exact``: the orientations its pair of planes fixes, the genuine
-    one ``phi_c`` and the spurious ``phi_c + pi``."""
+def pp_genuine_forms(m, q=None):
+    """For each PP dyad of ``m``, the coefficients ``(a0, a1, a2)`` of ``x0**2, x0*x1, x1**2`` in
+    the binary form ``(x0**2 - x1**2) cos(phi_c) + 2 x0 x1 sin(phi_c)`` (sympy, up to one positive
+    factor): ``cos(phi - phi_c)`` times ``x0**2 + x1**2``, positive at the orientation ``phi_c``
+    the dyad's pair of planes fixes, negative at its spurious ``phi_c + pi``. At the exact joint
+    values ``q``, or general in the joint symbols (``q`` None). The one home of this form: the
+    per-call test :func:`_spurious_root` and the batch counts' enclosure
+    (:func:`imagespace.solve.planar.counts`) both read it. Not public API."""
     out = []
-    for qd in m.quadrics(list(q_exact)):
+    for qd in m.quadrics(None if q is None else list(q)):
         if qd.kind == "PP":
             c = qd.coefficients()
-            out.append((sp.sympify(c[6]) / 2, sp.sympify(c[7])))
+            cos, sin = sp.sympify(c[6]) / 2, sp.sympify(c[7])
+            out.append((cos, 2 * sin, -cos))
     return out
 
 
@@ -581,9 +589,8 @@ SPURIOUS_BITS = (64, 256, 1024)
 def _spurious_root(pp, iv):
     """True when the certified root (isolating interval ``iv`` of ``t = x1/x0``, None for
     ``x0 = 0``) lies on the spurious plane ``phi = phi_c + pi`` of a PP dyad of ``pp``
-    (:func:`_pp_orientations`): the sign of ``cos(phi - phi_c)``, i.e. of
-    ``(1 - t**2) cos(phi_c) + 2 t sin(phi_c)`` (``-cos(phi_c)`` at ``x0 = 0``), decided on arb
-    balls over the interval. None where no ball decides it (it is ``+-(1 + t**2)`` times a positive
+    (:func:`pp_genuine_forms` at the exact joint values): the sign of ``cos(phi - phi_c)``, i.e.
+    of ``a0 + a1 t + a2 t**2`` (``a2`` at ``x0 = 0``), decided on arb balls over the interval. None where no ball decides it (it is ``+-(1 + t**2)`` times a positive
     factor at a root of the dyad, so this does not happen at a root the dyad carries)."""
     import flint
 
@@ -593,9 +600,9 @@ def _spurious_root(pp, iv):
             if iv is not None:
                 t = flint.arb(flint.fmpq(iv[0].numerator, iv[0].denominator)).union(
                     flint.arb(flint.fmpq(iv[1].numerator, iv[1].denominator)))
-            for c, s_ in pp:
-                cb, sb = to_arb(c, prec), to_arb(s_, prec)
-                g = -cb if iv is None else (1 - t * t) * cb + 2 * t * sb
+            for a0, a1, a2 in pp:
+                b0, b1, b2 = (to_arb(a, prec) for a in (a0, a1, a2))
+                g = b2 if iv is None else b0 + t * (b1 + t * b2)
                 if g.contains(0):
                     verdict = None
                     break
@@ -625,17 +632,18 @@ def _exact_stage(m, q_exact):
             certify_real_roots(Pp), None, None)
 
 
-def certified_modes(m, q, qf, warn=True):
+def certified_modes(m, q, qf, warn=True, stage=None):
     """The certified per-call path: modes computed root by root from the exact certificate.
 
     The certified stage of :func:`imagespace.solve.front.direct_kinematics` (``certify=True``):
-    ``q`` is the joint vector as given (exact where it is), ``qf`` its float copy. What is not
+    ``q`` is the joint vector as given (exact where it is), ``qf`` its float copy; ``stage`` the
+    exact stage at ``q`` (:func:`_exact_stage`) where the caller already computed it. What is not
     proven is said in ``doubts`` of the result (and, with ``warn``, in a
     :class:`NearSingularWarning` each; the batches read ``doubts`` instead). Not public API (out
     of ``__all__``)."""
     items = list(q) if is_symbolic(q) else list(np.ravel(np.asarray(q, dtype=object)))
     q_exact = [as_exact(v, f"q[{i}]") for i, v in enumerate(items)]
-    P, D, X2, X3, case_a, cert, balls, tr = _exact_stage(m, q_exact)
+    P, D, X2, X3, case_a, cert, balls, tr = _exact_stage(m, q_exact) if stage is None else stage
     if not cert.certified:
         res = solve_batch(m, qf[None, :], raise_degenerate=True)
         doubt = (f"{m.name} at q = {qf.tolist()}: the real roots could not be "
@@ -650,7 +658,7 @@ def certified_modes(m, q, qf, warn=True):
     quads = row_quadrics(m, C[0])
     tol = m.tolerances
     per_root = [[] for _ in plans]
-    pp = _pp_orientations(m, q_exact) if "PP" in m.kinds else []
+    pp = pp_genuine_forms(m, q_exact) if "PP" in m.kinds else []
     iv_of = list(cert.exact_intervals) + ([None] if cert.at_infinity else [])
     # which roots are the spurious phi_c + pi root of a PP dyad: decided exactly; a root that is
     # not carries its modes whatever their float residual (a residual above the tolerance there

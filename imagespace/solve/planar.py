@@ -10,7 +10,6 @@ from __future__ import annotations
 from typing import Any, Optional, TypeVar
 
 import numpy as np
-import sympy as sp
 import numpy.typing as npt
 
 from ..core.certify import RealRootCertificate
@@ -19,7 +18,7 @@ from ..core.mechanism import Backends
 from ..core.reach import ReachObstruction, planar_design_scale, planar_reach_obstruction, prismatic_magnitude
 from ..exceptions import DegenerateDesignError, InputError
 from .._validate import finite_rows
-from .certified import certified_modes, certify_batch, exact_certificate, exact_mode_count
+from .certified import certified_modes, certify_batch, exact_certificate, exact_mode_count, pp_genuine_forms
 from .numpy_path import complex_modes, check_rows, solve_batch
 from .proof import batch_kernel, have_numba as _have_numba
 from .results import AssemblyModes, CertifiedModes, DKBatchResult, MAX_MODES, SOLVER_NAMES
@@ -213,18 +212,11 @@ def _one_mode_per_root(m, Q, F, E, iv):
 
 
 def _pp_genuine_forms(m):
-    """For each PP dyad, the binary form ``(x0**2 - x1**2) cos(phi_c) + 2 x0 x1 sin(phi_c)``
-    general in the joint values (an enclosure): ``cos(phi - phi_c)`` times ``x0**2 + x1**2``,
-    positive at the dyad's orientation, negative at its spurious ``phi_c + pi``."""
+    """For each PP dyad, :func:`~imagespace.solve.certified.pp_genuine_forms` general in the joint
+    values as an enclosure (positive at the dyad's orientation, negative at ``phi_c + pi``)."""
     from ..core.codegen import CoefficientEnclosure
 
-    out = []
-    for qd in m.quadrics(None):
-        if qd.kind == "PP":
-            c = qd.coefficients()
-            cos, sin = sp.sympify(c[6]) / 2, sp.sympify(c[7])
-            out.append(CoefficientEnclosure([cos, 2 * sin, -cos], m.joint_symbols))
-    return out
+    return [CoefficientEnclosure(list(f), m.joint_symbols) for f in pp_genuine_forms(m)]
 
 
 def solve(m: Any, Q: np.ndarray, rows: np.ndarray, method: str, per_call: bool) -> DKBatchResult:
