@@ -123,3 +123,18 @@ def test_sweep_records_a_design_that_calls_sys_exit_and_keeps_finished_ones_on_c
         isp.sweep(g, {"a": [1.0, 2.0, 3.0]}, on_error="record", progress=False)
     partial = info.value.partial_table
     assert partial.values["v"][:2].tolist() == [1.0, 2.0] and "interrupted" in str(partial.errors[2])
+
+
+def test_reduced_angle_never_parses_a_string_and_reduces_1e300_exactly(marker):
+    import mpmath
+
+    from imagespace.core.certify import reduced_angle
+
+    with pytest.raises(isp.InputTypeError, match="angle .*never parsed"):
+        reduced_angle(EVIL.format(marker=marker))
+    with pytest.raises(isp.InputError, match="angle must be finite"):
+        reduced_angle(float("nan"))
+    with mpmath.workdps(400):                         # 1e300 is a binary rational; pi to 400 digits
+        x = mpmath.mpf(1e300)
+        want = float(x - 2 * mpmath.pi * mpmath.floor(x / (2 * mpmath.pi) + mpmath.mpf(1) / 2))
+    assert reduced_angle(1e300) == pytest.approx(want, abs=4e-16)

@@ -397,7 +397,9 @@ def reduced_angle(c):
     Raises
     ------
     InputError
-        ``c`` is not a finite real number.
+        ``c`` is not a finite real number (NaN, infinite, an expression with symbols).
+    InputTypeError
+        ``c`` is a string (never parsed), a bool, None or a complex number.
 
     Examples
     --------
@@ -408,7 +410,11 @@ def reduced_angle(c):
     """
     import flint
 
-    c = sp.sympify(c)
+    from .._validate import as_sympy_entry
+
+    c = as_sympy_entry(c, "angle")          # strings are refused, never parsed
+    if c.free_symbols:
+        raise InputError(f"angle must be a number, got the expression {c}")
     prec = 128
     while prec <= 1 << 16:
         with flint_precision(prec):
