@@ -24,34 +24,28 @@ __all__: list[str] = []
 
 # --------------------------------------------------------------------------- exact geometry input
 
+#: Beyond this size an angle is wrapped through ``atan2(sin a, cos a)`` (numpy's sine and cosine
+#: reduce the exact binary argument, to within an ulp of the result even at ``1e300``), below it
+#: by the remainder of ``2 pi``, whose rounding error grows with the number of turns removed.
+_ACCURATE_WRAP_ABOVE = 8 * np.pi
+
+
 def wrap_angle(a: Any) -> Any:
-    """Wrap angles (radians, array or number) to ``(-pi, pi]``.
+    """Wrap angles (radians, array or number) to ``(-pi, pi]``, accurately at any size (an angle
+    of ``62831853071.79587`` keeps its remainder, not only the ulp of its float). NaN stays NaN.
 
     Examples
     --------
-    >>> round(float(wrap_angle(3 * np.pi / 2)), 6)
-    -1.570796
+    >>> round(float(wrap_angle(3 * np.pi / 2)), 6), round(float(wrap_angle(62831853071.79587)), 12)
+    (-1.570796, 3.150669e-06)
     """
-    return np.pi - np.remainder(np.pi - a, 2 * np.pi)
-
-
-def reduce_angle(a: Any) -> Any:
-    """Angles (radians, float array or number) beyond ``pi`` in size reduced to ``(-pi, pi]``
-    accurately: ``atan2(sin a, cos a)``, whose sine and cosine reduce the exact binary argument
-    (to within an ulp of the result, even at ``1e300``), where ``a - 2 pi k`` in floats keeps only
-    the ulp of ``a``. Smaller angles are returned as they are. NaN stays NaN.
-
-    Examples
-    --------
-    >>> float(reduce_angle(2.0)), round(float(reduce_angle(62831853071.79587)), 12)
-    (2.0, 3.150669e-06)
-    """
-    a = np.asarray(a, dtype=float)
+    out = np.pi - np.remainder(np.pi - a, 2 * np.pi)
     with np.errstate(invalid="ignore"):
-        big = np.abs(a) > np.pi
+        big = np.abs(a) > _ACCURATE_WRAP_ABOVE
     if not np.any(big):
-        return a
-    return np.where(big, np.arctan2(np.sin(a), np.cos(a)), a)
+        return out
+    far = np.arctan2(np.sin(a), np.cos(a))
+    return np.where(big, np.where(far == -np.pi, np.pi, far), out)
 
 
 def exact_cos_sin(angle: Any, name: str) -> tuple[Any, Any]:

@@ -58,7 +58,7 @@ import sympy as sp
 from .._validate import as_count, as_exact, as_flag, as_float_array, as_sympy_entry, check_positive, is_symbolic
 from .._validate import as_tolerances
 from .leg_geometry import (Arithmetic, circle_line, direction_angle, exact_cos_sin, floatify,
-                           geometry_number, geometry_point, in_float_range, lines_meet, reduce_angle, rotate_vector, short_text,
+                           geometry_number, geometry_point, in_float_range, lines_meet, rotate_vector, short_text,
                            unit_direction, world_point, wrap_angle)
 from .quadrics import Quadric, pp_quadric, pr_quadric, rp_quadric, rr_quadric
 from ..exceptions import DegenerateDesignError, InputError, InputTypeError
@@ -327,9 +327,9 @@ class Leg:
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
         if not self.actuated_is_angle:
             return a - b
-        # angles beyond one turn are reduced first (numpy's sin/cos reduce their exact binary
-        # argument to within an ulp): ``a - b`` of a huge angle would keep only its ulp
-        return wrap_angle(reduce_angle(a) - reduce_angle(b))
+        # each angle is wrapped first (accurately at any size): ``a - b`` of a huge angle would
+        # keep only its ulp
+        return wrap_angle(wrap_angle(a) - wrap_angle(b))
 
     def joint_distance(self, a: npt.ArrayLike, b: npt.ArrayLike) -> npt.NDArray[np.float64]:
         """``|a - b|`` for the actuated joint (angles compared modulo ``2 pi``); see
