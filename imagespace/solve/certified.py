@@ -42,7 +42,7 @@ from ..core.kinematic_map import pose_of as _pose_of
 from ..core.elimination import form_coefficients
 from ..core.quadrics import dk_system as _system
 from ..exceptions import DegenerateDesignError, InputError, NearSingularWarning
-from .continuum import continuum_at
+from .continuum import decide_continuum
 from .numpy_path import finish_candidates, row_quadrics, scaled_quadrics, solve_batch, solve_orientation, store_modes
 from .results import AssemblyMode, CertifiedModes, MAX_MODES
 
@@ -434,7 +434,7 @@ def _raise_if_continuum(m, q, cert, case_a):
     tested."""
     if not (case_a or cert.at_infinity > 1 or any(k > 1 for k in cert.multiplicities)):
         return
-    verdict, phi = continuum_at(m, q)
+    verdict, phi = decide_continuum(m, q)
     if verdict:
         raise DegenerateDesignError(
             f"{m.name} at q = {np.asarray(q, dtype=float).tolist()}: a continuum of assembly modes "

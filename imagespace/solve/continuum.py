@@ -404,7 +404,13 @@ def continuum_at(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
     >>> continuum_at(m, [2, 2, 2.5])
     (False, None)
     """
-    q = _checked_joint_values(m, q)
+    return decide_continuum(m, _checked_joint_values(m, q))
+
+
+def decide_continuum(m: Any, q: Any) -> tuple[Optional[bool], Optional[float]]:
+    """:func:`continuum_at` on joint values the caller has already validated (the direct
+    kinematics' own stages: a float array or exact numbers inside the joints' domains); the public
+    boundary validates once, this does not again. Not public API."""
     field = _quadratic_field_verdict(m, q)
     if field is not None:
         return field

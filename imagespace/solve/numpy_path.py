@@ -18,7 +18,7 @@ from ..core.elimination import form_coefficients
 from ..core.quadrics import Quadric, dk_system as _system
 from ..core.roots import real_half_angles
 from ..exceptions import DegenerateDesignError
-from .continuum import continuum_at
+from .continuum import decide_continuum
 from .proof import modes_match_roots, proven_roots
 from .results import AssemblyMode, DKBatchResult, MAX_MODES, SOLVER_NAMES
 
@@ -334,7 +334,7 @@ def _continuum_message(m, q, special, exact_check=None):
     decide (irrational coefficients) a Cramer-case row is decided by ``exact_check(m, q)`` (the
     caller's certified per-row path, which raises
     :class:`~imagespace.exceptions.DegenerateDesignError` on a continuum), where given."""
-    verdict, phi = continuum_at(m, q)
+    verdict, phi = decide_continuum(m, q)
     if verdict:
         return (f"{m.name} at q = {np.asarray(q, dtype=float).tolist()}: a continuum of assembly "
                 f"modes at phi = {phi:.6g} (the positions at that orientation form a curve: "
@@ -582,7 +582,7 @@ def _continuum(m, q, X, L, flags=None):
     Xw = np.array([X[0], X[1], X[2] * L, X[3] * L])
     pose = _pose_of(Xw)
     if m.joint_residual(pose, q, length=L) <= m.tolerances.joint_residual:
-        verdict, phi = continuum_at(m, q)
+        verdict, phi = decide_continuum(m, q)
         if verdict:
             raise DegenerateDesignError(
                 f"{m.name} at q = {np.asarray(q).tolist()}: a continuum of assembly modes at "
