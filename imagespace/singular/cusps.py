@@ -127,8 +127,9 @@ SECTION_MAX_RESOLUTION = 2000
 
 
 def check_section_resolution(resolution, name="resolution"):
-    """The grid per axis of a joint-space section, checked: an int in ``8 ..
-    SECTION_MAX_RESOLUTION``.
+    """The grid per axis of a joint-space section, checked: an int from 8 to the bound.
+
+    The bound is ``SECTION_MAX_RESOLUTION`` (2000 per axis).
 
     Raises
     ------
