@@ -357,20 +357,30 @@ def _spurious_half_angles(m, C):
     return np.stack(cols, axis=1) if cols else np.zeros((C.shape[0], 0))
 
 
-def _spurious_roots(m, C, theta):
-    """Per row, how many of the real half-angles ``theta`` (n, k) are the spurious
-    orientation ``phi_c + pi`` of a PP dyad (its quadric ``sin(2 theta - phi_c)`` up to scale
-    has the roots ``theta = phi_c / 2`` and ``phi_c / 2 + pi / 2``; the first is the one)."""
-    n = C.shape[0]
-    out = np.zeros(n, dtype=int)
+def _spurious_mask(m, C, theta):
+    """Which of the real half-angles ``theta`` (n, k) are (within ``near_singular_gap``) the
+    spurious orientation ``phi_c + pi`` of a PP dyad (its quadric ``sin(2 theta - phi_c)`` up to
+    scale has the roots ``theta = phi_c / 2`` and ``phi_c / 2 + pi / 2``; the first is the one)."""
+    return _spurious_hits(m, C, theta) > 0
+
+
+def _spurious_hits(m, C, theta):
+    """Per half-angle of ``theta`` (n, k), how many PP dyads it is the spurious orientation of."""
+    out = np.zeros(theta.shape, dtype=int)
     for j, kind in enumerate(m.kinds):
         if kind != "PP":
             continue
         phi_c = np.arctan2(-C[:, j, 5], C[:, j, 6] / 2)
         spur = phi_c / 2 + np.pi / 2
         d = np.abs(np.remainder(theta - spur[:, None] + np.pi / 2, np.pi) - np.pi / 2)
-        out += np.sum(np.isfinite(theta) & (d <= m.tolerances.near_singular_gap), axis=1)
+        out += np.isfinite(theta) & (d <= m.tolerances.near_singular_gap)
     return out
+
+
+def _spurious_roots(m, C, theta):
+    """Per row, how many of the real half-angles ``theta`` (n, k) are the spurious orientation
+    of a PP dyad, counted once per dyad (:func:`_spurious_hits`)."""
+    return np.sum(_spurious_hits(m, C, theta), axis=1)
 
 
 def finish_candidates(m, Q, C, cand, row_ok, errors, special, L):
@@ -397,13 +407,27 @@ def finish_candidates(m, Q, C, cand, row_ok, errors, special, L):
     if np.any(finite):
         rows = np.nonzero(finite)[0]
         resid[finite] = m.joint_residual(poses[finite], Q[rows], length=L[rows])
-    valid = finite & (resid <= tol.joint_residual)
+    Fv, J = _system(C, np.where(finite[..., None], X, 0.0))
+    on_system = finite & (np.max(np.abs(Fv[..., :3]), axis=-1)
+                          <= tol.kernel_residual * (1 + np.sum(X[..., 2:] ** 2, axis=-1)))
+    # a point on the system where a leg's inverse kinematics is undefined (its actuated joint is
+    # free at that pose: a leg singularity, e.g. a PRP's lines coincide) is a mode the IK check
+    # cannot confirm: kept, and its row marked near_singular
+    ik_free = on_system & ~np.isfinite(resid)
+    valid = finite & ((resid <= tol.joint_residual) | ik_free)
+    dup = np.zeros_like(valid)
     for j in range(1, k):
         for i0 in range(j):
             dist = np.minimum(np.max(np.abs(X[:, j] - X[:, i0]), axis=-1),
                               np.max(np.abs(X[:, j] + X[:, i0]), axis=-1))
-            valid[:, j] &= ~(valid[:, i0] & (dist <= tol.duplicate * (1 + np.max(np.abs(X[:, j]), axis=-1))))
-    _, J = _system(C, np.where(finite[..., None], X, 0.0))
+            dup[:, j] |= valid[:, i0] & (dist <= tol.duplicate * (1 + np.max(np.abs(X[:, j]), axis=-1)))
+            valid[:, j] &= ~dup[:, j]
+    # a real candidate refused by the IK check that is neither a duplicate nor a PP dyad's
+    # spurious orientation: the row's count may be short of the truth (a near-fold pose the float
+    # Newton cannot pin down); the row says so instead of returning a silently short count
+    refused = finite & ~valid & ~dup & ~ik_free
+    spurious = _spurious_mask(m, C, np.arctan2(X[..., 1], X[..., 0]))
+    doubtful = np.any(refused & ~spurious, axis=1) | np.any(ik_free & valid, axis=1)
     detJ = np.linalg.det(J)
     aspect = np.where(finite, np.sign(detJ), 0).astype(int)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -413,7 +437,7 @@ def finish_candidates(m, Q, C, cand, row_ok, errors, special, L):
     order = np.argsort(key, axis=1, kind="stable")
     take = lambda a: np.take_along_axis(a, order.reshape(order.shape + (1,) * (a.ndim - 2)), axis=1)
     poses, valid, resid, aspect = take(poses), take(valid), take(resid), take(aspect)
-    ill = np.any(valid & ~(take(ratio) > tol.near_singular_condition), axis=1)
+    ill = np.any(valid & ~(take(ratio) > tol.near_singular_condition), axis=1) | doubtful
     count = valid.sum(axis=1)
     if np.any(count > MAX_MODES):
         raise DegenerateDesignError(f"more than {MAX_MODES} assembly modes found; the design is degenerate")
