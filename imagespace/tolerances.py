@@ -20,6 +20,8 @@ polished, a bisection's stopping width, a finite-difference step, a minimiser's 
 import warnings
 from dataclasses import dataclass
 
+import numpy as np
+
 __all__ = ["Tolerances", "TOLERANCES"]
 
 DEPRECATED = {
@@ -340,12 +342,16 @@ class Tolerances:
     exact_reach_ratio: float = 1e20
 
     def __post_init__(self):
+        from .exceptions import InputError, InputTypeError
+
         for name, value in self.__dict__.items():
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0 \
-                    or value != value or value == float("inf"):
-                raise ValueError(f"Tolerances.{name} must be a positive finite number, got {value!r}")
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+                raise InputTypeError(f"Tolerances.{name} must be a positive finite number, got "
+                                     f"{type(value).__name__} {value!r}; strings are never parsed")
+            if not value > 0 or value != value or value == float("inf"):
+                raise InputError(f"Tolerances.{name} must be a positive finite number, got {value!r}")
         if int(self.newton_steps) != self.newton_steps:
-            raise ValueError(f"Tolerances.newton_steps must be a whole number, got {self.newton_steps!r}")
+            raise InputError(f"Tolerances.newton_steps must be a whole number, got {self.newton_steps!r}")
         for name, why in DEPRECATED.items():
             if getattr(self, name) != _DEFAULTS[name]:
                 warnings.warn(f"Tolerances.{name} is deprecated and has no effect ({why}); it will be "

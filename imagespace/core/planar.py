@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from .._validate import as_exact, as_float_array, finite_rows, is_symbolic, warn_angle_units
+from .._validate import as_exact, as_flag, as_float_array, finite_rows, is_symbolic, warn_angle_units
 from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 from ..tolerances import TOLERANCES, Tolerances
 from .certify import reduced_angle
@@ -217,6 +217,8 @@ class PlanarMechanism(Mechanism):
         >>> ok.tolist(), errors[1][:8]
         ([True, False], 'Q[1, 0] ')
         """
+        Q = np.atleast_2d(as_float_array(Q, "Q", last=3, finite=False))
+        warn = as_flag(warn, "warn")
         errors = {}
         row_ok = finite_rows(Q)
         for i in np.flatnonzero(~row_ok):

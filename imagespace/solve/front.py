@@ -85,8 +85,8 @@ def joint_batch(m: Any, Q: npt.ArrayLike, name: Any = None) -> np.ndarray:
     >>> joint_batch(isp.examples.general_3rpr(), [11, 5, 10]).shape
     (1, 3)
     """
-    if name is None:                    # the mechanism's word for its joint values
-        name = "Q" if m.image_space == "planar" else "lengths"
+    if name is None:                    # the parameter, in the mechanism's words
+        name = "Q" if m.image_space == "planar" else "Q (rows of leg lengths)"
     A = as_float_array(Q, name, last=m.joint_count, finite=False)
     return A[None, :] if A.ndim == 1 else A
 
@@ -145,7 +145,8 @@ def direct_kinematics(m: Any, q: Any, include_complex: bool = False, certify: bo
     include_complex = as_flag(include_complex, "include_complex")
     certify = as_flag(certify, "certify")
     method = check_method(method, m)
-    qf = m.check_q(q)               # exact sympy numbers pass, free symbols are refused by name
+    # exact sympy numbers pass, free symbols are refused by name
+    qf = m.check_q(q, "q" if m.image_space == "planar" else "q (leg lengths)")
     if qf.ndim != 1:
         raise InputError(f"q must have shape ({m.joint_count},), got {qf.shape}; use "
                          "direct_kinematics_batch for rows")

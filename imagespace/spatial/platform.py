@@ -130,7 +130,7 @@ class QuadricPlatform(Mechanism):
         """The design's name (its class, the number of legs and anchors)."""
         return f"{type(self).__name__} ({self.leg_count} legs)"
 
-    def check_q(self, q: Any, name: str = "lengths") -> FloatArray:
+    def check_q(self, q: Any, name: str = "q (leg lengths)") -> FloatArray:
         """One row of leg lengths as checked floats: real, finite, positive (see :func:`check_lengths`).
 
         Examples
@@ -154,7 +154,7 @@ class QuadricPlatform(Mechanism):
         >>> ok.tolist(), sorted(errors)
         ([True, False], [1])
         """
-        Q = np.asarray(Q, dtype=float)
+        Q = np.atleast_2d(as_float_array(Q, "Q (rows of leg lengths)", last=self.leg_count, finite=False))
         ok = np.all(np.isfinite(Q) & (Q > 0), axis=1)
         errors = {int(i): f"lengths[{i}] must be positive finite leg lengths, got {Q[i].tolist()}"
                   for i in np.flatnonzero(~ok)}
