@@ -78,7 +78,7 @@ __all__ = [
     "RealRootCertificate", "certify_real_roots", "certify_real_roots_batch",
     "ImageSpaceError", "InputError", "InputTypeError", "RowIndexError", "DegenerateDesignError", "EliminationError",
     "NearSingularWarning",
-    "AngleUnitWarning",
+    "AngleUnitWarning", "RepeatedLegWarning",
     "Tolerances", "TOLERANCES",
     "GoughStewart", "ThreeRPS",
     "JointAtlas", "joint_atlas", "is_cuspidal", "CuspidalityResult", "atlas_figure",

@@ -72,6 +72,7 @@ from .exceptions import (
     InputTypeError as InputTypeError,
     RowIndexError as RowIndexError,
     NearSingularWarning as NearSingularWarning,
+    RepeatedLegWarning as RepeatedLegWarning,
 )
 from .tolerances import TOLERANCES as TOLERANCES, Tolerances as Tolerances
 

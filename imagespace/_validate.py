@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import numbers
 
 import numpy as np
@@ -123,6 +124,19 @@ def _short(value) -> str:
     return text if len(text) <= 80 else text[:77] + "..."
 
 
+_REFUSED_ENTRY_BASES = (str, bytes, bool, np.bool_, complex)
+_REFUSED_ENTRY_TYPES = frozenset({str, bytes, bool, np.bool_, complex, np.str_, np.bytes_, np.complex128})
+_PLAIN_NUMBER_TYPES = frozenset({int, float, np.float64, np.int64})
+
+
+def _flat_entries(value, raw):
+    """The scalar entries of a Python sequence (rows of scalars chained without an object array:
+    ~10x faster for long lists), else of its object array."""
+    if raw.ndim == 2 and isinstance(value, (list, tuple)) and all(isinstance(r, (list, tuple)) for r in value):
+        return list(itertools.chain.from_iterable(value))
+    return np.asarray(value, dtype=object).ravel()
+
+
 def as_float_array(value, name: str, last: int | None = None, allow_batch: bool = True,
                    finite: bool = True) -> np.ndarray:
     """Convert ``value`` to a float64 array and check its shape and finiteness.
@@ -165,11 +179,16 @@ def as_float_array(value, name: str, last: int | None = None, allow_batch: bool 
         raise InputTypeError(f"{name} must be numeric, got booleans {_short(value)}")
     if raw.dtype.kind in "USV":
         raise InputTypeError(f"{name} must be numeric, got strings {_short(value)}; strings are never parsed")
-    if raw.dtype.kind == "O" or (not isinstance(value, np.ndarray) and raw.size <= 4096):
-        # python sequences: a bool or a string among numbers would be silently converted
-        for v in np.asarray(value, dtype=object).ravel():
-            if isinstance(v, (str, bytes, bool, np.bool_)) or isinstance(v, complex):
-                raise InputTypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
+    if raw.dtype.kind == "O" or not isinstance(value, np.ndarray):
+        # python sequences of any length: a bool or a string among numbers would be silently
+        # converted (the entries' types are gathered at C speed, ~30 ms per million entries)
+        entries = _flat_entries(value, raw)
+        types = set(map(type, entries))
+        if _REFUSED_ENTRY_TYPES.intersection(types) or any(
+                issubclass(t, _REFUSED_ENTRY_BASES) for t in types - _PLAIN_NUMBER_TYPES):
+            for v in entries:
+                if isinstance(v, _REFUSED_ENTRY_BASES):
+                    raise InputTypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")
     try:
         arr = np.asarray(raw, dtype=float)
     except OverflowError:

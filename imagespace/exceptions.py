@@ -66,6 +66,15 @@ class MsolveUnavailableError(ImageSpaceError, RuntimeError):
     """
 
 
+class RepeatedLegWarning(UserWarning):
+    """Two legs of a design are the same leg (joints, actuated joint and geometry).
+
+    Whenever their joint values are equal they impose one constraint and the modes form a
+    continuum; a design whose two equal legs can never assemble with different values is refused
+    with :class:`DegenerateDesignError` instead.
+    """
+
+
 class AngleUnitWarning(UserWarning):
     """An actuated angle outside ``[-2 pi, 2 pi]``: most likely given in degrees.
 

@@ -237,6 +237,10 @@ class Tolerances:
     spatial_distinct : float
         Two endpoints closer than this (unit-normalised, Euclidean) are one solution reached twice
         (path jumping): ``complex_count`` of an unproven row counts them once.
+    study_quadric : float
+        A Study point given where a displacement is expected (``rotation_matrix``,
+        ``translation``, ``transform_matrix``, ``transform_points``) is on Study's quadric when
+        ``|x . y|`` is at most this times ``|x|^2 + |y|^2``; a point further off is refused.
     spatial_plane : float
         ``ThreeRPS.inverse_kinematics``: a leg is in its revolute joint's plane when
         ``|u . leg|`` is at most this times ``|u| |leg|``.
@@ -337,6 +341,7 @@ class Tolerances:
     spatial_distinct: float = 1e-6
     spatial_aspect: float = 1e-12
     spatial_plane: float = 1e-9
+    study_quadric: float = 1e-8
     # absurd input (solve/, spatial/)
     far_reach_ratio: float = 1e3
     exact_reach_ratio: float = 1e20

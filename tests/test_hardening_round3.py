@@ -138,3 +138,77 @@ def test_reduced_angle_never_parses_a_string_and_reduces_1e300_exactly(marker):
         x = mpmath.mpf(1e300)
         want = float(x - 2 * mpmath.pi * mpmath.floor(x / (2 * mpmath.pi) + mpmath.mpf(1) / 2))
     assert reduced_angle(1e300) == pytest.approx(want, abs=4e-16)
+
+
+def test_tolerances_raise_the_library_errors():
+    with pytest.raises(isp.InputTypeError, match="Tolerances.rank .*never parsed"):
+        isp.Tolerances(rank="1e-9")
+    with pytest.raises(isp.InputTypeError, match="Tolerances.rank"):
+        isp.Tolerances(rank=True)
+    with pytest.raises(isp.InputError, match="Tolerances.rank must be a positive finite number"):
+        isp.Tolerances(rank=float("nan"))
+    with pytest.raises(isp.InputError, match="newton_steps must be a whole number"):
+        isp.Tolerances(newton_steps=2.5)
+
+
+@pytest.mark.parametrize("bad", [True, np.True_, "11", 1j])
+def test_a_bool_or_string_in_a_long_python_list_is_refused(bad):
+    # the entry check once stopped at 4,096 entries: a True past it became 1.0
+    m = isp.examples.general_3rpr()
+    rows = [[11.0, 5.0, 10.0]] * 5000 + [[bad, 5.0, 10.0]]
+    with pytest.raises(isp.InputTypeError, match="^Q must"):
+        m.direct_kinematics_batch(rows)
+
+
+def test_an_all_zero_quadric_is_degenerate():
+    with pytest.raises(isp.DegenerateDesignError, match="every coefficient zero"):
+        isp.Quadric("RR", *[0] * 8)
+    with pytest.raises(isp.DegenerateDesignError, match="every coefficient zero"):
+        isp.Quadric("PP", *[sp.Integer(0)] * 8)
+    isp.Quadric("RR", *[sp.Symbol("a")] + [0] * 7)    # an expression that may vanish is not refused
+
+
+def test_a_leg_given_twice_is_reported():
+    R = isp.RRR(base=(0, 0), platform=(1, 0), lengths=(2, 2))
+    with pytest.warns(isp.RepeatedLegWarning, match=r"legs\[0\] and legs\[1\] are the same RRR"):
+        m = isp.PlanarParallel([R, R, isp.RPR(base=(5, 0), platform=(0, 1))])
+    # where the two angles differ the design assembles: the two circles about the elbows pin the
+    # platform point (the same leg at q = 0.3 and 1.1); the third leg's length from a chosen phi
+    c1, c2 = 2 * np.array([np.cos(0.3), np.sin(0.3)]), 2 * np.array([np.cos(1.1), np.sin(1.1)])
+    mid, d = (c1 + c2) / 2, np.linalg.norm(c2 - c1)
+    h = np.sqrt(4 - (d / 2) ** 2)
+    p = mid - h * np.array([-(c2 - c1)[1], (c2 - c1)[0]]) / d    # on both circles, not the base pivot
+    phi = 0.4
+    rot = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
+    origin = p - rot @ [1.0, 0.0]                                   # the platform point (1, 0)
+    length = np.linalg.norm(origin + rot @ [0.0, 1.0] - [5.0, 0.0])
+    with pytest.warns(isp.NearSingularWarning, match="leg singularity"):
+        # two of its modes put the platform point on the base pivot, where the RRR's angle is free
+        modes = m.direct_kinematics([0.3, 1.1, length], certify=True)
+    assert any(np.allclose(mode.pose, [*origin, phi], atol=1e-8) for mode in modes)
+    Rm = isp.RRR(base=(0, 0), platform=(1, 0), lengths=(2, 2), actuated=1)
+    with pytest.raises(isp.DegenerateDesignError, match="concentric circles"):
+        isp.PlanarParallel([Rm, Rm, isp.RPR(base=(5, 0), platform=(0, 1))])
+
+
+def test_points_off_studys_quadric_are_not_displacements():
+    from imagespace import spatial as S
+
+    off = [1, 0, 0, 0, 1, 0, 0, 0]                  # x . y = 1
+    for f in (S.rotation_matrix, S.translation, S.transform_matrix, S.normalize_study, S.inverse_study):
+        with pytest.raises(isp.InputError, match="^s must lie on Study's quadric"):
+            f(off)
+    with pytest.raises(isp.InputError, match="^s must lie on Study's quadric"):
+        S.transform_points(off, [[0.0, 0.0, 0.0]])
+    with pytest.raises(isp.InputError, match="^a must lie on Study's quadric"):
+        S.compose_study(off, [1, 0, 0, 0, 0, 0, 0, 0])
+    # a displacement rounded to floats is on it: a half-turn and a far translation
+    s = S.study_point([0.0, 0.3, 0.4, 0.5], [1e6, -2e5, 3.0])
+    assert np.allclose(S.translation(s), [1e6, -2e5, 3.0])
+
+
+def test_a_zero_sympy_quaternion_is_refused():
+    from imagespace import spatial as S
+
+    with pytest.raises(isp.InputError, match="non-zero quaternion"):
+        S.matrix_from_quaternion([sp.Integer(0)] * 4)

@@ -11,6 +11,7 @@ derived or compiled artefact, cached on the object (:meth:`~imagespace.core.mech
 from __future__ import annotations
 
 import itertools
+import warnings
 from typing import Any, Optional, Sequence, Union
 
 import numpy as np
@@ -18,7 +19,7 @@ import numpy.typing as npt
 import sympy as sp
 
 from .._validate import as_exact, as_flag, as_float_array, finite_rows, is_symbolic, warn_angle_units
-from ..exceptions import DegenerateDesignError, InputError, InputTypeError
+from ..exceptions import DegenerateDesignError, InputError, InputTypeError, RepeatedLegWarning
 from ..tolerances import TOLERANCES, Tolerances
 from .certify import reduced_angle
 from .elimination import binary_form_poly, eliminate, form_coefficients, orientation_form, plan_elimination
@@ -106,6 +107,12 @@ def _jacobian_determinant(eqs, x):
     return total.as_expr()
 
 
+#: (joints, actuated) of the legs whose locked dyad keeps a platform point on a circle about a
+#: fixed centre whatever the joint value (the radius moves): two such equal legs never assemble
+#: with different values
+_CONCENTRIC = {("RPR", 1), ("RRR", 1)}
+
+
 class PlanarMechanism(Mechanism):
     """Three legs, their quadrics and every derivation from them, each made once and cached.
 
@@ -162,7 +169,8 @@ class PlanarMechanism(Mechanism):
         self._check_design()
 
     def _check_design(self):
-        """Reject designs that are degenerate for every joint value (coincident anchors)."""
+        """Reject designs that are degenerate for every joint value (coincident anchors, a leg
+        given twice)."""
         anchors = []
         for i, leg in enumerate(self.legs):
             g = leg.geometry()
@@ -181,6 +189,19 @@ class PlanarMechanism(Mechanism):
             raise DegenerateDesignError(
                 f"all three legs hold the same platform anchor {anchors[0][2]}: the platform can "
                 "rotate freely about it (architecture singularity)")
+        same = [(i, j) for i in range(3) for j in range(i + 1, 3)
+                if (self.legs[i].joints, self.legs[i].actuated) == (self.legs[j].joints, self.legs[j].actuated)
+                and self.legs[i].geometry() == self.legs[j].geometry()]
+        for i, j in same:
+            leg = self.legs[i]
+            if (leg.joints, leg.actuated) in _CONCENTRIC:
+                raise DegenerateDesignError(
+                    f"legs[{i}] and legs[{j}] are the same {leg.joints} leg (same joints, actuated joint "
+                    f"and geometry): they hold one platform point on concentric circles, so equal joint "
+                    f"values give a continuum of modes and different ones no assembly")
+            warnings.warn(f"legs[{i}] and legs[{j}] are the same {leg.joints} leg (same joints, actuated "
+                          f"joint and geometry): wherever q[{i}] == q[{j}] they impose one constraint and the "
+                          f"modes form a continuum", RepeatedLegWarning, stacklevel=3)
 
     @property
     def joint_symbols(self) -> tuple[sp.Symbol, ...]:

@@ -42,7 +42,7 @@ import numpy.typing as npt
 import sympy as sp
 
 from .._validate import _short, as_sympy_entry
-from ..exceptions import InputError, InputTypeError
+from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 
 __all__ = [
     "Quadric",
@@ -156,6 +156,13 @@ def image_symbols() -> tuple[sp.Symbol, sp.Symbol, sp.Symbol, sp.Symbol]:
     return _X
 
 
+def _is_exact_zero(v) -> bool:
+    """A scalar coefficient that is exactly zero (a number, not an expression that may vanish)."""
+    if isinstance(v, sp.Basic):
+        return bool(v.is_number and v == 0)
+    return isinstance(v, numbers.Number) and v == 0
+
+
 @dataclass(frozen=True)
 class Quadric:
     """A dyad constraint ``c (x2^2+x3^2) + x2 (a0 x0 + a1 x1) + x3 (b0 x0 + b1 x1) + k0 x0^2 + k1 x0 x1 + k2 x1^2``.
@@ -207,6 +214,9 @@ class Quadric:
                 elif v.shape != shape[1]:
                     raise InputError(f"the Quadric coefficients must be numbers or arrays of one common "
                                      f"shape, got {shape[0]} of shape {shape[1]} and {name} of shape {v.shape}")
+        if shape is None and all(_is_exact_zero(v) for v in self.coefficients()):
+            raise DegenerateDesignError(f"a {self.kind} Quadric with every coefficient zero is all of image "
+                                        "space (it constrains nothing); got c = a0 = ... = k2 = 0")
 
     def coefficients(self) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any]:
         """The eight coefficients ``(c, a0, a1, b0, b1, k0, k1, k2)`` as a tuple.

@@ -753,7 +753,9 @@ def certified_modes(m, q, qf, warn=True, stage=None):
         _say([f"{m.name} at q = {qf.tolist()}: {len(inaccurate)} certified mode(s) miss the legs' "
               f"inverse-kinematics check (joint residual above {tol.joint_residual:g}): each "
               "exists (its root is certified and not a PP dyad's spurious root), but its pose "
-              "is not as accurate as the tolerance asks (double precision at this scale)"], warn)
+              "is not as accurate as the tolerance asks (double precision at this scale), or a "
+              "leg's actuated joint is free at that pose (a leg singularity: its inverse "
+              "kinematics does not determine the joint value)"], warn)
     tagged = [(mm, k) for k, lst in enumerate(per_root) for mm in lst]
     tagged.sort(key=lambda item: item[0].pose[2])
     return CertifiedModes([mm for mm, _ in tagged], cert, [len(lst) for lst in per_root],

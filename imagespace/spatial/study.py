@@ -40,6 +40,7 @@ import sympy as sp
 
 from .._validate import as_float_array, as_sympy_vector, as_tolerances, is_symbolic
 from ..exceptions import InputError
+from ..tolerances import TOLERANCES
 
 if TYPE_CHECKING:
     from ..core.kinematic_map import FloatArray, NumericInput
@@ -313,6 +314,8 @@ def matrix_from_quaternion(q):
     """
     if is_symbolic(q):
         x = _sym(q, 4, "q")
+        if all(v.is_number and v == 0 for v in x):
+            raise InputError("q must be a non-zero quaternion, got zero")
         return sp.Matrix(3, 3, [sp.simplify(v) for v in _rotation_of(x).ravel()])
     x = as_float_array(q, "q", last=4)
     if np.any(np.all(x == 0.0, axis=-1)):
@@ -477,13 +480,28 @@ def study_point(rotation, translation):
     return normalize_study(np.concatenate([np.broadcast_to(x, y.shape), y], axis=-1))
 
 
-def _check_study(s, name="s"):
+def _check_study(s, name="s", on_quadric=True):
+    """``s`` as checked floats ``(8,)`` or ``(n, 8)`` with ``x != 0``, and (``on_quadric``) on
+    Study's quadric within ``Tolerances.study_quadric``; ``(s, x . x)``."""
     s = as_float_array(s, name, last=8)
     n = np.einsum("...i,...i->...", s[..., :4], s[..., :4])
     if np.any(n == 0.0) and np.any(np.all(s[..., :4] == 0.0, axis=-1)):      # n == 0 also by underflow
         raise InputError(f"{name} must have x = (x0, x1, x2, x3) != 0 (points with x = 0 are not "
                          "displacements), got x = 0")
+    if on_quadric:
+        _check_on_quadric(s, name)
     return s, n
+
+
+def _check_on_quadric(s, name):
+    zs = s / _max_abs(s)                            # scaled: the ratio is homogeneous of degree 0
+    off = np.abs(np.einsum("...i,...i->...", zs[..., :4], zs[..., 4:])) / np.einsum("...i,...i->...", zs, zs)
+    if np.any(off > TOLERANCES.study_quadric):
+        worst = float(np.max(off))
+        raise InputError(f"{name} must lie on Study's quadric x0 y0 + x1 y1 + x2 y2 + x3 y3 = 0 (a "
+                         f"displacement), got |x . y| / (|x|^2 + |y|^2) = {worst:.3g} (at most "
+                         f"Tolerances.study_quadric = {TOLERANCES.study_quadric:g}); build points with "
+                         "study_point(rotation, translation)")
 
 
 @overload
@@ -742,9 +760,11 @@ def compose_study(a, b):
     """
     if is_symbolic(a) or is_symbolic(b):
         return sp.Matrix([sp.expand(v) for v in _dual_mul(_sym(a, 8, "a"), _sym(b, 8, "b"))])
-    za, _ = _check_study(a, "a")
-    zb, _ = _check_study(b, "b")
+    za, _ = _check_study(a, "a", on_quadric=False)
+    zb, _ = _check_study(b, "b", on_quadric=False)
     _batch_shape(za, zb, ("a", "b"))
+    _check_on_quadric(za, "a")
+    _check_on_quadric(zb, "b")
     if _safe(_sq(za)) and _safe(_sq(zb)):
         return _normalised(_dual_mul(za, zb), "a or b")
     za, zb = _scaled_study(za, "a"), _scaled_study(zb, "b")     # projective: the same displacements
@@ -849,7 +869,7 @@ def study_to_planar(s: npt.ArrayLike, tolerances: Optional[Tolerances] = None) -
     array([1. , 0. , 0. , 0.5])
     """
     tol = as_tolerances(tolerances).planar_subspace
-    z, _ = _check_study(s)
+    z, _ = _check_study(s, on_quadric=False)       # a planar point is on Study's quadric
     off = np.abs(z[..., [1, 2, 4, 7]]).max(axis=-1)
     if np.any(off > tol * np.abs(z).max(axis=-1)):
         raise InputError(f"s must be a planar displacement (x1 = x2 = y0 = y3 = 0), got components "
