@@ -502,6 +502,21 @@ def as_scalar(value, name: str, finite: bool = True) -> float:
     return float(v)
 
 
+def as_seconds(value, name: str = "timeout") -> float:
+    """A wait in seconds: one finite number, zero or more.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_seconds
+    >>> as_seconds(2)
+    2.0
+    """
+    v = as_scalar(value, name)
+    if v < 0:
+        raise InputError(f"{name} must be a number of seconds (0 or more), got {v!r}")
+    return v
+
+
 def as_joint_vector(value, name: str = "q", count: int = 3, allow_batch: bool = False) -> np.ndarray:
     """Joint values as a finite float array of shape ``(count,)`` (or ``(n, count)`` for a batch).
 
@@ -613,6 +628,37 @@ def as_row_index(value, size: int, name: str = "i") -> int:
         raise RowIndexError(f"{name} = {int(value)} is out of range for a batch of {size} rows "
                             f"(valid: {-size}..{size - 1})")
     return int(value) % size
+
+
+def as_row_indices(rows, n: int, name: str = "rows") -> np.ndarray:
+    """Distinct row indices (int64) from 0 to n - 1, given as integers (negative ones wrap) or as
+    a boolean mask of shape ``(n,)``.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_row_indices
+    >>> as_row_indices([-1, 0], 3).tolist(), as_row_indices([True, False, True], 3).tolist()
+    ([2, 0], [0, 2])
+    """
+    if isinstance(rows, (str, bytes)) or rows is None:
+        raise InputTypeError(f"{name} must be integer indices or a boolean mask, got {type(rows).__name__}")
+    try:
+        r = np.atleast_1d(np.asarray(rows))
+    except (TypeError, ValueError):
+        raise InputTypeError(f"{name} must be integer indices or a boolean mask, got {_short(rows)}") from None
+    if r.dtype == bool:
+        if r.shape != (n,):
+            raise InputError(f"a boolean {name} mask must have shape ({n},), got {r.shape}")
+        return np.flatnonzero(r)
+    if r.size and r.dtype.kind not in "iu":
+        raise InputTypeError(f"{name} must be integer indices, got dtype {r.dtype}")
+    r = r.astype(np.int64).ravel()
+    if r.size and (r.min() < -n or r.max() >= n):
+        raise RowIndexError(f"{name} must lie in -{n} .. {n - 1}, got {r.min()} .. {r.max()}")
+    r = np.where(r < 0, r + n, r)
+    if np.unique(r).size != r.size:
+        raise InputError(f"{name} must be distinct")
+    return r
 
 
 def as_index(value, name: str, size: int) -> int:

@@ -212,3 +212,91 @@ def test_a_zero_sympy_quaternion_is_refused():
 
     with pytest.raises(isp.InputError, match="non-zero quaternion"):
         S.matrix_from_quaternion([sp.Integer(0)] * 4)
+
+
+def test_batch_result_editing_refuses_junk_with_the_library_errors():
+    m = isp.examples.general_3rpr()
+    b = m.direct_kinematics_batch([m.q_example_float] * 2)
+    with pytest.raises(isp.InputTypeError, match=r"parts\[1\] must be a DKBatchResult"):
+        isp.DKBatchResult.concatenate([b, 5])
+    with pytest.raises(isp.InputError, match="at least one"):
+        isp.DKBatchResult.concatenate([])
+    with pytest.raises(isp.RowIndexError, match="rows must lie in -2 .. 1"):
+        b.set_modes(7, [])
+    with pytest.raises(isp.InputTypeError, match=r"modes\[0\] must hold AssemblyMode"):
+        b.set_modes(0, [5])
+    with pytest.raises(isp.InputError, match="distinct"):
+        b.set_modes([0, 0], [[], []])
+    with pytest.raises(isp.RowIndexError):
+        b[5]
+    assert len(isp.DKBatchResult.concatenate([b, b])) == 4
+
+
+def test_uniqueness_domain_poses_want_a_mask_of_the_grid():
+    from imagespace.atlas import uniqueness_domains
+
+    ud = uniqueness_domains(isp.examples.general_3rpr(), [(8, 14), (2, 8), (7, 13)], 8)
+    mask = ud.aspect >= 0
+    assert ud.poses(mask).shape == (int(mask.sum()), 3)
+    with pytest.raises(isp.InputTypeError, match="^mask must be a boolean array"):
+        ud.poses(5)
+    with pytest.raises(isp.InputError, match=r"^mask must have the grid's shape \(8, 8, 8\)"):
+        ud.poses(np.ones(3, bool))
+
+
+def test_certified_root_counts_guards_its_memory():
+    m = isp.examples.general_3rpr()
+    Q = np.broadcast_to(np.array([11.0, 5.0, 10.0]), (10 ** 9, 3))    # a view: nothing allocated
+    with pytest.raises(isp.InputError, match="certified_root_counts of 1,000,000,000 rows needs about"):
+        m.certified_root_counts(Q)
+
+
+@pytest.mark.parametrize("scale", [1e100, 1e200])
+def test_a_three_rps_in_huge_units_answers_like_the_unit_design(scale):
+    a = np.array([[1, 0, 0], [-0.5, 0.8, 0], [-0.5, -0.8, 0]])
+    b = np.array([[0.5, 0, 0], [-0.25, 0.4, 0], [-0.25, -0.4, 0]])
+    L = np.array([1.2, 1.1, 1.3])
+    unit = isp.ThreeRPS(a, b).direct_kinematics(L, certify=True)
+    big = isp.ThreeRPS(a * scale, b * scale)
+    r = big.direct_kinematics(L * scale, certify=True)
+    assert r.certified and r.count == unit.count > 0
+    # the same poses, the translations scaled (Study points up to sign; the leg lengths back)
+    assert np.allclose(np.linalg.norm(big.leg_vectors(r.study_points) / scale, axis=-1), L, rtol=1e-9)
+
+
+def test_msolve_numbers_of_any_length_convert():
+    from imagespace.core import msolve
+
+    n = 7 ** 12000                                      # ~10,000 digits: past python's 4,300 limit
+    assert msolve._int(msolve._digits(n)) == n
+    assert msolve._int(msolve._digits(-n)) == -n
+
+
+@pytest.mark.slow
+def test_is_cuspidal_in_1e100_units_decides_as_in_unit_units():
+    # the float witness search overflows at this size; the exact decision is unit-free
+    g = isp.examples.general_3rpr()
+    s = sp.Integer(10) ** 100
+    legs = [isp.RPR(base=tuple(sp.nsimplify(v) * s for v in L.geometry()["base"]),
+                    platform=tuple(sp.nsimplify(v) * s for v in L.geometry()["platform"])) for L in g.legs]
+    box = [(8, 14), (2, 8), (7, 13)]
+    unit = isp.is_cuspidal(g, box)
+    big = isp.is_cuspidal(isp.PlanarParallel(legs), [(lo * 1e100, hi * 1e100) for lo, hi in box], timeout=120)
+    assert unit.cuspidal is True and big.cuspidal is True and "float search was skipped" in big.reason
+
+
+def test_explorer_waits_take_seconds_only():
+    from imagespace._validate import as_seconds
+
+    for bad, err in (("5", isp.InputTypeError), (float("nan"), isp.InputError), (-1.0, isp.InputError),
+                     (None, isp.InputTypeError), ([1, 2], isp.InputError)):
+        with pytest.raises(err, match="^timeout"):
+            as_seconds(bad)
+    pytest.importorskip("ipywidgets")
+    gs, L = isp.examples.dietmaier_1998()
+    explorer = isp.widgets.explore(gs, L)
+    with pytest.raises(isp.InputTypeError, match="^timeout"):
+        explorer.wait("5")
+    with pytest.raises(isp.InputError, match="^timeout"):
+        explorer.wait(float("nan"))
+    assert explorer.wait(60.0)

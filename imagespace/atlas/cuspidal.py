@@ -857,14 +857,22 @@ def is_cuspidal(manipulator, joint_box=None, exact=True, timeout=120.0, seed=0):
         return done(None, None, (f"the kinematic polynomial has degree {cp.degree} < 3 in the orientation "
                                  "(Cramer case (a): one orientation carries two modes, which merge in "
                                  "position, not as a triple root); not decided here"), "undecided")
-    w = _find_witness(manipulator, box, np.random.default_rng(seed))
+    try:
+        with np.errstate(over="raise"):
+            w = _find_witness(manipulator, box, np.random.default_rng(seed))
+        skipped = ""
+    except (OverflowError, FloatingPointError):     # beyond the float range (a design in 1e100 units)
+        w = None
+        skipped = " (the float search was skipped: the design's coefficients exceed the float range)"
     if w is not None:
         return done(True, w, "a cusp proven by interval Newton (Krawczyk) in the box", "witness")
     if not cp.exact:
-        return done(None, None, f"no witness found, and no exact path: {cp.why_not_exact}", "undecided")
+        return done(None, None, f"no witness found{skipped}, and no exact path: {cp.why_not_exact}", "undecided")
     if not exact:
-        return done(None, None, "no witness found; the exact proof of absence was not asked for", "undecided")
+        return done(None, None, f"no witness found{skipped}; the exact proof of absence was not asked for",
+                    "undecided")
     c, reason, systems, w = _exact_decision(manipulator, cp, box, timeout)
+    reason += skipped
     if cp.removed and c is False:
         reason += f"; q-free factors without real roots divided out first: {cp.removed}"
     return done(c, w, reason, "msolve" if c is not None else "undecided", systems)

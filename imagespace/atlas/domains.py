@@ -196,7 +196,14 @@ class UniquenessDomains:
         >>> ud.poses(ud.aspect >= 0).shape[1]
         3
         """
-        idx = np.argwhere(np.asarray(mask, dtype=bool))
+        shape = tuple(len(a) for a in self.axes)
+        raw = np.asarray(mask) if isinstance(mask, np.ndarray) else None
+        if raw is None or raw.dtype != bool:
+            raise InputTypeError(f"mask must be a boolean array of the grid's shape {shape} (such as "
+                                 f"ud.aspect >= 0), got {type(mask).__name__} {_short(mask)}")
+        if raw.shape != shape:
+            raise InputError(f"mask must have the grid's shape {shape}, got shape {raw.shape}")
+        idx = np.argwhere(raw)
         return np.column_stack([self.axes[k][idx[:, k]] for k in range(3)])
 
     def locate(self, P):

@@ -22,7 +22,7 @@ from typing import Any, Callable, Hashable, Optional
 
 import numpy as np
 import numpy.typing as npt
-from ..exceptions import InputTypeError
+from ..exceptions import InputTypeError, RowIndexError
 
 __all__ = ["Mechanism", "Backends", "check_mechanism", "index_rows", "BACKEND_STAGES"]
 
@@ -309,5 +309,5 @@ def index_rows(result: Any, i: Any, row: Callable[[int], Any]) -> Any:
         raise InputTypeError(f"a batch result is indexed by a row number or a slice, got {type(i).__name__} {i!r:.40}")
     k = int(i) + (n if i < 0 else 0)
     if not 0 <= k < n:
-        raise IndexError(f"row {int(i)} is out of range for a batch of {n} rows")
+        raise RowIndexError(f"row {int(i)} is out of range for a batch of {n} rows (valid: -{n}..{n - 1})")
     return row(k)

@@ -76,6 +76,25 @@ HASH_TABLE_LOG2 = 10
 # refuses str -> int beyond 4300 digits by default). Box end points and degrees are far shorter.
 _LONGEST_INTEGER = 4000
 
+
+def _int(text: str) -> int:
+    """An integer from its decimal digits at any length (python's own ``int(str)`` stops at 4300
+    digits; python-flint's fmpz converts in binary)."""
+    if len(text) <= _LONGEST_INTEGER:
+        return int(text)
+    import flint
+
+    return int(flint.fmpz(text))
+
+
+def _digits(c: int) -> str:
+    """The decimal digits of an integer at any length (see :func:`_int`)."""
+    if c.bit_length() <= 3 * _LONGEST_INTEGER:
+        return str(c)
+    import flint
+
+    return str(flint.fmpz(c))
+
 _INSTALL_HINT = "pip install imagespace[exact]"
 
 
@@ -243,13 +262,13 @@ def _as_text(terms, names):
         c = terms[exps]
         factors = [n if e == 1 else f"{n}^{e}" for n, e in zip(names, exps) if e]
         if not factors:
-            word = str(c)
+            word = _digits(c)
         elif c == 1:
             word = "*".join(factors)
         elif c == -1:
             word = "-" + "*".join(factors)
         else:
-            word = "*".join([str(c)] + factors)
+            word = "*".join([_digits(c)] + factors)
         out.append(word if not out or word.startswith("-") else "+" + word)
     return "".join(out)
 
@@ -294,10 +313,10 @@ def _read_output(text):
         else:
             num = m.group("num")
             if m.group("den") is not None:
-                den = int(m.group("den"))
+                den = _int(m.group("den"))
                 if m.group("exp") is not None:
                     den = den ** int(m.group("exp"))
-                stack[-1].append(Fraction(int(num), den))
+                stack[-1].append(Fraction(_int(num), den))
             elif len(num) > _LONGEST_INTEGER:
                 stack[-1].append(_SKIPPED)
             else:

@@ -342,6 +342,11 @@ def certified_root_counts(m: Any, Q: npt.ArrayLike) -> tuple[np.ndarray, np.ndar
     be = m.backends
     Q = joint_batch(m, Q)
     n = Q.shape[0]
+    # the float stage's working set per row (the solve's), plus the outputs (a count and a path name)
+    per_row = be.peak_bytes(m, be.methods[0], False, n) + 64
+    check_memory(n * per_row, f"certified_root_counts of {n:,} rows",
+                 f"count it in chunks of rows (a chunk of 65,536 rows needs about "
+                 f"{65536 * per_row / 1e9:.2g} GB)")
     ok, _ = m.joint_rows(Q)
     counts = np.full(n, -1, dtype=np.int8)
     path = np.full(n, "invalid", dtype=object)

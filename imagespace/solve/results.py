@@ -7,8 +7,8 @@ from typing import Any, Optional, Sequence, Union
 import numpy as np
 
 from .._html import html_table, modes_table, summary
-from .._validate import as_row_index
-from ..exceptions import InputTypeError
+from .._validate import as_row_index, as_row_indices
+from ..exceptions import InputError, InputTypeError
 from ..core.mechanism import index_rows
 from ..core.kinematic_map import image_point as _image_point
 
@@ -407,8 +407,10 @@ class DKBatchResult:
 
         Raises
         ------
-        ValueError
+        InputError
             ``parts`` is empty.
+        InputTypeError
+            ``parts`` is not a sequence of :class:`DKBatchResult`.
 
         Examples
         --------
@@ -420,9 +422,13 @@ class DKBatchResult:
         >>> r.count.tolist(), r.solver.tolist(), list(r.errors)
         ([6, 0], ['numpy', 'invalid'], [1])
         """
-        parts = list(parts)
+        parts = list(parts) if not isinstance(parts, (str, bytes, DKBatchResult)) and hasattr(parts, "__iter__") \
+            else [parts]
         if not parts:
-            raise ValueError("parts must hold at least one DKBatchResult, got none")
+            raise InputError("parts must hold at least one DKBatchResult, got none")
+        for i, p in enumerate(parts):
+            if not isinstance(p, DKBatchResult):
+                raise InputTypeError(f"parts[{i}] must be a DKBatchResult, got {type(p).__name__} {p!r:.60}")
         if len(parts) == 1:
             p = parts[0]
             out = cls.__new__(cls)
@@ -664,24 +670,6 @@ class DKBatchResult:
         self._count, self._offsets = new_count, off
         self.release_padded()
 
-    def _rows(self, rows):
-        """Distinct row indices (int64 array) in ``0 .. n-1``; negative ones wrap."""
-        n = len(self)
-        r = np.atleast_1d(np.asarray(rows))
-        if r.dtype == bool:
-            if r.shape != (n,):
-                raise ValueError(f"a boolean rows mask must have shape ({n},), got {r.shape}")
-            return np.flatnonzero(r)
-        if r.size and r.dtype.kind not in "iu":
-            raise InputTypeError(f"rows must be integer indices, got dtype {r.dtype}")
-        r = r.astype(np.int64).ravel()
-        if r.size and (r.min() < -n or r.max() >= n):
-            raise IndexError(f"rows must lie in -{n} .. {n - 1}, got {r.min()} .. {r.max()}")
-        r = np.where(r < 0, r + n, r)
-        if np.unique(r).size != r.size:
-            raise ValueError("rows must be distinct")
-        return r
-
     def set_modes(self, rows: Union[int, Sequence[int], np.ndarray], modes: Sequence) -> None:
         """Overwrite the modes of rows with lists of :class:`AssemblyMode` (at most six per row,
         extra modes are dropped), in one rebuild.
@@ -693,9 +681,11 @@ class DKBatchResult:
 
         Raises
         ------
-        ValueError
+        InputError
             Repeated rows, or not one list of modes per row.
-        IndexError
+        InputTypeError
+            ``modes`` does not hold lists of :class:`AssemblyMode`.
+        RowIndexError
             A row outside the result.
 
         Examples
@@ -708,13 +698,21 @@ class DKBatchResult:
         [6, 2]
         """
         if np.ndim(rows) == 0:
-            r = self._rows(np.array([rows]))
+            r = as_row_indices(np.array([rows]), len(self))
             modes = [modes]
         else:
-            r = self._rows(rows)
+            r = as_row_indices(rows, len(self))
+        if isinstance(modes, (str, bytes)) or not hasattr(modes, "__len__"):
+            raise InputTypeError(f"modes must be lists of AssemblyMode (one per row), got {type(modes).__name__}")
         if len(modes) != r.size:
-            raise ValueError(f"modes must hold one list per row ({r.size}), got {len(modes)}")
-        lists = [list(ms)[:MAX_MODES] for ms in modes]
+            raise InputError(f"modes must hold one list per row ({r.size}), got {len(modes)}")
+        lists = [list(ms)[:MAX_MODES] if not isinstance(ms, (str, bytes)) and hasattr(ms, "__iter__") else ms
+                 for ms in modes]
+        for k, ms in enumerate(lists):
+            bad = [ms] if not isinstance(ms, list) else [mm for mm in ms if not isinstance(mm, AssemblyMode)]
+            if bad:
+                raise InputTypeError(f"modes[{k}] must hold AssemblyMode objects, got {type(bad[0]).__name__} "
+                                     f"{bad[0]!r:.60}")
         flat = [mm for ms in lists for mm in ms]
         count = np.array([len(ms) for ms in lists], dtype=np.uint8)
         poses = np.array([mm.pose for mm in flat], dtype=float).reshape(-1, 3)
@@ -743,7 +741,7 @@ class DKBatchResult:
         >>> r.count.tolist(), r.solver.tolist(), list(r.errors)
         ([6, 6, 0], ['numpy', 'numpy', 'invalid'], [2])
         """
-        r = self._rows(rows)
+        r = as_row_indices(rows, len(self))
         if len(sub) != r.size:
             raise ValueError(f"sub must have {r.size} rows (one per row), got {len(sub)}")
         self._splice(r, sub._count, sub._poses, sub._residual, sub._aspect, sub._multiplicity)
@@ -794,7 +792,7 @@ class DKBatchResult:
             raise ValueError(f"name must be one of {SOLVER_NAMES}, got {name!r}")
         if self._solver is None:
             self._solver = np.full(len(self), _INVALID, dtype=np.uint8)
-        self._solver[self._rows(rows)] = SOLVER_NAMES.index(name)
+        self._solver[as_row_indices(rows, len(self))] = SOLVER_NAMES.index(name)
         self._cache.pop("solver", None)
 
     # -- reading ---------------------------------------------------------------------------------------

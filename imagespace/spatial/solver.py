@@ -356,7 +356,10 @@ def solve_rows(family: QuadricFamily, start: StartSystem, P: npt.ArrayLike, tole
     """
     kernel = check_kernel(kernel)
     pm, pr = _parameters_enclosure(family, P, lengths)
-    P = np.atleast_2d(np.asarray(P, dtype=float)) / family.scale ** 2
+    if lengths is not None:         # the scaled squares from the lengths: no overflow at any size
+        P = np.array(pm, dtype=float)
+    else:
+        P = np.atleast_2d(np.asarray(P, dtype=float)) / family.scale / family.scale
     n = P.shape[0]
     valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool)
     rows = np.flatnonzero(valid)

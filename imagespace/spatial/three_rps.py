@@ -184,9 +184,16 @@ class ThreeRPS(QuadricPlatform):
         return np.concatenate([sphere_quadric(self.base_points, self.platform_points, L),
                                self._planes(1.0), study_quadric_matrix()[None]], axis=0)
 
+    @cached_property
+    def _axes_scaled(self):
+        # each axis divided by a power of two near its size: the same plane (u . leg = 0 is
+        # homogeneous in u), exactly, with entries of order one at any design size
+        size = np.abs(self.base_axes).max(axis=1)
+        return self.base_axes / (2.0 ** np.round(np.log2(size)))[:, None]
+
     def _planes(self, sc):
         return np.array([point_on_plane_quadric(self.platform_points[i] / sc, self.base_points[i] / sc,
-                                                self.base_axes[i]) for i in range(3)])
+                                                self._axes_scaled[i]) for i in range(3)])
 
     @cached_property
     def _family(self):
@@ -202,7 +209,7 @@ class ThreeRPS(QuadricPlatform):
         fixed = [exact_matrix(np.array(point_on_plane_quadric(
             [sp.Rational(float(v)) for v in self.platform_points[i] / sc],
             [sp.Rational(float(v)) for v in self.base_points[i] / sc],
-            [sp.Rational(float(v)) for v in self.base_axes[i]]).tolist(), dtype=object))
+            [sp.Rational(float(v)) for v in self._axes_scaled[i]]).tolist(), dtype=object))
                  for i in range(3)] + [exact_matrix(study_quadric_matrix())]
 
         def exact(squared):

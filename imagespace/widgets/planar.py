@@ -46,7 +46,7 @@ import numpy as np
 
 import ipywidgets as W
 
-from .._validate import as_box, as_count, as_exact, as_joint_vector
+from .._validate import as_box, as_count, as_exact, as_joint_vector, as_seconds
 from ..core.mechanism import check_mechanism
 from ..drawing import CHART_LABELS, chart_coordinates, mechanism_lines
 from ..exceptions import ImageSpaceError, InputError, NearSingularWarning
@@ -685,7 +685,7 @@ class Explorer(W.VBox):
         >>> ex.wait(), ex.trace("surface").name
         (True, 'singularity surface (joint-free, 16^3 grid)')
         """
-        end = time.monotonic() + float(timeout)
+        end = time.monotonic() + as_seconds(timeout, "timeout")
         while time.monotonic() < end:
             with self._lock:
                 timer_pending = self._timer is not None and self._timer.is_alive()

@@ -30,7 +30,7 @@ import numpy as np
 
 import ipywidgets as W
 
-from .._validate import as_box
+from .._validate import as_box, as_seconds
 from ..drawing import ASPECT_COLOURS
 from ..exceptions import ImageSpaceError, InputError, InputTypeError, NearSingularWarning
 from .planar_panels import merged_labels
@@ -296,7 +296,7 @@ class SpatialExplorer(W.VBox):
         >>> isp.widgets.explore(gs, L).wait()
         True
         """
-        end = time.monotonic() + float(timeout)
+        end = time.monotonic() + as_seconds(timeout, "timeout")
         while time.monotonic() < end:
             with self._lock:
                 if not self._working and self._want is None:
