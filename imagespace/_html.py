@@ -16,6 +16,7 @@ from collections import Counter
 from typing import Any, Iterable, Optional, Sequence
 
 import numpy as np
+from ._validate import as_sympy
 
 WIDTH = 100
 """Line width of a wrapped text summary (layout only, decides nothing)."""
@@ -253,7 +254,7 @@ def collected_terms(poly: Any, by: Sequence[str] = ("x0", "x1")) -> dict:
     """
     import sympy as sp
 
-    expr = poly.as_expr() if isinstance(poly, sp.Poly) else sp.sympify(poly)
+    expr = poly.as_expr() if isinstance(poly, sp.Poly) else as_sympy(poly)
     named = {s.name: s for s in expr.free_symbols if isinstance(s, sp.Symbol)}
     syms = [named.get(str(b), sp.Symbol(str(b))) for b in by]
     groups = sp.Poly(expr, *syms).as_dict()

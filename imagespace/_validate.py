@@ -289,6 +289,40 @@ def check_positive(value, name: str, allow_zero: bool = False):
     return value
 
 
+_STRINGS = (str, bytes, np.str_, np.bytes_)
+
+
+def _holds_string(value) -> bool:
+    if isinstance(value, _STRINGS):
+        return True
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind in "USV" or (value.dtype.kind == "O" and any(map(_holds_string, value.ravel())))
+    if isinstance(value, (list, tuple, set, frozenset)):
+        return any(map(_holds_string, value))
+    if isinstance(value, dict):
+        return any(map(_holds_string, value.keys())) or any(map(_holds_string, value.values()))
+    return False
+
+
+def as_sympy(value, name: str = "value"):
+    """``sympy.sympify`` that never parses: the library's one call of it. A string, or a container
+    holding one, is refused (sympify would evaluate it as Python code); sympy objects pass as
+    they are.
+
+    Examples
+    --------
+    >>> from imagespace._validate import as_sympy
+    >>> as_sympy(0.5), as_sympy([1, 2])
+    (0.500000000000000, [1, 2])
+    """
+    if isinstance(value, sp.Basic):
+        return value
+    if _holds_string(value):
+        raise InputTypeError(f"{name} must be numbers or sympy expressions, got the string "
+                             f"{_short(value)}; strings are never parsed")
+    return sp.sympify(value)
+
+
 def as_sympy_entry(value, name: str):
     """One scalar entry of a symbolic input as a sympy object, without ever parsing a string.
 

@@ -48,7 +48,7 @@ import numpy as np
 import sympy as sp
 
 from .._html import dataclass_html, dataclass_repr
-from .._validate import _short, as_count
+from .._validate import _short, as_count, as_sympy
 from ..core.exact_roots import float_down, float_up
 from ..core.mechanism import check_mechanism
 from ..exceptions import InputError
@@ -232,11 +232,11 @@ def _build_cusp_polynomials(m):
             full = quo
             removed = f"({g.as_expr()})"
     coeffs = [c for _mon, c in full.terms()]
-    consts = sorted({a for c in coeffs for a in sp.sympify(c).atoms(sp.Pow)
+    consts = sorted({a for c in coeffs for a in as_sympy(c).atoms(sp.Pow)
                      if a.is_number and a.exp.is_Rational and a.exp.q == 2 and a.base.is_Rational
                      and a.base > 0}, key=str)
-    exact = all(sp.sympify(c).is_algebraic for c in coeffs[:50])
-    exact = exact and not any(sp.sympify(c).atoms(sp.Function, sp.NumberSymbol) for c in coeffs)
+    exact = all(as_sympy(c).is_algebraic for c in coeffs[:50])
+    exact = exact and not any(as_sympy(c).atoms(sp.Function, sp.NumberSymbol) for c in coeffs)
     why = "" if exact else "transcendental coefficients (an actuated revolute joint, or an angle of the design)"
     even = tuple(all(mon[2 + i] % 2 == 0 for mon in full.monoms()) for i in range(3))
     vs = tuple(sp.Symbol(f"u{i + 1}") if even[i] else sp.Symbol(f"q{i + 1}_") for i in range(3))
@@ -249,8 +249,8 @@ def _build_cusp_polynomials(m):
     for mon, c in full.terms():
         a, b = mon[0], mon[1]
         vexp = tuple(mon[2 + i] // 2 if even[i] else mon[2 + i] for i in range(3))
-        cpoly = sp.Poly(sp.expand(sp.sympify(c).xreplace(csub)), *cs) if cs else None
-        cterms = cpoly.terms() if cpoly is not None else [((), sp.sympify(c))]
+        cpoly = sp.Poly(sp.expand(as_sympy(c).xreplace(csub)), *cs) if cs else None
+        cterms = cpoly.terms() if cpoly is not None else [((), as_sympy(c))]
         for cm, cc in cterms:
             key_p = (b,) + vexp + tuple(cm)            # x0 = 1, x1 = t
             key_g = (a,) + vexp + tuple(cm)            # x1 = 1, x0 = t
@@ -398,7 +398,7 @@ def _section_system(cp, chart, fixed, value_v, prec):
 
     polys = cp.F if chart == "t" else cp.G
     a, b = [k for k in range(3) if k != fixed]
-    val = to_arb(sp.sympify(value_v), prec)
+    val = to_arb(as_sympy(value_v), prec)
     consts = [to_arb(c, prec) for _s, _d, c in cp.constants]
     F, J = [], []
     for p in polys:                       # p, p', p'' and p''' (the last is not differentiated)

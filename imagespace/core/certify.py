@@ -35,7 +35,7 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
-from .._validate import as_float_array
+from .._validate import as_float_array, as_sympy
 from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 from .elimination import form_coefficients
 # the exact isolation on [0, 1] and the outward rounding live in core.exact_roots (issue [15]);
@@ -202,7 +202,7 @@ def exact_is_zero(c):
     >>> exact_is_zero(sp.sqrt(2) * sp.sqrt(8) - 4), exact_is_zero(sp.sqrt(181) - 13)
     (True, False)
     """
-    c = sp.sympify(c)
+    c = as_sympy(c)
     if c.is_Rational:
         return c == 0
     with flint_precision(128):
@@ -450,7 +450,7 @@ def _ball(c, prec):
 def _arb_discs(coeffs, prec):
     import flint
 
-    poly = flint.acb_poly([flint.acb(to_arb(sp.sympify(c), prec)) for c in coeffs])
+    poly = flint.acb_poly([flint.acb(to_arb(as_sympy(c), prec)) for c in coeffs])
     try:
         roots = poly.roots()
     except ValueError:
@@ -620,7 +620,7 @@ def _arb_path(coeffs, bits=None):
             continue
         intervals.sort()
         refined = refine_root_intervals(
-            lambda p: [to_arb(sp.sympify(c), p) for c in coeffs], intervals, bits)
+            lambda p: [to_arb(as_sympy(c), p) for c in coeffs], intervals, bits)
         if refined is None:
             return None, None, prec
         return refined, [1] * len(refined), prec
@@ -702,7 +702,7 @@ def certify_real_roots(form):
     while exact_is_zero(coeffs[-1]):
         coeffs = coeffs[:-1]
         at_inf += 1
-    rational = all(sp.sympify(c).is_Rational for c in coeffs)
+    rational = all(as_sympy(c).is_Rational for c in coeffs)
     if len(coeffs) == 1:
         return RealRootCertificate(True, int(at_inf > 0), (), (), at_inf,
                                    "exact: the form is a constant times a power of x0", (), rational)

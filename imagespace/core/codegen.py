@@ -20,7 +20,7 @@ import numpy as np
 import sympy as sp
 
 from .._files import atomic_write
-from .._validate import as_float_array
+from .._validate import as_float_array, as_sympy
 
 __all__ = ["compile_exprs", "CompiledPolynomial", "CoefficientEnclosure", "KernelCacheWarning", "kernel_cache_dir",
            "load_cached_module", "read_regular_file", "warn_once"]
@@ -50,7 +50,7 @@ def compile_exprs(exprs, symbols):
     array([[3., 2., 2.],
            [8., 3., 2.]])
     """
-    exprs = [sp.sympify(e) for e in exprs]
+    exprs = [as_sympy(e) for e in exprs]
     fn = sp.lambdify(list(symbols), exprs, modules="numpy", cse=True)
 
     def evaluate(*args):
@@ -145,7 +145,7 @@ class CoefficientEnclosure:
             coeffs = [sp.expand(poly.coeff_monomial(poly.gens[0] ** (d - k) * poly.gens[1] ** k))
                       for k in range(d + 1)]
         else:                                   # a plain list of coefficient expressions
-            coeffs = [sp.expand(sp.sympify(c)) for c in poly]
+            coeffs = [sp.expand(as_sympy(c)) for c in poly]
             d = len(coeffs) - 1
         self.degree = d
         self.symbols = tuple(symbols)

@@ -40,6 +40,7 @@ from typing import Any, List
 
 import sympy as sp
 
+from .._validate import as_sympy
 from .quadrics import image_symbols
 from ..exceptions import DegenerateDesignError
 
@@ -134,7 +135,7 @@ def binary_form_poly(f, x=None):
     """
     x0, x1 = (image_symbols()[:2] if x is None else x)
     d = len(f) - 1
-    expr = sum(sp.expand(sp.sympify(fk)) * x0 ** (d - k) * x1**k for k, fk in enumerate(f))
+    expr = sum(sp.expand(as_sympy(fk)) * x0 ** (d - k) * x1**k for k, fk in enumerate(f))
     return sp.Poly(expr, x0, x1)
 
 

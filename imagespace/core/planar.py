@@ -18,7 +18,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from .._validate import as_exact, as_flag, as_float_array, finite_rows, is_symbolic, warn_angle_units
+from .._validate import as_exact, as_flag, as_float_array, as_sympy, finite_rows, is_symbolic, warn_angle_units
 from ..exceptions import DegenerateDesignError, InputError, InputTypeError, RepeatedLegWarning
 from ..tolerances import TOLERANCES, Tolerances
 from .certify import reduced_angle
@@ -59,7 +59,7 @@ def _cache_key(q):
     if q is None:
         return None
     items = _three_joint_values(q)
-    return tuple(sp.sympify(v) if isinstance(v, sp.Basic) else as_exact(v, f"q[{i}]")
+    return tuple(as_sympy(v) if isinstance(v, sp.Basic) else as_exact(v, f"q[{i}]")
                  for i, v in enumerate(items))
 
 

@@ -31,7 +31,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from .._validate import as_sympy_entry
+from .._validate import as_sympy, as_sympy_entry
 from ..exceptions import InputError, InputTypeError
 
 __all__ = ["QuadraticFieldForms", "quadratic_field_count", "count_distinct_real_roots", "poly_mul", "poly_sub",
@@ -100,7 +100,7 @@ def _radicand(exprs):
     :func:`_split`), else None (rational numbers only, functions, pi, several radicands)."""
     roots = set()
     for e in exprs:
-        e = sp.sympify(e)
+        e = as_sympy(e)
         if e.free_symbols or e.atoms(sp.Function) or e.atoms(sp.NumberSymbol):
             return None
         for a in e.atoms(sp.Pow):
@@ -116,7 +116,7 @@ def _radicand(exprs):
 
 def _split(c, zeta, d):
     """``(a, b)`` rationals with ``c = a + b sqrt(d)``, or None."""
-    e = sp.expand(sp.sympify(c).xreplace({sp.sqrt(d): zeta, 1 / sp.sqrt(d): zeta / d}))
+    e = sp.expand(as_sympy(c).xreplace({sp.sqrt(d): zeta, 1 / sp.sqrt(d): zeta / d}))
     try:
         p = sp.Poly(e, zeta)
     except sp.PolynomialError:

@@ -54,6 +54,7 @@ from typing import Any, Optional, Sequence
 
 import numpy as np
 
+from .._validate import as_sympy
 from ..exceptions import InputError, InputTypeError
 
 __all__ = ["REACH_BITS", "ReachObstruction", "planar_reach_obstruction", "point_pairs_obstruction",
@@ -120,7 +121,7 @@ def _arb(value):
 
     from .certify import to_arb
 
-    v = sp.sympify(value)
+    v = as_sympy(value)
     if v.free_symbols:
         raise InputError(f"expected a number, got the symbolic {v}")
     ball = to_arb(v, REACH_BITS)

@@ -46,6 +46,7 @@ from typing import Any, Callable, Optional, Sequence
 
 import sympy as sp
 
+from .._validate import as_sympy
 from ..exceptions import DegenerateDesignError
 from .certify import (REFINE_BITS, RealRootCertificate, arb_bounds, flint_precision,
                       outward_float_interval, refine_root_intervals, to_arb)
@@ -136,7 +137,7 @@ class ExactConstants:
         angles, others = {Fraction(a) for a in angles if a != 0}, set()
         angles = {abs(a) for a in angles}
         for e in exprs:
-            e = sp.sympify(e)
+            e = as_sympy(e)
             if e.free_symbols:
                 raise ValueError(f"exact constants must not hold symbols, got {e}")
             for a in e.atoms(sp.cos, sp.sin):
@@ -221,7 +222,7 @@ class ExactConstants:
         G = self.ngroups
         polys = []
         for e in exprs:
-            e = sp.expand(sp.sympify(e).xreplace(sub)) if sub else sp.expand(sp.sympify(e))
+            e = sp.expand(as_sympy(e).xreplace(sub)) if sub else sp.expand(as_sympy(e))
             if not gens:
                 if not e.is_Rational:
                     return None
@@ -489,7 +490,7 @@ class TranscendentalDesign:
         for i, leg in enumerate(mechanism.legs):
             q = sp.Dummy(f"q{i}", real=True)
             gens = (q, sp.cos(q), sp.sin(q))
-            coeffs = [sp.expand(sp.sympify(c)) for c in leg.dyad(q).coefficients()]
+            coeffs = [sp.expand(as_sympy(c)) for c in leg.dyad(q).coefficients()]
             terms = {}
             for k, c in enumerate(coeffs):
                 try:
@@ -625,7 +626,7 @@ def transcendental_elimination(quadrics, plan):
     >>> el.constants.angles, el.P.degree
     ((Fraction(1, 2),), 6)
     """
-    coeff_lists = [tuple(sp.sympify(c) for c in q.coefficients()) for q in quadrics]
+    coeff_lists = [tuple(as_sympy(c) for c in q.coefficients()) for q in quadrics]
     k = ExactConstants([c for cl in coeff_lists for c in cl])
     if k.trivial:
         return None

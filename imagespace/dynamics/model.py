@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from .._validate import _short, as_count
+from .._validate import _short, as_count, as_sympy
 from ..core.codegen import compile_exprs
 from ..exceptions import InputError, InputTypeError
 from . import checks
@@ -200,8 +200,8 @@ class OpenTreeModel:
             c = sp.Matrix(list(b.centre))
             Jc = c.jacobian(eta)
             Ja = sp.Matrix([b.angle]).jacobian(eta)
-            M += sp.sympify(b.mass) * Jc.T * Jc + sp.sympify(b.inertia) * Ja.T * Ja
-            V += -sp.sympify(b.mass) * (self.gravity[0] * c[0] + self.gravity[1] * c[1])
+            M += as_sympy(b.mass) * Jc.T * Jc + as_sympy(b.inertia) * Ja.T * Ja
+            V += -as_sympy(b.mass) * (self.gravity[0] * c[0] + self.gravity[1] * c[1])
         M = M.applyfunc(sp.simplify)
         Ke = (d1.T * M * d1)[0] / 2
         Mdot = M.applyfunc(lambda e: ddt(e, 1))

@@ -19,7 +19,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from .._validate import as_sympy_entry
+from .._validate import as_sympy, as_sympy_entry
 from ..core.certify import flint_precision
 from ..core.quadrics import image_symbols
 
@@ -262,7 +262,7 @@ class JointTable:
         >>> len(monoms) == len(balls) == len(source(256))
         True
         """
-        q = tuple(sp.Rational(v) if isinstance(v, float) else sp.sympify(v) for v in q)
+        q = tuple(sp.Rational(v) if isinstance(v, float) else as_sympy(v) for v in q)
         balls = self._balls(q, ARB_PRECISION)
         keep = [i for i, b in enumerate(balls) if not b.is_zero()]
         if not keep:

@@ -36,7 +36,7 @@ import numpy as np
 import sympy as sp
 
 from ..core.certify import to_arb, flint_precision
-from .._validate import as_exact, is_symbolic
+from .._validate import as_exact, as_sympy, is_symbolic
 from ..core.certify import certify_real_roots, certify_real_roots_batch, exact_is_zero
 from ..core.kinematic_map import pose_of as _pose_of
 from ..core.elimination import form_coefficients
@@ -83,7 +83,7 @@ class RootPlan:
 
 def _is_rational(values):
     """True when every value is an exact rational (the fmpq route applies)."""
-    return all(sp.sympify(v).is_Rational for v in values)
+    return all(as_sympy(v).is_Rational for v in values)
 
 
 def _orientation(t):
@@ -157,7 +157,7 @@ class _ExactCramer:
 def _sympy_balls(D, X2, X3):
     """``balls(prec)`` of exact sympy coefficient lists (arb enclosures, see :func:`to_arb`)."""
     def balls(prec):
-        return tuple([to_arb(sp.sympify(c), prec) for c in f] for f in (D, X2, X3))
+        return tuple([to_arb(as_sympy(c), prec) for c in f] for f in (D, X2, X3))
     return balls
 
 
@@ -310,7 +310,7 @@ def _has_angle_constants(m):
     angle given as a float)."""
     for qd in m.quadrics(None):
         for c in qd.coefficients():
-            c = sp.sympify(c)
+            c = as_sympy(c)
             if any(isinstance(a, (sp.cos, sp.sin)) and a.args[0].is_Rational for a in c.atoms(sp.cos, sp.sin)):
                 return True
     return False
@@ -508,7 +508,7 @@ def _orientation_positions(m, q_exact, P, tr, cert, plan):
     if tr is None:
         if not cert.exact:
             return None
-        cf = [sp.sympify(v) for qd in m.quadrics(list(q_exact)) for v in qd.coefficients()]
+        cf = [as_sympy(v) for qd in m.quadrics(list(q_exact)) for v in qd.coefficients()]
         if not all(v.is_Rational for v in cf):
             return None
         Fp = flint.fmpq_poly
@@ -576,7 +576,7 @@ def pp_genuine_forms(m, q=None):
     for qd in m.quadrics(None if q is None else list(q)):
         if qd.kind == "PP":
             c = qd.coefficients()
-            cos, sin = sp.sympify(c[6]) / 2, sp.sympify(c[7])
+            cos, sin = as_sympy(c[6]) / 2, as_sympy(c[7])
             out.append((cos, 2 * sin, -cos))
     return out
 

@@ -44,7 +44,7 @@ from typing import Any, Optional
 import numpy as np
 import sympy as sp
 
-from .._validate import as_exact, as_sympy_entry
+from .._validate import as_exact, as_sympy, as_sympy_entry
 from ..core.certify import certify_real_roots
 from ..exceptions import InputError, InputTypeError
 from ..core.kinematic_map import pose_of
@@ -79,14 +79,14 @@ def _quadric_enclosure(m):
 def _exact_coefficients(m, q):
     """The 24 quadric coefficients at ``q`` as sympy rationals, or None where one is not rational
     (irrational geometry, the cosine of a non-zero actuated angle)."""
-    rational_q = all(isinstance(v, (float, np.floating, int, np.integer)) or sp.sympify(v).is_Rational for v in q)
+    rational_q = all(isinstance(v, (float, np.floating, int, np.integer)) or as_sympy(v).is_Rational for v in q)
     enc = m.cached("continuum_quadrics", lambda: _quadric_enclosure(m)) if rational_q else None
     if enc is not None and enc.rational:
         qq = [Fraction(float(v)) if isinstance(v, (float, np.floating)) else
               Fraction(int(sp.Rational(v).p), int(sp.Rational(v).q)) for v in q]
         return [sp.Rational(v.numerator, v.denominator) for v in enc.exact(qq)]
-    q_exact = [sp.Rational(float(v)) if isinstance(v, (float, np.floating)) else sp.sympify(v) for v in q]
-    cf = [sp.sympify(v) for qd in m.quadrics(q_exact) for v in qd.coefficients()]
+    q_exact = [sp.Rational(float(v)) if isinstance(v, (float, np.floating)) else as_sympy(v) for v in q]
+    cf = [as_sympy(v) for qd in m.quadrics(q_exact) for v in qd.coefficients()]
     return cf if all(v.is_Rational for v in cf) else None
 
 
@@ -290,7 +290,7 @@ def _quadratic_field_verdict(m, q):
     the field). Returns None where this route does not apply."""
     from ..core.quadratic_field import poly_gcd, poly_mul, poly_sub
 
-    if not all(isinstance(v, (float, np.floating, int, np.integer)) or sp.sympify(v).is_Rational for v in q):
+    if not all(isinstance(v, (float, np.floating, int, np.integer)) or as_sympy(v).is_Rational for v in q):
         return None
     forms = m.cached("continuum_quadratic_field", lambda: _quadratic_field_quadrics(m))
     if forms is None:

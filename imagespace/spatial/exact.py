@@ -33,6 +33,7 @@ import numpy as np
 from imagespace._validate import as_flag, as_scalar
 from imagespace.core.msolve import DEFAULT_TIMEOUT, MsolveTimeoutError, solve_real
 from imagespace.exceptions import DegenerateDesignError, InputError
+from .._validate import as_sympy
 from ..exceptions import InputTypeError
 
 __all__ = ["STUDY_STRATA", "ExactStudyResult", "exact_real_study_points"]
@@ -125,7 +126,7 @@ def _checked_system(polys, symbols):
                 not isinstance(p, (sp.Basic, int, float, Fraction)):
             raise InputTypeError(f"{name} must be a sympy polynomial in x0..x3, y0..y3, got "
                                  f"{type(p).__name__}")
-        p = sp.sympify(p)
+        p = as_sympy(p)
         if p.has(sp.nan, sp.oo, -sp.oo, sp.zoo):
             raise InputError(f"{name} has a non-finite coefficient (nan or infinity): {p}")
         # symbols of the same name but other assumptions (real=True ...) are the same unknowns;

@@ -9,6 +9,7 @@ import math
 import numpy as np
 import sympy as sp
 
+from ..._validate import as_sympy
 from ...core._numba import njit
 from ...core.bounded_trig import cos_sin_bounded
 
@@ -121,7 +122,7 @@ def design_tables(manipulator):
     trig = np.zeros(3, dtype=np.int64)
     for i, leg in enumerate(manipulator.legs):
         q = sp.Symbol("q", real=True)
-        cs = [sp.expand(sp.sympify(c)) for c in leg.dyad(q).coefficients()]
+        cs = [sp.expand(as_sympy(c)) for c in leg.dyad(q).coefficients()]
         exprs = cs + [sp.expand(sp.diff(c, q)) for c in cs]
         gens = (q, sp.cos(q), sp.sin(q))
         terms = {}
@@ -139,7 +140,7 @@ def design_tables(manipulator):
         for j, mono in enumerate(sorted(terms)):
             expo[i, j] = mono
             for k, val in terms[mono].items():
-                coef[i, j, k], cerr[i, j, k] = _rounded(sp.sympify(val))
+                coef[i, j, k], cerr[i, j, k] = _rounded(as_sympy(val))
         nmono[i] = len(terms)
         trig[i] = int(any(mono[1] or mono[2] for mono in terms))
     return DesignTables(expo, coef, cerr, nmono, trig, plan_array(plan))
