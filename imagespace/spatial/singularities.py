@@ -52,7 +52,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from .._validate import as_float_array, as_tolerances
+from .._validate import as_float_array, as_sympy, as_tolerances
 from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 from .gough_stewart import GoughStewart
 from .quadrics import form_matrix, landed_point_times_n
@@ -381,9 +381,9 @@ class ConstantOrientationSingularity:
     def __init__(self, gs: GoughStewart, rotation: npt.ArrayLike, polynomial: Any, variables: Any) -> None:
         self.gs = gs
         self.rotation = rotation
-        self.polynomial = polynomial
+        self.polynomial = as_sympy(polynomial, "polynomial")        # a string is refused, never parsed
         self.variables = variables
-        self._poly = sp.Poly(polynomial, *variables)
+        self._poly = sp.Poly(self.polynomial, *variables)
         self.degree = int(self._poly.total_degree())
         terms = self._poly.terms()
         self._exponents = np.array([m for m, _ in terms], dtype=np.int64).reshape(-1, 3)
