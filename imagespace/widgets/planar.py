@@ -525,7 +525,13 @@ class Explorer(W.VBox):
         self.set_q(q, _dragging=True)
 
     def _on_text(self, change):
-        if self._muted or not change["new"].strip():
+        if self._muted:
+            return
+        if not change["new"].strip():
+            # an emptied box: its refused entry no longer stands, so neither does its error
+            if self.status.get("error") and self.status["error"] == getattr(self, "_text_error", None):
+                self.status["error"] = None
+                self._draw_status()
             return
         exact = []
         try:
@@ -534,7 +540,7 @@ class Explorer(W.VBox):
                 exact.append(parse_joint_value(text, f"q{j + 1}") if text else self.q[j])
             self.set_q(exact=exact)
         except InputError as e:
-            self.status["error"] = str(e)
+            self.status["error"] = self._text_error = str(e)
             self._draw_status()
 
     def set_q(self, q=None, exact=None, _dragging=False):

@@ -87,6 +87,9 @@ def test_exact_text_box_certifies_the_exact_value(seed002_explorer):
     ex.exact_boxes[2].value = "not a number"
     assert "must be a number" in ex.status_line.value
     ex.exact_boxes[2].value = ""
+    # the emptied box's error is gone: the status line shows the count again (it used to keep
+    # the error, and a later save_html of the same explorer had no count in it)
+    assert "must be a number" not in ex.status_line.value and "isp-count" in ex.status_line.value
 
 
 def test_pose_view_draws_every_mode_with_the_given_leg_lengths(seed002_explorer):
