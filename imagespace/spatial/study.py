@@ -482,7 +482,9 @@ def study_point(rotation, translation):
 
 def _check_study(s, name="s", on_quadric=True):
     """``s`` as checked floats ``(8,)`` or ``(n, 8)`` with ``x != 0``, and (``on_quadric``) on
-    Study's quadric within ``Tolerances.study_quadric``; ``(s, x . x)``."""
+    Study's quadric within ``Tolerances.study_quadric``; ``(s, x . x)``. The quadric is asked
+    for where the answer is Euclidean (the translation, and so the transforms); the rotation of
+    ``x``, normalising, inverting and composing are defined for any point with ``x != 0``."""
     s = as_float_array(s, name, last=8)
     n = np.einsum("...i,...i->...", s[..., :4], s[..., :4])
     if np.any(n == 0.0) and np.any(np.all(s[..., :4] == 0.0, axis=-1)):      # n == 0 also by underflow
@@ -534,7 +536,7 @@ def rotation_matrix(s):
     if is_symbolic(s):
         z = _sym(s, 8, "s")
         return sp.Matrix(3, 3, [sp.cancel(v) for v in _rotation_of(z[:4]).ravel()])
-    z, n = _check_study(s)
+    z, n = _check_study(s, on_quadric=False)
     x = z[..., :4]
     if _safe(n):
         return _rotation_of(x)
@@ -709,7 +711,7 @@ def normalize_study(s: npt.ArrayLike) -> FloatArray:
     >>> normalize_study([0, 0, 0, -2, 0, 0, 1, 0])
     array([ 0. ,  0. ,  0. ,  1. ,  0. ,  0. , -0.5,  0. ])
     """
-    z, n = _check_study(s)
+    z, n = _check_study(s, on_quadric=False)
     return _normalised(z, "s", n)
 
 
@@ -760,11 +762,9 @@ def compose_study(a, b):
     """
     if is_symbolic(a) or is_symbolic(b):
         return sp.Matrix([sp.expand(v) for v in _dual_mul(_sym(a, 8, "a"), _sym(b, 8, "b"))])
-    za, _ = _check_study(a, "a", on_quadric=False)
+    za, _ = _check_study(a, "a", on_quadric=False)     # the dual-quaternion product: any points
     zb, _ = _check_study(b, "b", on_quadric=False)
     _batch_shape(za, zb, ("a", "b"))
-    _check_on_quadric(za, "a")
-    _check_on_quadric(zb, "b")
     if _safe(_sq(za)) and _safe(_sq(zb)):
         return _normalised(_dual_mul(za, zb), "a or b")
     za, zb = _scaled_study(za, "a"), _scaled_study(zb, "b")     # projective: the same displacements
@@ -804,7 +804,7 @@ def inverse_study(s):
     sign = np.array([1, -1, -1, -1, 1, -1, -1, -1])
     if is_symbolic(s):
         return sp.Matrix(list(_sym(s, 8, "s") * sign))
-    z, _ = _check_study(s)
+    z, _ = _check_study(s, on_quadric=False)
     return _normalised(z * sign, "s")
 
 

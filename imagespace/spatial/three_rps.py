@@ -182,7 +182,7 @@ class ThreeRPS(QuadricPlatform):
         L = check_lengths(lengths, count=3)
         check_squares(L, "lengths")
         return np.concatenate([sphere_quadric(self.base_points, self.platform_points, L),
-                               self._planes(1.0), study_quadric_matrix()[None]], axis=0)
+                               self._planes(1.0, self.base_axes), study_quadric_matrix()[None]], axis=0)
 
     @cached_property
     def _axes_scaled(self):
@@ -191,9 +191,10 @@ class ThreeRPS(QuadricPlatform):
         size = np.abs(self.base_axes).max(axis=1)
         return self.base_axes / (2.0 ** np.round(np.log2(size)))[:, None]
 
-    def _planes(self, sc):
+    def _planes(self, sc, axes=None):
+        axes = self._axes_scaled if axes is None else axes
         return np.array([point_on_plane_quadric(self.platform_points[i] / sc, self.base_points[i] / sc,
-                                                self._axes_scaled[i]) for i in range(3)])
+                                                axes[i]) for i in range(3)])
 
     @cached_property
     def _family(self):
