@@ -268,7 +268,7 @@ class PlanarMechanism(Mechanism):
         if arr.ndim == 1 and is_symbolic(q):
             # an exact actuated angle beyond a half-turn (20000000000*pi) and its float are
             # different angles: the float stages get the float of its exact remainder mod 2 pi
-            for i, (leg, v) in enumerate(zip(self.legs, q)):
+            for i, (leg, v) in enumerate(zip(self.legs, np.asarray(q, dtype=object))):
                 if (leg.actuated_is_angle and isinstance(v, sp.Basic) and not v.is_Rational
                         and abs(arr[i]) > np.pi):
                     arr[i] = reduced_angle(v)

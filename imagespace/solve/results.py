@@ -423,7 +423,7 @@ class DKBatchResult:
         ([6, 0], ['numpy', 'invalid'], [1])
         """
         parts = list(parts) if not isinstance(parts, (str, bytes, DKBatchResult)) and hasattr(parts, "__iter__") \
-            else [parts]
+            else [parts]  # type: ignore[list-item]  # a lone result (or junk, refused just below)
         if not parts:
             raise InputError("parts must hold at least one DKBatchResult, got none")
         for i, p in enumerate(parts):
