@@ -124,8 +124,7 @@ def _short(value) -> str:
     return text if len(text) <= 80 else text[:77] + "..."
 
 
-_REFUSED_ENTRY_BASES = (str, bytes, bool, np.bool_, complex)
-_REFUSED_ENTRY_TYPES = frozenset({str, bytes, bool, np.bool_, complex, np.str_, np.bytes_, np.complex128})
+_REFUSED_ENTRY_BASES = (str, bytes, bool, np.bool_, complex)      # numpy's str_, bytes_, complex128 too
 _PLAIN_NUMBER_TYPES = frozenset({int, float, np.float64, np.int64})
 
 
@@ -183,9 +182,7 @@ def as_float_array(value, name: str, last: int | None = None, allow_batch: bool 
         # python sequences of any length: a bool or a string among numbers would be silently
         # converted (the entries' types are gathered at C speed, ~30 ms per million entries)
         entries = _flat_entries(value, raw)
-        types = set(map(type, entries))
-        if _REFUSED_ENTRY_TYPES.intersection(types) or any(
-                issubclass(t, _REFUSED_ENTRY_BASES) for t in types - _PLAIN_NUMBER_TYPES):
+        if any(issubclass(t, _REFUSED_ENTRY_BASES) for t in set(map(type, entries)) - _PLAIN_NUMBER_TYPES):
             for v in entries:
                 if isinstance(v, _REFUSED_ENTRY_BASES):
                     raise InputTypeError(f"{name} must hold real numbers, got {type(v).__name__} {_short(v)}")

@@ -98,7 +98,9 @@ class Tolerances:
         point's size.
     kernel_residual : float
         The compiled kernel: a polished mode whose largest constraint value, relative to
-        ``1 + x2^2 + x3^2``, exceeds this sends the row to the numpy path.
+        ``1 + x2^2 + x3^2``, exceeds this sends the row to the numpy path. The numpy path asks
+        the same of a polished candidate whose legs' inverse kinematics is undefined (a leg
+        singularity) before keeping it as a flagged mode.
     kernel_duplicate : float
         The compiled kernel: two modes closer than this (relative to the position's size) send
         the row to the numpy path (two roots polished onto one mode).
@@ -238,9 +240,9 @@ class Tolerances:
         Two endpoints closer than this (unit-normalised, Euclidean) are one solution reached twice
         (path jumping): ``complex_count`` of an unproven row counts them once.
     study_quadric : float
-        A Study point given where a displacement is expected (``rotation_matrix``,
-        ``translation``, ``transform_matrix``, ``transform_points``) is on Study's quadric when
-        ``|x . y|`` is at most this times ``|x|^2 + |y|^2``; a point further off is refused.
+        A Study point given where the answer is Euclidean (``translation``, and so
+        ``transform_matrix`` and ``transform_points``) is on Study's quadric when ``|x . y|`` is
+        at most this times ``|x|^2 + |y|^2``; a point further off is refused.
     spatial_plane : float
         ``ThreeRPS.inverse_kinematics``: a leg is in its revolute joint's plane when
         ``|u . leg|`` is at most this times ``|u| |leg|``.

@@ -35,7 +35,7 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
-from .._validate import as_float_array, as_sympy
+from .._validate import as_float_array, as_sympy, as_sympy_entry
 from ..exceptions import DegenerateDesignError, InputError, InputTypeError
 from .elimination import form_coefficients
 # the exact isolation on [0, 1] and the outward rounding live in core.exact_roots (issue [15]);
@@ -409,8 +409,6 @@ def reduced_angle(c):
     (0.0, -2.641592653590)
     """
     import flint
-
-    from .._validate import as_sympy_entry
 
     c = as_sympy_entry(c, "angle")          # strings are refused, never parsed
     if c.free_symbols:

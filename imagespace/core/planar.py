@@ -171,9 +171,9 @@ class PlanarMechanism(Mechanism):
     def _check_design(self):
         """Reject designs that are degenerate for every joint value (coincident anchors, a leg
         given twice)."""
+        geometry = [leg.geometry() for leg in self.legs]
         anchors = []
-        for i, leg in enumerate(self.legs):
-            g = leg.geometry()
+        for i, (leg, g) in enumerate(zip(self.legs, geometry)):
             # legs whose locked dyad keeps one platform point on a circle
             if (leg.joints, leg.actuated) in {("RPR", 1), ("RRR", 0), ("RRR", 1), ("PRR", 0)}:
                 anchors.append((i, g["base"], g["platform"]))
@@ -191,7 +191,7 @@ class PlanarMechanism(Mechanism):
                 "rotate freely about it (architecture singularity)")
         same = [(i, j) for i in range(3) for j in range(i + 1, 3)
                 if (self.legs[i].joints, self.legs[i].actuated) == (self.legs[j].joints, self.legs[j].actuated)
-                and self.legs[i].geometry() == self.legs[j].geometry()]
+                and geometry[i] == geometry[j]]
         for i, j in same:
             leg = self.legs[i]
             if (leg.joints, leg.actuated) in _CONCENTRIC:

@@ -357,15 +357,11 @@ def _spurious_half_angles(m, C):
     return np.stack(cols, axis=1) if cols else np.zeros((C.shape[0], 0))
 
 
-def _spurious_mask(m, C, theta):
-    """Which of the real half-angles ``theta`` (n, k) are (within ``near_singular_gap``) the
-    spurious orientation ``phi_c + pi`` of a PP dyad (its quadric ``sin(2 theta - phi_c)`` up to
-    scale has the roots ``theta = phi_c / 2`` and ``phi_c / 2 + pi / 2``; the first is the one)."""
-    return _spurious_hits(m, C, theta) > 0
-
-
 def _spurious_hits(m, C, theta):
-    """Per half-angle of ``theta`` (n, k), how many PP dyads it is the spurious orientation of."""
+    """Per real half-angle of ``theta`` (n, k), how many PP dyads it is (within
+    ``near_singular_gap``) the spurious orientation ``phi_c + pi`` of (the dyad's quadric
+    ``sin(2 theta - phi_c)`` up to scale has the roots ``theta = phi_c / 2`` and
+    ``phi_c / 2 + pi / 2``; the first is the one)."""
     out = np.zeros(theta.shape, dtype=int)
     for j, kind in enumerate(m.kinds):
         if kind != "PP":
@@ -426,7 +422,7 @@ def finish_candidates(m, Q, C, cand, row_ok, errors, special, L):
     # spurious orientation: the row's count may be short of the truth (a near-fold pose the float
     # Newton cannot pin down); the row says so instead of returning a silently short count
     refused = finite & ~valid & ~dup & ~ik_free
-    spurious = _spurious_mask(m, C, np.arctan2(X[..., 1], X[..., 0]))
+    spurious = _spurious_hits(m, C, np.arctan2(X[..., 1], X[..., 0])) > 0
     doubtful = np.any(refused & ~spurious, axis=1) | np.any(ik_free & valid, axis=1)
     detJ = np.linalg.det(J)
     aspect = np.where(finite, np.sign(detJ), 0).astype(int)

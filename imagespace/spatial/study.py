@@ -480,7 +480,7 @@ def study_point(rotation, translation):
     return normalize_study(np.concatenate([np.broadcast_to(x, y.shape), y], axis=-1))
 
 
-def _check_study(s, name="s", on_quadric=True):
+def _check_study(s, name="s", on_quadric=False):
     """``s`` as checked floats ``(8,)`` or ``(n, 8)`` with ``x != 0``, and (``on_quadric``) on
     Study's quadric within ``Tolerances.study_quadric``; ``(s, x . x)``. The quadric is asked
     for where the answer is Euclidean (the translation, and so the transforms); the rotation of
@@ -536,7 +536,7 @@ def rotation_matrix(s):
     if is_symbolic(s):
         z = _sym(s, 8, "s")
         return sp.Matrix(3, 3, [sp.cancel(v) for v in _rotation_of(z[:4]).ravel()])
-    z, n = _check_study(s, on_quadric=False)
+    z, n = _check_study(s)
     x = z[..., :4]
     if _safe(n):
         return _rotation_of(x)
@@ -574,7 +574,7 @@ def translation(s):
         n = sum(v * v for v in z[:4])
         t = 2 * _qmul(z[4:], _conj(z[:4]))
         return sp.Matrix([sp.cancel(v / n) for v in t[1:]])
-    z, n = _check_study(s)
+    z, n = _check_study(s, on_quadric=True)
     if _safe(n) and _safe(_sq(z[..., 4:]), zero_ok=True):
         return 2 * _qmul(z[..., 4:], _conj(z[..., :4]))[..., 1:] / n[..., None]
     z = _scaled_study(z, "s")                       # max |x_i| = 1, so 1 <= x . x <= 4
@@ -711,7 +711,7 @@ def normalize_study(s: npt.ArrayLike) -> FloatArray:
     >>> normalize_study([0, 0, 0, -2, 0, 0, 1, 0])
     array([ 0. ,  0. ,  0. ,  1. ,  0. ,  0. , -0.5,  0. ])
     """
-    z, n = _check_study(s, on_quadric=False)
+    z, n = _check_study(s)
     return _normalised(z, "s", n)
 
 
@@ -762,8 +762,8 @@ def compose_study(a, b):
     """
     if is_symbolic(a) or is_symbolic(b):
         return sp.Matrix([sp.expand(v) for v in _dual_mul(_sym(a, 8, "a"), _sym(b, 8, "b"))])
-    za, _ = _check_study(a, "a", on_quadric=False)     # the dual-quaternion product: any points
-    zb, _ = _check_study(b, "b", on_quadric=False)
+    za, _ = _check_study(a, "a")      # the dual-quaternion product: any points with x != 0
+    zb, _ = _check_study(b, "b")
     _batch_shape(za, zb, ("a", "b"))
     if _safe(_sq(za)) and _safe(_sq(zb)):
         return _normalised(_dual_mul(za, zb), "a or b")
@@ -804,7 +804,7 @@ def inverse_study(s):
     sign = np.array([1, -1, -1, -1, 1, -1, -1, -1])
     if is_symbolic(s):
         return sp.Matrix(list(_sym(s, 8, "s") * sign))
-    z, _ = _check_study(s, on_quadric=False)
+    z, _ = _check_study(s)
     return _normalised(z * sign, "s")
 
 
@@ -869,7 +869,7 @@ def study_to_planar(s: npt.ArrayLike, tolerances: Optional[Tolerances] = None) -
     array([1. , 0. , 0. , 0.5])
     """
     tol = as_tolerances(tolerances).planar_subspace
-    z, _ = _check_study(s, on_quadric=False)       # a planar point is on Study's quadric
+    z, _ = _check_study(s)            # a planar point (x1 = x2 = y0 = y3 = 0) is on Study's quadric
     off = np.abs(z[..., [1, 2, 4, 7]]).max(axis=-1)
     if np.any(off > tol * np.abs(z).max(axis=-1)):
         raise InputError(f"s must be a planar displacement (x1 = x2 = y0 = y3 = 0), got components "

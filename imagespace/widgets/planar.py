@@ -142,6 +142,7 @@ class Explorer(W.VBox):
         self.plan = None
         self.status = {"count": 0, "certified": False, "near_singular": False, "exact": False,
                        "seconds": 0.0, "error": None, "events": "", "atlas": None}
+        self._text_error = None           # the error a refused exact-value entry left, if any
         self._surface = None
         self._surface_q = None
         self._timer = None
@@ -529,7 +530,7 @@ class Explorer(W.VBox):
             return
         if not change["new"].strip():
             # an emptied box: its refused entry no longer stands, so neither does its error
-            if self.status.get("error") and self.status["error"] == getattr(self, "_text_error", None):
+            if self.status.get("error") and self.status["error"] == self._text_error:
                 self.status["error"] = None
                 self._draw_status()
             return
